@@ -1,0 +1,61 @@
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cogmap/core/geometry.h"
+
+namespace cogmap::asr {
+
+// A doorway or corridor cut through which the robot left one ASR for another
+// (SPEC 4). World frame of the raw (odometry) map.
+struct Exit {
+  Vec2 center_m{0, 0};
+  double width_m = 0.0;
+  int from_asr = -1;
+  int to_asr = -1;  // -1 while the robot has not entered the next ASR yet
+};
+
+// Bytes of the three representations of table 4.2.
+struct StageBytes {
+  int64_t grid = 0;       // the ASR's MHIMM grid, one byte per cell
+  int64_t vertices = 0;   // extracted points, 2 x int16 per vertex
+  int64_t polylines = 0;  // final polylines, compact binary encoding
+};
+
+// Seconds spent per stage when the ASR closed.
+struct StageSeconds {
+  double grid = 0.0;  // fusing readings (accumulated while mapping)
+  double clean = 0.0;
+  double extract = 0.0;
+  double simplify = 0.0;  // vertex simplify + Douglas-Peucker
+  double fit = 0.0;
+  double total() const { return grid + clean + extract + simplify + fit; }
+};
+
+// An Absolute Space Representation: one room or stretch of corridor (SPEC 4).
+struct Asr {
+  int id = -1;
+  // Pose of the ASR's local frame in the world: raw from odometry, and after
+  // heading correction (SPEC 5). The walls are stored in the local frame.
+  Pose2 world_from_local_raw;
+  Pose2 world_from_local_corrected;
+  Vec2 entry_pivot_m{0, 0};               // where the robot entered (world, raw)
+  std::vector<Polyline> walls_local;      // in the local frame
+  std::vector<Exit> exits;                // exits through which it was left/entered
+  std::vector<Pose2> path;                // robot poses through it (world, raw)
+  std::vector<Pose2> true_path;           // ground-truth poses, when the log has them
+  double start_time_s = 0.0;
+  double end_time_s = 0.0;
+  StageBytes bytes;
+  StageSeconds seconds;
+  double heading_correction_rad = 0.0;    // rotation applied (corrected - raw)
+  double heading_uncertainty_rad = -1.0;  // < 0: not estimated
+
+  std::vector<Polyline> WallsWorldRaw() const { return Transform(world_from_local_raw, walls_local); }
+  std::vector<Polyline> WallsWorldCorrected() const {
+    return Transform(world_from_local_corrected, walls_local);
+  }
+};
+
+}  // namespace cogmap::asr

@@ -1,0 +1,61 @@
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "cogmap/core/angles.h"
+#include "cogmap/core/bresenham.h"
+#include "cogmap/core/error.h"
+#include "cogmap/core/geometry.h"
+
+namespace cogmap {
+namespace {
+
+TEST(Angles, NormalizeWrapsIntoHalfOpenRange) {
+  EXPECT_NEAR(NormalizeAngle(3 * kPi), kPi, 1e-12);
+  EXPECT_NEAR(NormalizeAngle(-kPi), kPi, 1e-12);
+  EXPECT_NEAR(NormalizeAngle(DegToRad(370)), DegToRad(10), 1e-12);
+  EXPECT_NEAR(AngleDiff(DegToRad(-179), DegToRad(179)), DegToRad(2), 1e-12);
+}
+
+TEST(Pose2, ComposeAndInverseRoundTrip) {
+  const Pose2 a{1.0, 2.0, 0.5}, b{-0.3, 0.7, -1.2};
+  const Pose2 ab = a * b;
+  const Pose2 back = a.inverse() * ab;
+  EXPECT_NEAR(back.x, b.x, 1e-12);
+  EXPECT_NEAR(back.y, b.y, 1e-12);
+  EXPECT_NEAR(back.theta, b.theta, 1e-12);
+}
+
+TEST(Pose2, RotatesCounterClockwise) {
+  const Pose2 r{0, 0, kPi / 2};
+  const Vec2 p = r * Vec2(1, 0);
+  EXPECT_NEAR(p.x(), 0.0, 1e-12);
+  EXPECT_NEAR(p.y(), 1.0, 1e-12);
+}
+
+TEST(Bresenham, VisitsBothEndsInOrder) {
+  std::vector<std::pair<int, int>> cells;
+  WalkBresenham(0, 0, 3, 1, [&](int x, int y) { cells.emplace_back(x, y); return true; });
+  ASSERT_EQ(cells.size(), 4u);
+  EXPECT_EQ(cells.front(), std::make_pair(0, 0));
+  EXPECT_EQ(cells.back(), std::make_pair(3, 1));
+}
+
+TEST(Bresenham, StopsEarly) {
+  int n = 0;
+  EXPECT_FALSE(WalkBresenham(0, 0, 10, 0, [&](int, int) { return ++n < 3; }));
+  EXPECT_EQ(n, 3);
+}
+
+TEST(Geometry, PointSegmentDistanceClampsToEnds) {
+  EXPECT_NEAR(PointSegmentDistance({2, 1}, {0, 0}, {1, 0}), std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(PointSegmentDistance({0.5, 1}, {0, 0}, {1, 0}), 1.0, 1e-12);
+}
+
+TEST(InputError, NamesFileAndLine) {
+  EXPECT_STREQ(InputError("a.log", 12, "bad").what(), "a.log:12: bad");
+  EXPECT_STREQ(InputError("a.log", 0, "empty").what(), "a.log: empty");
+}
+
+}  // namespace
+}  // namespace cogmap

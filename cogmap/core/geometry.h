@@ -1,0 +1,49 @@
+#pragma once
+#include <algorithm>
+#include <vector>
+
+#include "cogmap/core/pose2.h"
+
+namespace cogmap {
+
+struct Segment2 {
+  Vec2 a;
+  Vec2 b;
+  double length() const { return (b - a).norm(); }
+};
+
+// An open chain of vertices (a wall run). A closed outline repeats its first
+// vertex at the end.
+using Polyline = std::vector<Vec2>;
+
+// Distance from p to the segment [a, b].
+inline double PointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double len2 = ab.squaredNorm();
+  if (len2 <= 0.0) return (p - a).norm();
+  const double t = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
+  return (p - (a + t * ab)).norm();
+}
+
+// Perpendicular distance from p to the infinite line through a and b.
+inline double PointLineDistance(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double len = ab.norm();
+  if (len <= 0.0) return (p - a).norm();
+  return std::abs(ab.x() * (p.y() - a.y()) - ab.y() * (p.x() - a.x())) / len;
+}
+
+inline double PolylineLength(const Polyline& line) {
+  double s = 0.0;
+  for (size_t i = 1; i < line.size(); ++i) s += (line[i] - line[i - 1]).norm();
+  return s;
+}
+
+// Segments of all polylines, in order.
+std::vector<Segment2> ToSegments(const std::vector<Polyline>& lines);
+
+// Applies 'pose' to every vertex.
+Polyline Transform(const Pose2& pose, const Polyline& line);
+std::vector<Polyline> Transform(const Pose2& pose, const std::vector<Polyline>& lines);
+
+}  // namespace cogmap

@@ -1,0 +1,64 @@
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cogmap/core/pose2.h"
+
+namespace cogmap::io {
+
+struct Rgb {
+  uint8_t r = 0, g = 0, b = 0;
+  bool operator==(const Rgb&) const = default;
+};
+
+// An 8-bit RGB raster, row 0 at the top (image convention).
+class RgbImage {
+ public:
+  RgbImage() = default;
+  RgbImage(int width, int height, Rgb fill = {255, 255, 255})
+      : width_(width), height_(height), pixels_(static_cast<size_t>(width) * height, fill) {}
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  Rgb& at(int x, int y) { return pixels_[static_cast<size_t>(y) * width_ + x]; }
+  const Rgb& at(int x, int y) const { return pixels_[static_cast<size_t>(y) * width_ + x]; }
+  bool Inside(int x, int y) const { return x >= 0 && y >= 0 && x < width_ && y < height_; }
+  void Set(int x, int y, Rgb c) {
+    if (Inside(x, y)) at(x, y) = c;
+  }
+  // A line of the given thickness (pixels) between two pixel positions.
+  void DrawLine(double x0, double y0, double x1, double y1, Rgb c, int thickness = 1);
+  // A filled disc.
+  void DrawDisc(double cx, double cy, double radius, Rgb c);
+  // Copies 'other' with its top-left corner at (x, y).
+  void Blit(const RgbImage& other, int x, int y);
+  // Draws a short text label with a built-in 5x7 pixel font (digits, letters,
+  // a few signs), scaled by 'scale'.
+  void DrawText(int x, int y, const std::string& text, Rgb c, int scale = 1);
+
+  const std::vector<Rgb>& pixels() const { return pixels_; }
+
+ private:
+  int width_ = 0, height_ = 0;
+  std::vector<Rgb> pixels_;
+};
+
+// Writes an RGB PNG atomically (see WriteFileAtomically).
+void WritePng(const std::string& path, const RgbImage& image);
+// Encodes to PNG bytes in memory.
+std::string EncodePng(const RgbImage& image);
+// Encodes an 8-bit grey image (row 0 on top) to PNG bytes.
+std::string EncodeGreyPng(int width, int height, const std::vector<uint8_t>& grey);
+
+// Reads a PNG as 8-bit grey (colour is converted by luminance). Throws
+// InputError naming the file for a missing or corrupt PNG.
+struct GreyImage {
+  int width = 0, height = 0;
+  std::vector<uint8_t> pixels;  // row 0 on top
+};
+GreyImage ReadGreyPng(const std::string& path);
+// Reads a PNG as 8-bit RGB.
+RgbImage ReadRgbPng(const std::string& path);
+
+}  // namespace cogmap::io

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Installs every Debian package cogmap needs to build, test and benchmark.
+# Safe to run again: it installs only what is missing.
+set -euo pipefail
+PKGS=(
+  build-essential cmake ninja-build pkg-config
+  libeigen3-dev libcli11-dev nlohmann-json3-dev libpng-dev zlib1g-dev libsqlite3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+# Peers for side-by-side comparisons (bench/), large: only with --peers.
+if [[ "${1:-}" == "--peers" ]]; then
+  PKGS+=(libopencv-dev libmrpt-dev mrpt-apps)
+fi
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  SUDO=""
+  [[ $(id -u) -ne 0 ]] && SUDO="sudo"
+  echo "installing: ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
