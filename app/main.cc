@@ -1,9 +1,63 @@
+// The `cogmap` command: one subcommand per stage of the pipeline. Only app/
+// parses argv or prints.
 #include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <exception>
 #include <iostream>
+#include <vector>
+
+#include "app/command.h"
+#include "cogmap/core/error.h"
+
+namespace cogmap::app {
+
+static std::vector<Command>& Registry() {
+  static std::vector<Command> commands;
+  return commands;
+}
+
+bool RegisterCommand(Command command) {
+  Registry().push_back(std::move(command));
+  return true;
+}
+
+}  // namespace cogmap::app
 
 int main(int argc, char** argv) {
-  CLI::App app{"cogmap: cognitive maps (rooms, walls, exits) from range readings and odometry"};
+  using cogmap::app::Registry;
+  CLI::App app{
+      "cogmap: cognitive maps from range readings and odometry.\n"
+      "Each room becomes a small occupancy grid, then a few wall polylines (an\n"
+      "Absolute Space Representation), linked to its neighbours by doorways and\n"
+      "corrected for heading drift."};
   app.require_subcommand(1);
-  CLI11_PARSE(app, argc, argv);
+  app.set_version_flag("--version", "cogmap 0.1.0");
+  auto commands = Registry();
+  std::sort(commands.begin(), commands.end(),
+            [](const auto& a, const auto& b) { return a.order < b.order || (a.order == b.order && a.name < b.name); });
+  std::vector<std::function<int()>> runs(commands.size());
+  std::vector<CLI::App*> subs;
+  for (size_t i = 0; i < commands.size(); ++i) {
+    CLI::App* sub = app.add_subcommand(commands[i].name, commands[i].description);
+    runs[i] = commands[i].setup(*sub);
+    subs.push_back(sub);
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    for (size_t i = 0; i < subs.size(); ++i)
+      if (subs[i]->parsed()) return runs[i]();
+  } catch (const cogmap::InputError& e) {
+    std::cerr << "cogmap: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "cogmap: error: " << e.what() << "\n";
+    return 1;
+  }
   return 0;
 }
