@@ -9,7 +9,7 @@ PKGS=(
 )
 # Peers for side-by-side comparisons (bench/), large: only with --peers.
 if [[ "${1:-}" == "--peers" ]]; then
-  PKGS+=(libopencv-dev libmrpt-dev mrpt-apps)
+  PKGS+=(libopencv-dev libmrpt-dev mrpt-apps python3 python3-matplotlib)
 fi
 missing=()
 for p in "${PKGS[@]}"; do
