@@ -1,0 +1,239 @@
+#include "cogmap/localize/em.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "cogmap/localize/test_rooms.h"
+
+namespace cogmap::localize {
+namespace {
+
+using testing::Edge;
+using testing::Rectangle;
+using testing::RegularPolygon;
+
+// Smallest difference of two directions modulo 90 degrees.
+double QuarterDiff(double a, double b) { return FoldToQuarterTurn(a - b); }
+
+// Walls around 45 degrees, symmetric about it.
+std::vector<Polyline> SeamWalls() {
+  std::vector<Polyline> walls;
+  for (double d : {43.5, 44.0, 44.5, 45.5, 46.0, 46.5}) walls.push_back(Edge({0, 0}, DegToRad(d), 2.0));
+  return walls;
+}
+
+void ExpectFinite(const DirectionEstimate& e) {
+  EXPECT_TRUE(std::isfinite(e.direction_rad));
+  EXPECT_FALSE(std::isnan(e.uncertainty_rad));
+  EXPECT_TRUE(std::isfinite(e.inlier_fraction));
+  EXPECT_TRUE(std::isfinite(e.concentration));
+}
+
+TEST(PaperEmOptions, DefaultsAreLocked) {
+  const PaperEmOptions o;
+  EXPECT_EQ(o.epsilon_rad, 1e-7);
+  EXPECT_EQ(o.max_iterations, 500);
+  EXPECT_EQ(o.min_sigma_rad, DegToRad(0.01));
+  EXPECT_EQ(o.empty_m_sigma_rad, DegToRad(10.0));
+}
+
+TEST(RobustEmOptions, DefaultsAreLocked) {
+  const RobustEmOptions o;
+  EXPECT_TRUE(o.weight_by_length);
+  EXPECT_EQ(o.outlier_weight_init, 0.3);
+  EXPECT_EQ(o.init_kernel_sigma_rad, DegToRad(3.0));
+  EXPECT_EQ(o.min_edge_sigma_rad, DegToRad(0.5));
+  EXPECT_EQ(o.min_total_length_m, 1.5);
+  EXPECT_EQ(o.min_edges, 2);
+  EXPECT_EQ(o.min_inlier_fraction, 0.6);
+  EXPECT_EQ(o.max_uncertainty_rad, DegToRad(2.0));
+}
+
+TEST(PaperEm, RecoversTheParametersOfATwoGaussianSample) {
+  std::mt19937 rng(42);
+  std::normal_distribution<double> a(-0.2, 0.05), b(0.3, 0.1);
+  std::vector<double> xa(600), xb(400);
+  for (auto& v : xa) v = a(rng);
+  for (auto& v : xb) v = b(rng);
+  // The initial labels are wrong for a fifth of each set: EM must sort them.
+  std::vector<double> s(xa.begin(), xa.begin() + 480), m(xb.begin(), xb.begin() + 320);
+  s.insert(s.end(), xb.begin() + 320, xb.end());
+  m.insert(m.end(), xa.begin() + 480, xa.end());
+  const PaperEmResult r = FitPaperEm(s, m);
+  ASSERT_TRUE(r.valid);
+  EXPECT_TRUE(r.converged);
+  EXPECT_NEAR(r.s.pi, 0.6, 0.02);
+  EXPECT_NEAR(r.m.pi, 0.4, 0.02);
+  EXPECT_NEAR(r.s.mu, -0.2, 0.006);
+  EXPECT_NEAR(r.m.mu, 0.3, 0.015);
+  EXPECT_NEAR(std::sqrt(r.s.sigma2), 0.05, 0.005);
+  EXPECT_NEAR(std::sqrt(r.m.sigma2), 0.1, 0.01);
+  EXPECT_NEAR(r.s.pi + r.m.pi, 1.0, 1e-12);
+}
+
+TEST(PaperEm, IsDeterministic) {
+  const std::vector<double> s = {0.1, 0.12, 0.09, -0.3}, m = {0.2, 0.25};
+  const PaperEmResult a = FitPaperEm(s, m), b = FitPaperEm(s, m);
+  EXPECT_EQ(a.s.mu, b.s.mu);
+  EXPECT_EQ(a.m.sigma2, b.m.sigma2);
+  EXPECT_EQ(a.iterations, b.iterations);
+}
+
+TEST(PaperEm, EmptySGivesNoEstimate) {
+  EXPECT_FALSE(FitPaperEm({}, {0.1}).valid);
+  const DirectionEstimate e = EstimateDirectionPaper({}, {});
+  EXPECT_FALSE(e.valid);
+  EXPECT_FALSE(e.accepted);
+}
+
+TEST(PaperEm, ZeroVarianceIsFloored) {
+  const PaperEmResult r = FitPaperEm({0.1, 0.1, 0.1}, {0.1, 0.1});
+  ASSERT_TRUE(r.valid);
+  EXPECT_DOUBLE_EQ(r.s.mu, 0.1);
+  EXPECT_GE(r.s.sigma2, DegToRad(0.01) * DegToRad(0.01) * (1 - 1e-12));
+  EXPECT_TRUE(std::isfinite(r.m.sigma2));
+}
+
+TEST(PaperEm, FarPointsDoNotGiveNaN) {
+  // Tiny variances and points far from both means: every density underflows.
+  const PaperEmResult r = FitPaperEm({0.0, 0.0, 0.7}, {-0.7, -0.7});
+  ASSERT_TRUE(r.valid);
+  EXPECT_TRUE(std::isfinite(r.s.mu) && std::isfinite(r.m.mu));
+  EXPECT_TRUE(std::isfinite(r.s.sigma2) && std::isfinite(r.m.sigma2));
+}
+
+TEST(PaperMode, SquareRoomRotatedByAKnownAngle) {
+  for (double deg : {7.3, -21.0, 0.0, 44.0, -44.0}) {
+    const auto s = WallDirections({Rectangle({2, 1}, 4, 3, DegToRad(deg))});
+    const DirectionEstimate e = EstimateDirectionPaper(s, {});
+    ASSERT_TRUE(e.accepted);
+    EXPECT_NEAR(RadToDeg(e.direction_rad), deg, 0.1) << deg;
+  }
+}
+
+TEST(PaperMode, OneWallGivesItsDirection) {
+  const DirectionEstimate e = EstimateDirectionPaper(WallDirections({Edge({0, 0}, DegToRad(100), 2)}), {});
+  ASSERT_TRUE(e.accepted);
+  ExpectFinite(e);
+  EXPECT_NEAR(RadToDeg(e.direction_rad), 10.0, 1e-9);
+}
+
+TEST(PaperMode, SplitsAClusterStraddlingTheSeam) {
+  // Walls at 45 +- 1.5 degrees: half of them fold to about -44.
+  const DirectionEstimate e = EstimateDirectionPaper(WallDirections(SeamWalls()), {});
+  ASSERT_TRUE(e.accepted);
+  // The mixture puts the two halves in different components: mu_s is the mean
+  // of one half only, a degree away from the true 45.
+  EXPECT_GT(std::abs(RadToDeg(QuarterDiff(e.direction_rad, DegToRad(45.0)))), 0.9);
+}
+
+TEST(PaperMode, CorrectsARoundRoomAnyway) {
+  const DirectionEstimate e = EstimateDirectionPaper(WallDirections({RegularPolygon(36, 3, DegToRad(5))}), {});
+  EXPECT_TRUE(e.accepted);
+  ExpectFinite(e);
+  EXPECT_GT(e.uncertainty_rad, DegToRad(2.0));
+}
+
+TEST(DefaultMode, SquareRoomRotatedByAKnownAngle) {
+  for (double deg : {7.3, -21.0, 0.0, 44.0, -44.0, 44.9, -45.0}) {
+    const auto s = WallDirections({Rectangle({2, 1}, 4, 3, DegToRad(deg))});
+    const DirectionEstimate e = EstimateDirectionRobust(s);
+    ASSERT_TRUE(e.accepted) << deg;
+    EXPECT_NEAR(RadToDeg(QuarterDiff(e.direction_rad, DegToRad(deg))), 0.0, 0.1) << deg;
+    EXPECT_NEAR(e.inlier_fraction, 1.0, 1e-3);
+  }
+}
+
+TEST(DefaultMode, KeepsAClusterStraddlingTheSeamTogether) {
+  const DirectionEstimate e = EstimateDirectionRobust(WallDirections(SeamWalls()));
+  ASSERT_TRUE(e.accepted);
+  EXPECT_NEAR(RadToDeg(QuarterDiff(e.direction_rad, DegToRad(45.0))), 0.0, 0.01);
+}
+
+TEST(DefaultMode, IgnoresClutterThatMovesThePaperMean) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> angle(-kPi, kPi);
+  std::vector<Polyline> walls = {Rectangle({0, 0}, 5, 4, DegToRad(12))};
+  for (int i = 0; i < 12; ++i) walls.push_back(Edge({0, 0}, angle(rng), 0.3));
+  const auto s = WallDirections(walls);
+  const DirectionEstimate robust = EstimateDirectionRobust(s);
+  ASSERT_TRUE(robust.accepted);
+  EXPECT_NEAR(RadToDeg(robust.direction_rad), 12.0, 0.2);
+  const DirectionEstimate paper = EstimateDirectionPaper(s, {});
+  EXPECT_TRUE(std::isfinite(paper.direction_rad));
+}
+
+TEST(DefaultMode, UncertaintyCoversNoisyWalls) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, DegToRad(3.0));
+  std::vector<Polyline> walls;
+  for (int i = 0; i < 40; ++i) walls.push_back(Edge({0, 0}, DegToRad(-17) + i * kPi / 2 + noise(rng), 1.0));
+  const DirectionEstimate e = EstimateDirectionRobust(WallDirections(walls));
+  ASSERT_TRUE(e.accepted);
+  EXPECT_LT(e.uncertainty_rad, DegToRad(1.0));
+  EXPECT_GT(e.uncertainty_rad, DegToRad(0.2));  // about 3 / sqrt(40) = 0.47 degrees
+  EXPECT_LT(std::abs(QuarterDiff(e.direction_rad, DegToRad(-17))), 3.0 * e.uncertainty_rad);
+}
+
+TEST(DefaultMode, NoWallsGiveNoEstimate) {
+  const DirectionEstimate e = EstimateDirectionRobust({});
+  EXPECT_FALSE(e.valid);
+  EXPECT_FALSE(e.accepted);
+  EXPECT_EQ(e.decline, Decline::kNoWalls);
+}
+
+TEST(DefaultMode, DeclinesTooLittleWall) {
+  const DirectionEstimate e = EstimateDirectionRobust(WallDirections({Rectangle({0, 0}, 0.3, 0.3, 0.2)}));
+  ExpectFinite(e);
+  EXPECT_FALSE(e.accepted);
+  EXPECT_EQ(e.decline, Decline::kTooLittleWall);
+}
+
+TEST(DefaultMode, DeclinesASingleEdge) {
+  const DirectionEstimate e = EstimateDirectionRobust(WallDirections({Edge({0, 0}, 0.3, 5.0)}));
+  ExpectFinite(e);
+  EXPECT_FALSE(e.accepted);
+  EXPECT_EQ(e.decline, Decline::kTooFewEdges);
+}
+
+TEST(DefaultMode, AcceptsParallelWallsOfACorridor) {
+  // Walls in only one direction still fix the heading modulo 90 degrees.
+  const DirectionEstimate e = EstimateDirectionRobust(
+      WallDirections({Edge({0, 0}, DegToRad(3), 6.0), Edge({0, 2}, DegToRad(3), 6.0)}));
+  ExpectFinite(e);
+  ASSERT_TRUE(e.accepted);
+  EXPECT_NEAR(RadToDeg(e.direction_rad), 3.0, 1e-6);
+}
+
+TEST(DefaultMode, DeclinesARoundRoom) {
+  for (double deg : {0.0, 5.0, 13.0}) {
+    const DirectionEstimate e = EstimateDirectionRobust(WallDirections({RegularPolygon(36, 3, DegToRad(deg))}));
+    ExpectFinite(e);
+    EXPECT_FALSE(e.accepted) << deg;
+  }
+}
+
+TEST(DefaultMode, DeclinesANonManhattanRoom) {
+  // Equal wall length along 0/90 and along 30/120 degrees.
+  std::vector<Polyline> walls = {Rectangle({0, 0}, 4, 4, 0.0), Rectangle({8, 0}, 4, 4, DegToRad(30))};
+  const DirectionEstimate e = EstimateDirectionRobust(WallDirections(walls));
+  ExpectFinite(e);
+  EXPECT_FALSE(e.accepted);
+  EXPECT_EQ(e.decline, Decline::kNotManhattan);
+  // Paper mode returns a direction between the two families and corrects by it.
+  const DirectionEstimate p = EstimateDirectionPaper(WallDirections(walls), {});
+  EXPECT_TRUE(p.accepted);
+  EXPECT_GT(std::abs(RadToDeg(p.direction_rad)), 5.0);
+  EXPECT_LT(std::abs(RadToDeg(p.direction_rad)), 25.0);
+}
+
+TEST(DefaultMode, IsDeterministicAndFiniteOnZeroLengthInput) {
+  const DirectionEstimate e = EstimateDirectionRobust({{0.1, 0.0}, {0.2, 0.0}});
+  EXPECT_FALSE(e.valid);
+  EXPECT_FALSE(e.accepted);
+}
+
+}  // namespace
+}  // namespace cogmap::localize

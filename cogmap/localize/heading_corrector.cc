@@ -1,0 +1,55 @@
+#include "cogmap/localize/heading_corrector.h"
+
+#include <cmath>
+
+namespace cogmap::localize {
+
+Pose2 RotationAbout(const Vec2& pivot, double angle_rad) {
+  const Vec2 t = RotateAbout(Vec2(0.0, 0.0), pivot, angle_rad);
+  return {t.x(), t.y(), NormalizeAngle(angle_rad)};
+}
+
+Pose2 CorrectionOf(const asr::Asr& asr) {
+  return asr.world_from_local_corrected * asr.world_from_local_raw.inverse();
+}
+
+DirectionEstimate HeadingCorrector::Estimate(const asr::Asr& raw) const {
+  const std::vector<WallDirection> s = WallDirectionsWorldRaw(raw);
+  if (options_.mode == HeadingMode::kPaper) {
+    return EstimateDirectionPaper(s, MotorDirections(raw, options_.min_motor_chord_m), options_.paper);
+  }
+  return EstimateDirectionRobust(s, options_.robust);
+}
+
+asr::Asr HeadingCorrector::Close(asr::Asr raw) {
+  last_ = Estimate(raw);
+  if (last_.accepted) {
+    // Direction in the corrected frame before this ASR's own rotation.
+    const double d = FoldToQuarterTurn(last_.direction_rad + world_corrected_from_raw_.theta);
+    if (!reference_rad_) {
+      reference_rad_ = d;
+    } else {
+      // Wrapped into (-45, 45]: FoldToQuarterTurn gives [-45, 45).
+      double drift = FoldToQuarterTurn(d - *reference_rad_);
+      if (drift == -kPi / 4.0) drift = kPi / 4.0;
+      const Vec2 pivot = world_corrected_from_raw_ * raw.entry_pivot_m;
+      world_corrected_from_raw_ = RotationAbout(pivot, -drift) * world_corrected_from_raw_;
+      // After the rotation this ASR's direction equals the reference (mod 90),
+      // so the reference stays.
+    }
+  }
+  raw.world_from_local_corrected = world_corrected_from_raw_ * raw.world_from_local_raw;
+  raw.heading_correction_rad = world_corrected_from_raw_.theta;
+  raw.heading_uncertainty_rad =
+      last_.valid ? (std::isfinite(last_.uncertainty_rad) ? last_.uncertainty_rad : kPi / 4.0) : -1.0;
+  return raw;
+}
+
+std::vector<asr::Asr> CorrectHeadings(std::vector<asr::Asr> asrs,
+                                      const HeadingCorrectionOptions& options) {
+  HeadingCorrector corrector(options);
+  for (auto& a : asrs) a = corrector.Close(std::move(a));
+  return asrs;
+}
+
+}  // namespace cogmap::localize

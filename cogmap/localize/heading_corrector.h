@@ -1,0 +1,79 @@
+#pragma once
+#include <optional>
+#include <vector>
+
+#include "cogmap/asr/asr.h"
+#include "cogmap/localize/em.h"
+
+namespace cogmap::localize {
+
+enum class HeadingMode {
+  kPaper,    // thesis §3.1.9-3.1.10: Gaussian mixture over s U m, always corrects
+  kDefault,  // length-weighted von Mises + clutter on 4 theta, declines without evidence
+};
+
+struct HeadingCorrectionOptions {
+  HeadingMode mode = HeadingMode::kDefault;
+  PaperEmOptions paper;    // used in kPaper mode
+  RobustEmOptions robust;  // used in kDefault mode
+  double min_motor_chord_m = 0.2;  // m data (paper mode): shortest chord used
+};
+
+// Heading correction of a sequence of ASRs by EM over wall directions (SPEC 5,
+// thesis §3.1.9, §3.1.10, fig. 5.1). Rotation only.
+//
+// For each ASR, in the order the robot visited them:
+//  1. its dominant wall direction d is measured in the raw world frame
+//     (walls_local through world_from_local_raw), then carried into the
+//     corrected frame by the rotation accumulated so far: d' = d + C;
+//  2. drift = d' - reference, wrapped into (-45, 45] degrees, where reference is
+//     the corrected direction of the previous ASR that had an accepted estimate
+//     (the first such ASR sets it and is not rotated);
+//  3. the ASR is rotated by -drift about its entry pivot (in the corrected
+//     frame) and that rotation is composed into the accumulated correction, so
+//     it carries to every later ASR pose, pivot and path.
+// An ASR whose estimate is declined (default mode) or that has no walls gets
+// only the accumulated correction of those before it.
+//
+// Output fields of each Asr: world_from_local_corrected = Correction() *
+// world_from_local_raw, heading_correction_rad = its rotation angle (corrected -
+// raw heading), heading_uncertainty_rad = 1-sigma of this ASR's own direction
+// estimate (-1 when there was no wall to estimate from). Raw fields are kept.
+class HeadingCorrector {
+ public:
+  explicit HeadingCorrector(const HeadingCorrectionOptions& options = {}) : options_(options) {}
+
+  // Corrects one ASR that has just closed; call in visiting order.
+  asr::Asr Close(asr::Asr raw);
+
+  // The rigid transform from the raw world frame to the corrected one after the
+  // ASRs closed so far (identity at start). The corrected pose of any raw pose
+  // p recorded after the last closed ASR's entry is Correction() * p.
+  const Pose2& Correction() const { return world_corrected_from_raw_; }
+  // The reference wall direction (folded, corrected frame), if one was set.
+  std::optional<double> Reference() const { return reference_rad_; }
+  // The estimate of the last ASR passed to Close.
+  const DirectionEstimate& LastEstimate() const { return last_; }
+
+  // The dominant wall direction of an ASR in the raw world frame, per mode.
+  DirectionEstimate Estimate(const asr::Asr& raw) const;
+
+ private:
+  HeadingCorrectionOptions options_;
+  Pose2 world_corrected_from_raw_;
+  std::optional<double> reference_rad_;
+  DirectionEstimate last_;
+};
+
+// Batch form: the same result as closing the ASRs one by one.
+std::vector<asr::Asr> CorrectHeadings(std::vector<asr::Asr> asrs,
+                                      const HeadingCorrectionOptions& options = {});
+
+// The raw-to-corrected transform of an ASR: world_from_local_corrected *
+// world_from_local_raw^-1. Apply it to the ASR's raw path poses.
+Pose2 CorrectionOf(const asr::Asr& asr);
+
+// Rotation by 'angle_rad' about 'pivot' as a rigid transform.
+Pose2 RotationAbout(const Vec2& pivot, double angle_rad);
+
+}  // namespace cogmap::localize

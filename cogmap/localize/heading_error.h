@@ -1,0 +1,41 @@
+#pragma once
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cogmap/asr/asr.h"
+
+namespace cogmap::localize {
+
+// Heading error of one ASR: the circular mean, over the poses of its path, of
+// (estimated heading - true heading); path[i] pairs with true_path[i].
+struct AsrHeadingError {
+  int asr_id = -1;
+  int poses = 0;
+  double raw_rad = 0.0;        // odometry heading - truth, global rotation removed
+  double corrected_rad = 0.0;  // corrected heading - truth, global rotation removed
+};
+
+struct HeadingErrorStats {
+  int asrs = 0;  // ASRs with ground truth (0: the other fields mean nothing)
+  double median_deg = 0.0;      // median |corrected error|
+  double max_deg = 0.0;         // max |corrected error|
+  double median_raw_deg = 0.0;  // median |raw error|
+  double max_raw_deg = 0.0;     // max |raw error|
+  double global_rotation_rad = 0.0;      // removed from the corrected errors
+  double global_rotation_raw_rad = 0.0;  // removed from the raw errors
+  std::vector<AsrHeadingError> per_asr;  // in input order
+};
+
+// Heading errors of ASRs that have true_path (and a path). The corrected pose
+// of a raw pose p is CorrectionOf(asr) * p. One global rotation (the circular
+// mean of the per-ASR errors) is removed separately from the raw and the
+// corrected errors, since neither map is tied to the true frame.
+HeadingErrorStats ComputeHeadingErrors(const std::vector<asr::Asr>& asrs);
+
+// `cogmap eval` keys: heading_error_deg_median, heading_error_deg_max,
+// heading_error_deg_median_raw, heading_error_deg_max_raw. Empty when no ASR
+// has ground truth.
+std::vector<std::pair<std::string, double>> HeadingErrorEvalKeys(const HeadingErrorStats& stats);
+
+}  // namespace cogmap::localize

@@ -1,0 +1,74 @@
+#include "cogmap/localize/heading_error.h"
+
+#include <gtest/gtest.h>
+
+#include "cogmap/core/angles.h"
+
+namespace cogmap::localize {
+namespace {
+
+// An ASR whose raw path has a constant heading error of 'raw_deg' and whose
+// correction rotates by 'correction_deg'.
+asr::Asr WithError(int id, double raw_deg, double correction_deg) {
+  asr::Asr a;
+  a.id = id;
+  a.world_from_local_raw = {0, 0, 0};
+  a.world_from_local_corrected = {0, 0, DegToRad(correction_deg)};
+  for (int i = 0; i < 5; ++i) {
+    const double truth = 0.3 * i;
+    a.true_path.push_back({double(i), 0, truth});
+    a.path.push_back({double(i), 0.1, truth + DegToRad(raw_deg)});
+  }
+  return a;
+}
+
+TEST(HeadingError, RemovesOneGlobalRotation) {
+  const HeadingErrorStats st = ComputeHeadingErrors({WithError(0, 5, 0), WithError(1, 5, 0), WithError(2, 5, 0)});
+  EXPECT_EQ(st.asrs, 3);
+  EXPECT_NEAR(st.max_raw_deg, 0.0, 1e-9);
+  EXPECT_NEAR(st.max_deg, 0.0, 1e-9);
+  EXPECT_NEAR(RadToDeg(st.global_rotation_raw_rad), 5.0, 1e-9);
+}
+
+TEST(HeadingError, MedianAndMaxOfRawAndCorrected) {
+  // Raw errors 0, 2, 4, 6 deg -> circular mean 3 removed -> 3, 1, 1, 3.
+  // Corrections -0, -2, -4, -6: corrected errors all 0.
+  const HeadingErrorStats st = ComputeHeadingErrors(
+      {WithError(0, 0, 0), WithError(1, 2, -2), WithError(2, 4, -4), WithError(3, 6, -6)});
+  EXPECT_NEAR(st.median_raw_deg, 2.0, 1e-9);
+  EXPECT_NEAR(st.max_raw_deg, 3.0, 1e-9);
+  EXPECT_NEAR(st.median_deg, 0.0, 1e-9);
+  EXPECT_NEAR(st.max_deg, 0.0, 1e-9);
+  ASSERT_EQ(st.per_asr.size(), 4u);
+  EXPECT_NEAR(RadToDeg(st.per_asr[3].raw_rad), 3.0, 1e-6);
+  EXPECT_EQ(st.per_asr[3].poses, 5);
+}
+
+TEST(HeadingError, WrapsAcrossPi) {
+  asr::Asr a = WithError(0, 0, 0);
+  for (auto& p : a.true_path) p.theta = DegToRad(179.5);
+  for (auto& p : a.path) p.theta = DegToRad(-179.5);
+  const HeadingErrorStats st = ComputeHeadingErrors({a, WithError(1, 0, 0)});
+  EXPECT_NEAR(st.max_raw_deg, 0.5, 1e-6);
+}
+
+TEST(HeadingError, NoTruthGivesNoKeys) {
+  asr::Asr a;
+  a.path = {{0, 0, 0}};
+  const HeadingErrorStats st = ComputeHeadingErrors({a});
+  EXPECT_EQ(st.asrs, 0);
+  EXPECT_TRUE(HeadingErrorEvalKeys(st).empty());
+}
+
+TEST(HeadingError, EvalKeys) {
+  const auto keys = HeadingErrorEvalKeys(ComputeHeadingErrors({WithError(0, 0, 0), WithError(1, 2, 0)}));
+  ASSERT_EQ(keys.size(), 4u);
+  EXPECT_EQ(keys[0].first, "heading_error_deg_median");
+  EXPECT_EQ(keys[1].first, "heading_error_deg_max");
+  EXPECT_EQ(keys[2].first, "heading_error_deg_median_raw");
+  EXPECT_EQ(keys[3].first, "heading_error_deg_max_raw");
+  EXPECT_NEAR(keys[3].second, 1.0, 1e-6);
+}
+
+}  // namespace
+}  // namespace cogmap::localize
