@@ -1,0 +1,178 @@
+#include "cogmap/io/grid_io.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include "cogmap/core/error.h"
+
+namespace cogmap::io {
+namespace {
+
+namespace fs = std::filesystem;
+using grid::CellClass;
+using grid::Grid2D;
+using grid::MapLimits;
+
+class TempDir {
+ public:
+  TempDir() : path_(fs::temp_directory_path() / ("cogmap_grid_io_" + std::to_string(::getpid()))) {
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+void WriteText(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+TEST(RenderCertainty, MhimmColoursWithYUp) {
+  Grid2D<float> g(MapLimits(0.1, Vec2(0, 0), 3, 2), 0.0f);
+  g.at(0, 0) = -100.0f;  // path
+  g.at(1, 0) = 15.0f;    // occupied
+  g.at(2, 0) = -3.0f;    // empty
+  g.at(0, 1) = 0.0f;     // unknown
+  g.at(1, 1) = 7.0f;     // not yet occupied: dark grey
+  g.at(2, 1) = -1.5f;    // half way to white
+  const RgbImage img = RenderCertainty(g);
+  ASSERT_EQ(img.width(), 3);
+  ASSERT_EQ(img.height(), 2);
+  EXPECT_EQ(img.at(0, 1), kRobotPathRgb);  // grid row 0 is the image's bottom row
+  EXPECT_EQ(img.at(1, 1), kOccupiedRgb);
+  EXPECT_EQ(img.at(2, 1), kEmptyRgb);
+  EXPECT_EQ(img.at(0, 0), kUnknownRgb);
+  EXPECT_EQ(img.at(1, 0), (Rgb{64, 64, 64}));
+  EXPECT_EQ(img.at(2, 0).r, 208);  // (160 + 255) / 2 rounded
+}
+
+TEST(RenderCertainty, ScaleRepeatsCells) {
+  Grid2D<float> g(MapLimits(0.1, Vec2(0, 0), 2, 1), 0.0f);
+  g.at(1, 0) = 15.0f;
+  GridRenderOptions o;
+  o.scale = 3;
+  const RgbImage img = RenderCertainty(g, o);
+  EXPECT_EQ(img.width(), 6);
+  EXPECT_EQ(img.height(), 3);
+  EXPECT_EQ(img.at(2, 2), kUnknownRgb);
+  EXPECT_EQ(img.at(3, 0), kOccupiedRgb);
+  EXPECT_EQ(img.at(5, 2), kOccupiedRgb);
+}
+
+TEST(RenderProbability, GreyByProbabilityUnknownAndPath) {
+  Grid2D<float> p(MapLimits(0.1, Vec2(0, 0), 3, 1), 0.5f);
+  Grid2D<CellClass> c(p.limits(), CellClass::kUnknown);
+  p.at(1, 0) = 1.0f;
+  c.at(1, 0) = CellClass::kOccupied;
+  c.at(2, 0) = CellClass::kRobotPath;
+  const RgbImage img = RenderProbability(p, c);
+  EXPECT_EQ(img.at(0, 0), kUnknownRgb);
+  EXPECT_EQ(img.at(1, 0), (Rgb{0, 0, 0}));
+  EXPECT_EQ(img.at(2, 0), kRobotPathRgb);
+}
+
+TEST(RenderFusion, MhimmGridShowsPathHitAndBeam) {
+  grid::GridBounds b;
+  b.fixed = MapLimits(0.1, Vec2(-1, -1), 30, 20);
+  auto f = grid::MakeFusion(grid::FusionRule::kMhimm, {b, {}, {}, {}});
+  sensors::RangeSensor s;
+  f->MarkRobot(Pose2{0.05, 0.05, 0});
+  for (int i = 0; i < 3; ++i) f->Insert(Pose2{0.05, 0.05, 0}, s, 1.0);
+  const RgbImage img = RenderFusion(*f);
+  const int row = 20 - 1 - 10;
+  EXPECT_EQ(img.at(10, row), kRobotPathRgb);
+  EXPECT_EQ(img.at(20, row), kOccupiedRgb);
+  EXPECT_EQ(img.at(15, row), kEmptyRgb);
+}
+
+TEST(MapServer, WritesTrinaryPgmAndYaml) {
+  TempDir dir;
+  Grid2D<CellClass> c(MapLimits(0.05, Vec2(-1.5, 2.25), 3, 2), CellClass::kUnknown);
+  c.at(0, 0) = CellClass::kOccupied;
+  c.at(1, 0) = CellClass::kEmpty;
+  c.at(2, 0) = CellClass::kRobotPath;
+  WriteMapServer(dir / "map", c);
+  const PgmImage pgm = ReadPgm(dir / "map.pgm");
+  ASSERT_EQ(pgm.width, 3);
+  ASSERT_EQ(pgm.height, 2);
+  // Top image row = grid row 1 (all unknown); bottom row = grid row 0.
+  EXPECT_EQ(pgm.pixels, (std::vector<uint8_t>{205, 205, 205, 0, 254, 254}));
+  const MapServerYaml y = ReadMapServerYaml(dir / "map.yaml");
+  EXPECT_EQ(y.image, "map.pgm");
+  EXPECT_EQ(y.resolution, 0.05);
+  EXPECT_EQ(y.origin, Vec2(-1.5, 2.25));
+  EXPECT_EQ(y.origin_yaw, 0.0);
+  EXPECT_EQ(y.negate, 0);
+  EXPECT_EQ(y.occupied_thresh, 0.65);
+  EXPECT_EQ(y.free_thresh, 0.196);
+  EXPECT_EQ(y.mode, "trinary");
+}
+
+TEST(MapServer, LoadsBackAsMapServerWould) {
+  TempDir dir;
+  Grid2D<CellClass> c(MapLimits(0.1, Vec2(3, -4), 4, 3), CellClass::kUnknown);
+  c.at(0, 0) = CellClass::kOccupied;
+  c.at(3, 2) = CellClass::kEmpty;
+  c.at(1, 1) = CellClass::kRobotPath;
+  WriteMapServer(dir / "m", c);
+  const MapServerMap m = ReadMapServer(dir / "m.yaml");
+  EXPECT_EQ(m.occupancy.limits().origin(), Vec2(3, -4));
+  EXPECT_EQ(m.occupancy.limits().cell_m(), 0.1);
+  EXPECT_EQ(m.occupancy.at(0, 0), 100);
+  EXPECT_EQ(m.occupancy.at(3, 2), 0);
+  EXPECT_EQ(m.occupancy.at(1, 1), 0);
+  EXPECT_EQ(m.occupancy.at(2, 1), -1);
+  const auto back = ClassesFromMapServer(m);
+  EXPECT_EQ(back.at(0, 0), CellClass::kOccupied);
+  EXPECT_EQ(back.at(1, 1), CellClass::kEmpty);
+  EXPECT_EQ(back.at(3, 0), CellClass::kUnknown);
+}
+
+TEST(MapServer, PgmHeaderWithComments) {
+  TempDir dir;
+  WriteText(dir / "c.pgm", std::string("P5 # magic\n# a comment\n2 # width\n1\n255\n") + '\x00' + '\xfe');
+  const PgmImage p = ReadPgm(dir / "c.pgm");
+  EXPECT_EQ(p.width, 2);
+  EXPECT_EQ(p.height, 1);
+  EXPECT_EQ(p.pixels, (std::vector<uint8_t>{0, 254}));
+}
+
+TEST(MapServer, TruncatedPgmIsInputError) {
+  TempDir dir;
+  WriteText(dir / "t.pgm", "P5\n4 4\n255\nabc");
+  EXPECT_THROW(ReadPgm(dir / "t.pgm"), InputError);
+  WriteText(dir / "a.pgm", "P2\n1 1\n255\n0\n");
+  EXPECT_THROW(ReadPgm(dir / "a.pgm"), InputError);
+  EXPECT_THROW(ReadPgm(dir / "missing.pgm"), InputError);
+}
+
+TEST(MapServer, YamlErrorsNameTheLine) {
+  TempDir dir;
+  WriteText(dir / "bad.yaml", "image: x.pgm\nresolution: fast\norigin: [0, 0, 0]\n");
+  try {
+    ReadMapServerYaml(dir / "bad.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml:2:"), std::string::npos) << e.what();
+  }
+  WriteText(dir / "short.yaml", "image: x.pgm\nresolution: 0.1\norigin: [0, 0]\n");
+  EXPECT_THROW(ReadMapServerYaml(dir / "short.yaml"), InputError);
+  WriteText(dir / "none.yaml", "image: x.pgm\nresolution: 0.1\n");
+  EXPECT_THROW(ReadMapServerYaml(dir / "none.yaml"), InputError);
+}
+
+TEST(MapServer, FailedWriteLeavesNoFile) {
+  TempDir dir;
+  Grid2D<CellClass> c(MapLimits(0.1, Vec2(0, 0), 2, 2), CellClass::kUnknown);
+  EXPECT_THROW(WriteMapServer(dir / "no/such/dir/m", c), InputError);
+  EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+}  // namespace
+}  // namespace cogmap::io
