@@ -1,0 +1,186 @@
+#include "cogmap/eval/wall_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace cogmap::eval {
+namespace {
+
+// Uniform bucket grid of segments for nearest-distance and crossing queries.
+class SegmentIndex {
+ public:
+  SegmentIndex(const std::vector<Segment2>& segs, double cell_m) : segs_(segs), cell_(cell_m) {
+    if (segs.empty()) return;
+    lo_ = Vec2(1e300, 1e300);
+    Vec2 hi(-1e300, -1e300);
+    for (const auto& s : segs) {
+      lo_ = lo_.cwiseMin(s.a).cwiseMin(s.b);
+      hi = hi.cwiseMax(s.a).cwiseMax(s.b);
+    }
+    w_ = static_cast<int>((hi.x() - lo_.x()) / cell_) + 1;
+    h_ = static_cast<int>((hi.y() - lo_.y()) / cell_) + 1;
+    buckets_.resize(static_cast<size_t>(w_) * h_);
+    for (size_t i = 0; i < segs.size(); ++i) {
+      const auto& s = segs[i];
+      const int x0 = Bx(std::min(s.a.x(), s.b.x())), x1 = Bx(std::max(s.a.x(), s.b.x()));
+      const int y0 = By(std::min(s.a.y(), s.b.y())), y1 = By(std::max(s.a.y(), s.b.y()));
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x)
+          if (PointSegmentDistance(Vec2(lo_.x() + (x + 0.5) * cell_, lo_.y() + (y + 0.5) * cell_), s.a, s.b) <=
+              cell_ * 0.7072)
+            buckets_[static_cast<size_t>(y) * w_ + x].push_back(static_cast<int>(i));
+    }
+  }
+
+  // Distance to the nearest segment (exact), +inf when there are none.
+  double Nearest(const Vec2& p) const {
+    if (segs_.empty()) return std::numeric_limits<double>::infinity();
+    const int cx = Bx(p.x()), cy = By(p.y());
+    double best = std::numeric_limits<double>::infinity();
+    const int max_ring = std::max(w_, h_) + std::max(std::abs(cx), std::abs(cy)) + 2;
+    for (int r = 0; r <= max_ring; ++r) {
+      // Segments first listed in ring r lie at least (r - 1) * cell away.
+      if (r >= 1 && (r - 1) * cell_ > best) break;
+      for (int y = cy - r; y <= cy + r; ++y) {
+        const bool edge = y == cy - r || y == cy + r;
+        for (int x = cx - r; x <= cx + r; x += (edge || r == 0) ? 1 : 2 * r) {
+          if (x < 0 || y < 0 || x >= w_ || y >= h_) continue;
+          for (int i : buckets_[static_cast<size_t>(y) * w_ + x])
+            best = std::min(best, PointSegmentDistance(p, segs_[i].a, segs_[i].b));
+        }
+      }
+    }
+    return best;
+  }
+
+ private:
+  int Bx(double x) const { return std::clamp(static_cast<int>(std::floor((x - lo_.x()) / cell_)), -1000000, 1000000); }
+  int By(double y) const { return std::clamp(static_cast<int>(std::floor((y - lo_.y()) / cell_)), -1000000, 1000000); }
+  const std::vector<Segment2>& segs_;
+  double cell_;
+  Vec2 lo_{0, 0};
+  int w_ = 0, h_ = 0;
+  std::vector<std::vector<int>> buckets_;
+};
+
+double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Proper or touching intersection of segments [p, q] and [a, b].
+bool SegmentsIntersect(const Vec2& p, const Vec2& q, const Vec2& a, const Vec2& b) {
+  const Vec2 r = q - p, s = b - a;
+  const double den = Cross(r, s);
+  const Vec2 ap = a - p;
+  if (std::abs(den) < 1e-15) {
+    // Parallel: intersect only when collinear and overlapping.
+    if (std::abs(Cross(ap, r)) > 1e-12) return false;
+    const double rr = r.squaredNorm();
+    if (rr <= 0.0) return PointSegmentDistance(p, a, b) < 1e-12;
+    const double t0 = ap.dot(r) / rr, t1 = (b - p).dot(r) / rr;
+    return std::max(t0, t1) >= 0.0 && std::min(t0, t1) <= 1.0;
+  }
+  const double t = Cross(ap, s) / den, u = Cross(ap, r) / den;
+  return t >= 0.0 && t <= 1.0 && u >= 0.0 && u <= 1.0;
+}
+
+}  // namespace
+
+std::vector<Vec2> SampleSegment(const Segment2& s, double step_m) {
+  const double len = s.length();
+  if (len <= 0.0) return {s.a};
+  const int n = std::max(1, static_cast<int>(std::ceil(len / step_m - 1e-9)));
+  std::vector<Vec2> out;
+  out.reserve(n + 1);
+  for (int i = 0; i <= n; ++i) out.push_back(s.a + (s.b - s.a) * (static_cast<double>(i) / n));
+  return out;
+}
+
+PrecisionStats WallPrecision(const std::vector<Polyline>& map_walls, const std::vector<Segment2>& true_walls,
+                             const WallMetricsOptions& options) {
+  PrecisionStats st;
+  const SegmentIndex index(true_walls, 0.5);
+  std::vector<double> d;
+  for (const auto& seg : ToSegments(map_walls)) {
+    const auto pts = SampleSegment(seg, options.sample_step_m);
+    for (size_t i = 0; i < pts.size(); ++i) {
+      if (i + 1 == pts.size() && seg.length() > 0.0) continue;  // next segment starts here
+      d.push_back(index.Nearest(pts[i]));
+    }
+  }
+  // Each polyline's last vertex.
+  for (const auto& l : map_walls)
+    if (l.size() >= 2) d.push_back(index.Nearest(l.back()));
+  st.samples = static_cast<int64_t>(d.size());
+  if (d.empty()) return st;
+  double sum = 0.0;
+  for (double x : d) sum += x;
+  st.mean_m = sum / d.size();
+  std::sort(d.begin(), d.end());
+  const size_t rank = static_cast<size_t>(std::ceil(0.95 * d.size()));
+  st.p95_m = d[std::max<size_t>(rank, 1) - 1];
+  st.max_m = d.back();
+  return st;
+}
+
+bool ClearLineOfSight(const Vec2& from, const Vec2& to, const std::vector<Segment2>& walls,
+                      double tolerance_m) {
+  const Vec2 d = to - from;
+  const double len = d.norm();
+  if (len <= tolerance_m) return true;
+  const Vec2 end = from + d * ((len - tolerance_m) / len);
+  for (const auto& w : walls)
+    if (SegmentsIntersect(from, end, w.a, w.b)) return false;
+  return true;
+}
+
+std::vector<Vec2> ThinPath(const std::vector<Vec2>& path, double step_m) {
+  std::vector<Vec2> out;
+  for (size_t i = 0; i < path.size(); ++i)
+    if (out.empty() || (path[i] - out.back()).norm() >= step_m || i + 1 == path.size()) out.push_back(path[i]);
+  return out;
+}
+
+RecallStats WallRecall(const std::vector<Polyline>& map_walls, const std::vector<Segment2>& true_walls,
+                       const std::vector<Vec2>& true_path, const WallMetricsOptions& options) {
+  RecallStats st;
+  const auto map_segs = ToSegments(map_walls);
+  // Single-vertex polylines count as points.
+  std::vector<Segment2> map_all = map_segs;
+  for (const auto& l : map_walls)
+    if (l.size() == 1) map_all.push_back({l[0], l[0]});
+  const SegmentIndex map_index(map_all, 0.5);
+  const auto path = ThinPath(true_path, options.path_step_m);
+  const double range2 = options.sensor_range_m * options.sensor_range_m;
+  std::vector<Segment2> nearby;
+  for (const auto& w : true_walls) {
+    const auto pts = SampleSegment(w, options.sample_step_m);
+    const double len = w.length();
+    const double each = pts.size() > 1 ? len / (pts.size() - 1) : 0.0;
+    // Walls that can block a sight line onto this one: within range of it.
+    nearby.clear();
+    for (const auto& o : true_walls) {
+      if (PointSegmentDistance(o.a, w.a, w.b) <= 2 * options.sensor_range_m + len ||
+          PointSegmentDistance(o.b, w.a, w.b) <= 2 * options.sensor_range_m + len)
+        nearby.push_back(o);
+    }
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const double weight = pts.size() == 1 ? 0.0 : ((i == 0 || i + 1 == pts.size()) ? each / 2 : each);
+      ++st.samples;
+      bool seen = false;
+      for (const auto& q : path) {
+        if ((q - pts[i]).squaredNorm() > range2) continue;
+        if (ClearLineOfSight(q, pts[i], nearby, options.sight_tolerance_m)) {
+          seen = true;
+          break;
+        }
+      }
+      if (!seen) continue;
+      ++st.seeable_samples;
+      st.seeable_length_m += weight;
+      if (map_index.Nearest(pts[i]) <= options.recall_within_m) st.found_length_m += weight;
+    }
+  }
+  return st;
+}
+
+}  // namespace cogmap::eval

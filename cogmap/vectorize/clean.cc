@@ -1,0 +1,147 @@
+#include "cogmap/vectorize/clean.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <vector>
+
+#include "cogmap/core/bresenham.h"
+
+namespace cogmap::vectorize {
+namespace {
+
+// True when the walk from a toward b meets a path cell before any occupied
+// cell (a itself excluded). With 'stop_at_target', the walk ends at b.
+template <typename Get>
+bool RayReachesPath(int ax, int ay, int bx, int by, const CellClasses& cls, Get&& get,
+                    int64_t* steps) {
+  bool first = true, found = false;
+  WalkBresenham(ax, ay, bx, by, [&](int x, int y) {
+    if (first) {
+      first = false;
+      return true;
+    }
+    if (steps) ++*steps;
+    const float v = get(x, y);
+    if (cls.IsPath(v)) {
+      found = true;
+      return false;
+    }
+    return !cls.IsOccupied(v);
+  });
+  return found;
+}
+
+}  // namespace
+
+grid::Grid2D<float> CleanMap(const grid::Grid2D<float>& grid, const CleanOptions& options,
+                             CleanStats* stats) {
+  CleanStats local;
+  CleanStats& st = stats ? *stats : local;
+  st = CleanStats{};
+  grid::Grid2D<float> out = grid;
+  const auto& lim = grid.limits();
+  const int w = lim.width(), h = lim.height();
+  const int m = std::max(0, options.max_dist_cells);
+  const CellClasses& cls = options.classes;
+  if (w <= 0 || h <= 0) return out;
+
+  // Path cells in buckets of side B (cells are distinct by construction).
+  const int bucket = std::max(4, std::min(16, m > 0 ? m / 2 : 4));
+  const int bw = (w + bucket - 1) / bucket, bh = (h + bucket - 1) / bucket;
+  std::vector<std::vector<std::pair<int, int>>> buckets(static_cast<size_t>(bw) * bh);
+  const auto& cells = grid.cells();
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (cls.IsPath(cells[lim.Flat(x, y)])) {
+        buckets[static_cast<size_t>(y / bucket) * bw + x / bucket].push_back({x, y});
+        ++st.path_cells;
+      }
+  auto get = [&](int x, int y) { return grid.get(x, y); };
+
+  std::vector<std::pair<int, std::pair<int, int>>> candidates;  // (d2, cell)
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const float v = cells[lim.Flat(x, y)];
+      if (!cls.IsOccupied(v)) continue;
+      ++st.occupied_in;
+      candidates.clear();
+      if (st.path_cells > 0) {
+        const int bx0 = std::max(0, (x - m) / bucket), bx1 = std::min(bw - 1, (x + m) / bucket);
+        const int by0 = std::max(0, (y - m) / bucket), by1 = std::min(bh - 1, (y + m) / bucket);
+        for (int by = by0; by <= by1; ++by)
+          for (int bx = bx0; bx <= bx1; ++bx)
+            for (const auto& p : buckets[static_cast<size_t>(by) * bw + bx]) {
+              const int dx = p.first - x, dy = p.second - y;
+              if (std::abs(dx) > m || std::abs(dy) > m) continue;
+              candidates.push_back({dx * dx + dy * dy, p});
+            }
+        std::sort(candidates.begin(), candidates.end());
+      }
+      bool found = false;
+      for (const auto& c : candidates) {
+        ++st.rays_walked;
+        if (RayReachesPath(x, y, c.second.first, c.second.second, cls, get, &st.steps_walked)) {
+          found = true;
+          break;
+        }
+      }
+      if (found)
+        ++st.kept;
+      else
+        out.at(x, y) = 0.0f;
+    }
+  }
+  return out;
+}
+
+grid::Grid2D<float> CleanMapBruteForce(const grid::Grid2D<float>& grid,
+                                       const CleanOptions& options) {
+  grid::Grid2D<float> out = grid;
+  const auto& lim = grid.limits();
+  const int m = std::max(0, options.max_dist_cells);
+  const CellClasses& cls = options.classes;
+  auto get = [&](int x, int y) { return grid.get(x, y); };
+  for (int y = 0; y < lim.height(); ++y) {
+    for (int x = 0; x < lim.width(); ++x) {
+      if (!cls.IsOccupied(grid.at(x, y))) continue;
+      bool found = false;
+      for (int j = -m; j <= m && !found; ++j)
+        for (int i = -m; i <= m && !found; ++i) {
+          if (i == 0 && j == 0) continue;
+          found = RayReachesPath(x, y, x + i, y + j, cls, get, nullptr);
+        }
+      if (!found) out.at(x, y) = 0.0f;
+    }
+  }
+  return out;
+}
+
+grid::Grid2D<float> CleanMapPathTargets(const grid::Grid2D<float>& grid,
+                                        const CleanOptions& options) {
+  grid::Grid2D<float> out = grid;
+  const auto& lim = grid.limits();
+  const int m = std::max(0, options.max_dist_cells);
+  const CellClasses& cls = options.classes;
+  auto get = [&](int x, int y) { return grid.get(x, y); };
+  std::vector<std::pair<int, int>> path;
+  for (int y = 0; y < lim.height(); ++y)
+    for (int x = 0; x < lim.width(); ++x)
+      if (cls.IsPath(grid.at(x, y))) path.push_back({x, y});
+  for (int y = 0; y < lim.height(); ++y) {
+    for (int x = 0; x < lim.width(); ++x) {
+      if (!cls.IsOccupied(grid.at(x, y))) continue;
+      bool found = false;
+      for (const auto& p : path) {
+        if (std::abs(p.first - x) > m || std::abs(p.second - y) > m) continue;
+        if (RayReachesPath(x, y, p.first, p.second, cls, get, nullptr)) {
+          found = true;
+          break;
+        }
+      }
+      if (!found) out.at(x, y) = 0.0f;
+    }
+  }
+  return out;
+}
+
+}  // namespace cogmap::vectorize

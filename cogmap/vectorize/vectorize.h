@@ -1,0 +1,72 @@
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "cogmap/core/geometry.h"
+#include "cogmap/grid/grid2d.h"
+#include "cogmap/vectorize/clean.h"
+#include "cogmap/vectorize/extract.h"
+#include "cogmap/vectorize/line_fit.h"
+#include "cogmap/vectorize/polyline_codec.h"
+#include "cogmap/vectorize/simplify.h"
+
+namespace cogmap::vectorize {
+
+// The whole of SPEC 3: clean -> extract -> vertex simplify -> Douglas-Peucker
+// -> line fit. Each stage keeps its own options and paper defaults.
+struct VectorizeOptions {
+  CleanOptions clean;
+  ExtractOptions extract;
+  VertexSimplifyOptions vertex_simplify;
+  DouglasPeuckerOptions douglas_peucker;
+  LineFitOptions fit;
+  PolylineCodecOptions codec;
+  // Not in the paper: chains of fewer extracted cells than this are not walls
+  // (isolated echoes). 2 keeps every chain that can make a segment.
+  int min_chain_points = 2;
+
+  // The paper's choices (fit mode kPaper); the default differs only in the fit.
+  static VectorizeOptions Paper() {
+    VectorizeOptions o;
+    o.fit.mode = FitMode::kPaper;
+    return o;
+  }
+};
+
+struct VectorizeBytes {
+  int64_t grid = 0;       // one byte per cell of the input grid
+  int64_t vertices = 0;   // extracted points, 2 x int16 per vertex
+  int64_t polylines = 0;  // EncodePolylines(result polylines).size()
+};
+
+struct VectorizeSeconds {
+  double clean = 0.0;
+  double extract = 0.0;
+  double simplify = 0.0;  // vertex simplify + Douglas-Peucker
+  double fit = 0.0;
+  double total() const { return clean + extract + simplify + fit; }
+};
+
+struct VectorizeResult {
+  std::vector<Polyline> polylines;  // the walls, world metres
+  // Intermediate products (cell coordinates, cell centres at .5) for pictures.
+  grid::Grid2D<float> cleaned;
+  std::vector<CellChain> chains;                // extracted, every chain
+  std::vector<std::vector<Vec2>> simplified;    // after VS + DP (walls only)
+  std::vector<std::vector<Vec2>> fitted;        // after the fit (walls only)
+  CleanStats clean_stats;
+  ExtractStats extract_stats;
+  LineFitStats fit_stats;
+  int64_t vertices_after_vertex_simplify = 0;
+  int64_t vertex_count = 0;  // vertices of 'polylines'
+  int64_t dropped_chains = 0;  // chains shorter than min_chain_points
+  VectorizeBytes bytes;
+  VectorizeSeconds seconds;
+};
+
+// Runs the pipeline on a modified-HIMM grid. Defined results on every input:
+// an empty grid, a grid without robot path (cleaning keeps nothing: no walls),
+// or without occupied cells gives no polylines (and no error).
+VectorizeResult Vectorize(const grid::Grid2D<float>& grid, const VectorizeOptions& options = {});
+
+}  // namespace cogmap::vectorize
