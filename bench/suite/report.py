@@ -1,0 +1,419 @@
+"""docs/BENCHMARKS.md from the suite's results (results.json)."""
+import collections
+import math
+import os
+
+from .stats import fmt_bytes, fmt_num, fmt_summary, summary
+from .tool import finite
+
+THESIS_ASRS = 43
+THESIS_SECONDS = 38.0
+THESIS_CPU_MHZ = 400.0
+
+REPRODUCE = """\
+## How to reproduce
+
+```sh
+bash scripts/install-deps.sh --peers   # Debian packages, including MRPT, OpenCV, python3-matplotlib
+bench/run_all                          # configures and builds build/ (Release), runs everything, writes docs/
+```
+
+`bench/run_all` builds the `cogmap` command, the micro-benchmarks and the peer
+programs in `build/` (`--build-dir DIR` to change, `--no-build` to use a build as
+it is), then runs every job on a pool of `--jobs N` processes (default: the
+number of cores), each step with a time limit (`--step-timeout`, default 600 s).
+It writes this page, `docs/benchmarks/results.json` (every raw number, including
+each command's wall time and peak memory) and the figures `docs/bench_*.png`,
+`docs/peer_mrpt_*.png`. Intermediate logs and maps go to `build/bench-work/`.
+Smaller runs: `--seeds 1`, `--worlds nine_rooms`, `--robots pioneer16`,
+`--drifts 0,1`, `--skip real,micro,peers`; `bench/run_all --smoke` (also
+`bench/smoke`, and the ctest `bench_smoke`, label `slow`) runs one world, one
+robot, one seed and one drift into a scratch folder and fails unless every metric
+is present and finite.
+"""
+
+DEFINITIONS = """\
+## Definitions
+
+- **wall precision** (`wall_precision_mean_m`, `_p95_m`): distance from points every
+  5 cm along the map's walls to the nearest true wall, mean and 95th percentile, in
+  the world frame of the log's ground truth (so drift shows). **wall recall**: the
+  share of the length of the true walls the robot could see that lies within 0.2 m of
+  a map wall (`cogmap eval`, issue 4).
+- **room precision / recall**: an ASR matches a true `Room` when most of its area
+  lies in it; precision = share of ASRs that match a room not matched before, recall
+  = share of rooms matched (issue 5). Worlds without `Room` cairns (ARIA `office`)
+  have none.
+- **heading error**: per ASR, |mapped heading - true heading| after removing one
+  global rotation, median and max over the ASRs; *raw* = odometry, *corrected* = after
+  EM (issue 6).
+- **bytes per stage** (thesis table 4.2): the ASRs' grids, extracted vertices and
+  final polylines, summed over ASRs.
+- **map s**: wall-clock seconds of `cogmap map` on the log (reading, gridding,
+  vectorizing, storing, correcting, writing every output), measured by the suite;
+  **x real time** = the log's duration / map s; **s/ASR** = map s / ASR count.
+- **mapped floor**: the area of the known cells (explored empty, occupied or robot
+  path) of one modified-HIMM grid of the whole log at 0.1 m cells. Every map size per
+  square metre below divides by this same area.
+- **grid as PNG / PGM**: that grid as a map_server trinary image (occupied 0, free
+  254, unknown 205) cropped to the box of known cells; PNG through libpng at the
+  default compression, PGM binary (P5) with its header. **MRPT gridmap.gz**: MRPT's
+  own grid of the same readings (`COccupancyGridMap2D`, serialized with
+  `mrpt::serialization` into `CFileGZOutputStream`).
+- Spreads: `median [min–max]` over the seeds (and over drifts where a table pools
+  them); `n` runs per cell as the table says.
+"""
+
+
+def _pct(x):
+    return "n/a" if x is None else f"{100 * x:.1f}%"
+
+
+class Report:
+    def __init__(self, results):
+        self.r = results
+        self.reasons = collections.OrderedDict()
+
+    def na(self, reason):
+        """Registers a reason and returns its footnote marker."""
+        if reason not in self.reasons:
+            self.reasons[reason] = len(self.reasons) + 1
+        return f"n/a<sup>{self.reasons[reason]}</sup>"
+
+    # -- helpers ---------------------------------------------------------------
+    def cell(self, runs, key, digits=3, scale=1.0, reason_of=None):
+        s = summary([r["metrics"].get(key) for r in runs if r.get("metrics")])
+        if s:
+            return fmt_summary(s, digits, scale)
+        reason = reason_of(key) if reason_of else None
+        if not reason:
+            reason = self.reason_for(runs, key)
+        return self.na(reason)
+
+    def reason_for(self, runs, key):
+        for r in runs:
+            na = r.get("na", {})
+            for group in ("all", "map", "eval"):
+                if group in na:
+                    return na[group]
+        for r in runs:
+            if r.get("eval") is not None and key not in r.get("metrics", {}):
+                return f"`cogmap eval --json` gives no finite `{key}`"
+        return f"no run gave `{key}`"
+
+    def pair(self, runs, raw_key, key, digits=2):
+        a = self.cell(runs, raw_key, digits)
+        b = self.cell(runs, key, digits)
+        return f"{a} → {b}"
+
+    # -- sections ----------------------------------------------------------------
+    def header(self):
+        m = self.r["machine"]
+        cfg = self.r["config"]
+        lines = [
+            "# Benchmarks",
+            "",
+            "Generated by `bench/run_all` (do not edit by hand: run it again). Every number "
+            "comes from the run described here; missing ones are n/a with the reason.",
+            "",
+            f"- **commit** `{(m.get('commit') or 'unknown')[:12]}` ({m.get('commit_subject') or ''})"
+            + (" with local changes" if m.get("dirty") else ""),
+            f"- **machine**: {m.get('nproc')} cores, {m.get('cpu_model')}"
+            + (f" at {m['cpu_mhz']:.0f} MHz" if m.get("cpu_mhz") else "")
+            + f", {m.get('mem_total_gib')} GiB RAM, {m.get('os')}",
+            f"- **run**: {self.r['started_utc']} UTC, {self.r['suite_wall_s'] / 60:.1f} min wall clock "
+            f"on {cfg['jobs']} parallel jobs, build type {cfg.get('build_type', '?')}",
+            f"- **grid of runs**: worlds {', '.join(cfg['worlds'])} x robots {', '.join(cfg['robots'])} "
+            f"x drift {', '.join(f'{d:g}' for d in cfg['drifts'])} deg/m x seeds "
+            f"{', '.join(str(s) for s in cfg['seeds'])} = {len(self.r.get('sim', []))} simulated runs, "
+            "each `cogmap simulate` -> `cogmap map` -> `cogmap eval --json`",
+            "",
+        ]
+        missing = {k: v for k, v in self.r.get("commands", {}).items() if v is not True}
+        if missing:
+            lines.append("Not available in this build: " + "; ".join(
+                f"`{k}` ({v})" for k, v in missing.items()) + ".")
+            lines.append("")
+        return lines
+
+    def accuracy(self):
+        sims = self.r.get("sim", [])
+        out = ["## Accuracy per world, robot and drift", "",
+               f"Median [min–max] over {len(self.r['config']['seeds'])} seeds. Heading errors in degrees, "
+               "raw (odometry) → corrected (EM).", ""]
+        by_world = collections.OrderedDict()
+        for s in sims:
+            by_world.setdefault(s["params"]["world_name"], []).append(s)
+        for world, runs in by_world.items():
+            has_rooms = runs[0]["params"].get("has_rooms", True)
+            out += [f"### {world}", "",
+                    "| robot | drift °/m | wall prec. mean m | wall prec. p95 m | wall recall | "
+                    "room prec. | room recall | heading median ° | heading max ° | ASRs |",
+                    "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+            groups = collections.OrderedDict()
+            for s in runs:
+                groups.setdefault((s["params"]["robot"], s["params"]["drift_deg_per_m"]), []).append(s)
+            room_reason = (lambda k: None) if has_rooms else (
+                lambda k: "the world has no `Room` cairns (no ground-truth rooms)")
+            for (robot, drift), g in groups.items():
+                out.append("| " + " | ".join([
+                    robot, f"{drift:g}",
+                    self.cell(g, "wall_precision_mean_m"), self.cell(g, "wall_precision_p95_m"),
+                    self.cell(g, "wall_recall"),
+                    self.cell(g, "room_precision", reason_of=None if has_rooms else room_reason),
+                    self.cell(g, "room_recall", reason_of=None if has_rooms else room_reason),
+                    self.pair(g, "heading_error_deg_median_raw", "heading_error_deg_median"),
+                    self.pair(g, "heading_error_deg_max_raw", "heading_error_deg_max"),
+                    self.cell(g, "asr_count", 0)]) + " |")
+            out.append("")
+        return out
+
+    def size_speed(self):
+        sims = self.r.get("sim", [])
+        out = ["## Size and speed per world and robot", "",
+               "All drifts and seeds pooled (median [min–max]). Bytes per stage as the thesis's "
+               "table 4.2, summed over ASRs.", "",
+               "| world | robot | runs | grid B | vertices B | polylines B | polylines / grid | "
+               "map s | x real time | s / ASR | peak MiB |",
+               "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        groups = collections.OrderedDict()
+        for s in sims:
+            groups.setdefault((s["params"]["world_name"], s["params"]["robot"]), []).append(s)
+        for (world, robot), g in groups.items():
+            ratios = [r["metrics"]["bytes_polylines"] / r["metrics"]["bytes_grid"] for r in g
+                      if finite(r["metrics"].get("bytes_polylines")) and r["metrics"].get("bytes_grid")]
+            rs = summary(ratios)
+            out.append("| " + " | ".join([
+                world, robot, str(len(g)),
+                self.cell(g, "bytes_grid", 0), self.cell(g, "bytes_vertices", 0),
+                self.cell(g, "bytes_polylines", 0),
+                fmt_summary(rs, 3, 100.0) + " %" if rs else self.na(self.reason_for(g, "bytes_polylines")),
+                self.cell(g, "map_s"), self.cell(g, "times_real_time"), self.cell(g, "seconds_per_asr"),
+                self.cell(g, "map_peak_rss_mib")]) + " |")
+        out.append("")
+        return out
+
+    def thesis_speed(self):
+        sims = self.r.get("sim", [])
+        thesis = THESIS_SECONDS / THESIS_ASRS
+        out = ["## Speed against the thesis", "",
+               f"The thesis mapped 43 ASRs of 4 m in 38 s in batch on a 400 MHz Pentium "
+               f"(figure 4.13): {thesis:.3f} s per ASR, which includes its grid building and "
+               "vectorization. cogmap's s/ASR below is the whole `cogmap map` command (reading "
+               "the log, every stage, the SQLite store and every output file) divided by the "
+               "number of ASRs.", ""]
+        per_asr = [r["metrics"].get("seconds_per_asr") for r in sims if r.get("metrics")]
+        s = summary(per_asr)
+        mhz = self.r["machine"].get("cpu_mhz")
+        if s:
+            out.append(f"- all simulated runs: {fmt_summary(s)} s per ASR, "
+                       f"{thesis / s['median']:.0f} times faster than the thesis per ASR (median).")
+            if mhz:
+                out.append(f"- the clock alone is {mhz / THESIS_CPU_MHZ:.1f} times faster "
+                           f"({mhz:.0f} MHz against 400 MHz); per clock cycle cogmap is "
+                           f"{thesis / s['median'] / (mhz / THESIS_CPU_MHZ):.1f} times faster.")
+        else:
+            out.append("- " + self.na(self.reason_for(sims, "seconds_per_asr")))
+        hall = [r for r in sims if r["params"]["world_name"] == "hallway_loop"]
+        hs = summary([r["metrics"].get("seconds_per_asr") for r in hall if r.get("metrics")])
+        if hs:
+            out.append(f"- `hallway_loop` (the thesis's 60 m corridor setting): {fmt_summary(hs)} s per ASR, "
+                       f"ASR count {fmt_summary(summary([r['metrics'].get('asr_count') for r in hall]), 0)}.")
+        out.append("")
+        return out
+
+    def real(self):
+        reals = self.r.get("real", [])
+        out = ["## Real logs", "",
+               "`cogmap map` on the logs of `../shared/data` (no ground-truth walls; the CARMEN "
+               "logs' corrected poses are the heading reference, so drift added to their odometry "
+               "is measured when `cogmap eval` gives heading errors for them).", "",
+               "| log | added drift °/m | ASRs | grid B | polylines B | map s | log s | x real time | "
+               "s / ASR | heading median ° raw → corr. | heading max ° raw → corr. |",
+               "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        for r in reals:
+            p = r["params"]
+            g = [r]
+            out.append("| " + " | ".join([
+                p["log_name"], f"{p['drift_deg_per_m']:g}", self.cell(g, "asr_count", 0),
+                self.cell(g, "bytes_grid", 0), self.cell(g, "bytes_polylines", 0),
+                self.cell(g, "map_s"), self.cell(g, "log_duration_s"), self.cell(g, "times_real_time"),
+                self.cell(g, "seconds_per_asr"),
+                self.pair(g, "heading_error_deg_median_raw", "heading_error_deg_median"),
+                self.pair(g, "heading_error_deg_max_raw", "heading_error_deg_max")]) + " |")
+        out.append("")
+        return out
+
+    def peers(self):
+        out = ["## Peers", "", "### Occupancy grid: MRPT `COccupancyGridMap2D` against cogmap's modified HIMM", "",
+               "Same readings, same (odometry) poses, 0.1 m cells, readings used up to the MHIMM "
+               "window w = 3 m (MRPT's `maxDistanceInsertion`). MRPT fuses each sonar reading over "
+               "its whole cone (log-odds, free triangle and occupied arc), cogmap's MHIMM only "
+               "along the beam's centre line, as the thesis does; for the laser both trace rays. "
+               "Time is insertion only (the log is read first); memory is the peak resident "
+               "memory of a process building only that grid minus a process that only reads the "
+               "log.", "",
+               "| log | sensor | readings | cogmap s | MRPT s | cogmap readings/s | MRPT readings/s | "
+               "cogmap +MiB | MRPT +MiB | cogmap grid B in memory | MRPT grid B in memory | "
+               "cogmap known m² | MRPT known m² | picture |",
+               "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+        wins = []
+        size_rows = []
+        for p in self.r.get("peers", {}).get("mrpt", []):
+            name = p["params"]["name"]
+            if "all" in p.get("na", {}):
+                out.append(f"| {name} | " + " | ".join([self.na(p["na"]["all"])] * 12) + " | |")
+                continue
+            runs = p["runs"]
+            base = runs["none"]["process_peak_rss_kib"]
+            c, m = runs["cogmap"]["cogmap"], runs["mrpt"]["mrpt"]
+            dc = (runs["cogmap"]["process_peak_rss_kib"] - base) / 1024.0
+            dm = (runs["mrpt"]["process_peak_rss_kib"] - base) / 1024.0
+            both = runs["both"]
+            out.append("| " + " | ".join([
+                name, both.get("sensor", "?"), str(both.get("readings")),
+                fmt_num(c["insert_s"]), fmt_num(m["insert_s"]),
+                f"{c['readings_per_s']:.3g}", f"{m['readings_per_s']:.3g}",
+                fmt_num(dc), fmt_num(dm), fmt_bytes(c["grid_bytes_in_memory"]),
+                fmt_bytes(m["grid_bytes_in_memory"]), fmt_num(c["known_area_m2"]),
+                fmt_num(m["known_area_m2"]), f"[png]({p.get('png', '')})"]) + " |")
+            if m["insert_s"] < c["insert_s"]:
+                wins.append(f"MRPT builds its grid faster on `{name}` ({fmt_num(m['insert_s'])} s "
+                            f"against {fmt_num(c['insert_s'])} s).")
+            if m["grid_bytes_in_memory"] < c["grid_bytes_in_memory"]:
+                wins.append(f"MRPT's grid takes less memory on `{name}` "
+                            f"({fmt_bytes(m['grid_bytes_in_memory'])}: 1 byte per cell, against "
+                            f"{fmt_bytes(c['grid_bytes_in_memory'])} for cogmap's float cells).")
+            if m["known_area_m2"] > c["known_area_m2"] * 1.05:
+                wins.append(f"MRPT's cone model covers more floor from the same readings on `{name}` "
+                            f"({fmt_num(m['known_area_m2'])} m² known against {fmt_num(c['known_area_m2'])} m²).")
+            size_rows.append((name, p))
+        out.append("")
+        out += self.sizes(size_rows, wins)
+        out += self.opencv()
+        out += ["### Where a peer does better", ""]
+        if wins:
+            out += [f"- {w}" for w in wins]
+        else:
+            out.append("- In this run, no peer figure beat cogmap's on the measures above.")
+        out.append("")
+        return out
+
+    def _polyline_bytes_for(self, name):
+        """cogmap's polyline bytes for the log a peer comparison used."""
+        src = self.r.get("peers", {}).get("sources", {}).get(name)
+        if not src:
+            return None, None
+        kind, key = src
+        pool = self.r.get(kind, [])
+        for r in pool:
+            if r.get("name") == key or r.get("job") == key:
+                v = r.get("metrics", {}).get("bytes_polylines")
+                return (float(v) if finite(v) else None), r
+        return None, None
+
+    def sizes(self, size_rows, wins):
+        out = ["### Map size per square metre of mapped floor", "",
+               "One log, one mapped floor (see Definitions), five ways to store the map. cogmap's "
+               "polylines are the `bytes_polylines` of `cogmap map` on the same log.", "",
+               "| log | mapped floor m² | cogmap polylines B/m² | grid PNG B/m² | map_server PGM B/m² | "
+               "MRPT gridmap.gz B/m² | polylines / PNG |",
+               "|---|---:|---:|---:|---:|---:|---:|"]
+        for name, p in size_rows:
+            both = p["runs"]["both"]
+            floor = both.get("mapped_floor_m2") or 0
+            sz = both.get("sizes", {})
+            poly, _ = self._polyline_bytes_for(name)
+            per = lambda b: fmt_num(b / floor) if b and floor else "n/a"
+            poly_cell = per(poly) if poly else self.na(
+                f"no `bytes_polylines` from `cogmap map` for the log of {name}")
+            ratio = f"{100 * poly / sz['grid_png_bytes']:.1f}%" if poly and sz.get("grid_png_bytes") else "n/a"
+            out.append("| " + " | ".join([
+                name, fmt_num(floor), poly_cell, per(sz.get("grid_png_bytes")),
+                per(sz.get("grid_pgm_bytes")), per(sz.get("mrpt_gridmap_gz_bytes")), ratio]) + " |")
+            if poly and sz.get("grid_png_bytes") and sz["grid_png_bytes"] < poly:
+                wins.append(f"The grid as PNG is smaller than cogmap's polylines on `{name}`.")
+            if poly and sz.get("mrpt_gridmap_gz_bytes") and sz["mrpt_gridmap_gz_bytes"] < poly:
+                wins.append(f"MRPT's compressed gridmap is smaller than cogmap's polylines on `{name}`.")
+        out.append("")
+        return out
+
+    def opencv(self):
+        cv = self.r.get("peers", {}).get("opencv", [])
+        out = ["### Vectorization: OpenCV `findContours` + `approxPolyDP` against cogmap's pipeline", ""]
+        if not cv:
+            out += [self.na("the vectorization issue's OpenCV comparison program is not in build/bench/"), ""]
+            return out
+        for c in cv:
+            out.append(f"`{c['params']['binary']}` (from the vectorization issue), as it reports:")
+            out.append("")
+            if "na" in c and c["na"].get("all"):
+                out.append(self.na(c["na"]["all"]))
+            elif c.get("benchmarks"):
+                out += self._bench_table(c["benchmarks"])
+            else:
+                out += ["```", (c.get("stdout") or "").strip()[:4000], "```"]
+            out.append("")
+        return out
+
+    def _bench_table(self, rows):
+        extra = sorted({k for r in rows for k in r if k not in (
+            "name", "real_time", "cpu_time", "time_unit", "iterations")})
+        out = ["| benchmark | time | " + " | ".join(extra) + " |",
+               "|---|---:|" + "---:|" * len(extra)]
+        for r in rows:
+            t = f"{fmt_num(r.get('real_time'))} {r.get('time_unit', '')}"
+            out.append("| " + " | ".join([f"`{r['name']}`", t] + [
+                (f"{r[k]:.4g}" if finite(r.get(k)) else "") for k in extra]) + " |")
+        return out
+
+    def micro(self):
+        out = ["## Micro-benchmarks", "",
+               "Every `build/bench/*_bench` (Google Benchmark, `--benchmark_format=json`), real time "
+               "per iteration and the counters each benchmark reports.", ""]
+        micro = self.r.get("micro", [])
+        if not micro:
+            out += [self.na("no *_bench executable in build/bench/"), ""]
+        for m in micro:
+            out += [f"### {m['params']['binary']}", ""]
+            if m.get("na", {}).get("all"):
+                out += [self.na(m["na"]["all"]), ""]
+                continue
+            out += self._bench_table(m.get("benchmarks", [])) + [""]
+        return out
+
+    def figures(self):
+        out = ["## Figures", ""]
+        for f, caption in self.r.get("figures", []):
+            out += [f"![{caption}]({f})", "", f"*{caption}*", ""]
+        for p in self.r.get("peers", {}).get("mrpt", []):
+            if p.get("png") and not p.get("na", {}).get("all"):
+                out += [f"![MRPT and cogmap grids, {p['params']['name']}]({p['png']})", "",
+                        f"*Left cogmap's modified HIMM (grey unknown, white empty, black occupied, red "
+                        f"robot path), right MRPT's COccupancyGridMap2D (darker = more likely occupied), "
+                        f"same readings and poses: {p['params']['name']}.*", ""]
+        for msg in self.r.get("figure_notes", []):
+            out += [f"- {msg}"]
+        out.append("")
+        return out
+
+    def footnotes(self):
+        if not self.reasons:
+            return []
+        out = ["## Why some figures are n/a", ""]
+        for reason, n in self.reasons.items():
+            out.append(f"{n}. {reason}")
+        out.append("")
+        return out
+
+    def markdown(self):
+        body = []
+        body += self.accuracy()
+        body += self.size_speed()
+        body += self.thesis_speed()
+        body += self.real()
+        body += self.peers()
+        body += self.micro()
+        body += self.figures()
+        lines = self.header() + [REPRODUCE] + body + self.footnotes() + [DEFINITIONS]
+        return "\n".join(lines).rstrip() + "\n"
