@@ -1,5 +1,6 @@
 #include "cogmap/io/carmen_log.h"
 
+#include <cmath>
 #include <set>
 
 #include "cogmap/core/angles.h"
@@ -11,6 +12,7 @@ namespace {
 
 constexpr double kSickNoReturnM = 81.9;       // SICK LMS reports 8191 cm for no return
 constexpr double kMinNoReturnCodeM = 20.0;    // a largest reading at least this far is the code
+constexpr double kMissingTimeS = 1e-9;        // smaller timestamps are "no timestamp"
 
 struct Laser {
   bool present = false;
@@ -99,9 +101,12 @@ class CarmenReader : public LogReader {
     return {Num(f[i], prefix + "x"), Num(f[i + 1], prefix + "y"), Num(f[i + 2], prefix + "theta")};
   }
   double Time(const std::vector<std::string_view>& f, size_t ipc, size_t logger) {
+    // The Radish logs write 0 or uninitialised memory (1e-153, 6e-43...) as
+    // the timestamp of the ODOM copied after each FLASER: treat as missing.
+    auto missing = [](double v) { return std::abs(v) < kMissingTimeS; };
     double t = Num(f[ipc], "timestamp");
-    if (t == 0.0) t = Num(f[logger], "logger_timestamp");
-    if (t == 0.0) t = last_time_;
+    if (missing(t)) t = Num(f[logger], "logger_timestamp");
+    if (missing(t)) t = last_time_;
     last_time_ = t;
     return t;
   }

@@ -47,9 +47,13 @@ bool LineSource::Next(std::string* line) {
     if (line->size() > kMaxLineBytes)
       throw InputError(path_, line_ + 1, "line longer than 64 MiB (not a text log?)");
   }
+  // zlib flags a truncated stream as soon as its read-ahead hits the end of
+  // the file, while whole lines are still buffered: report it only when the
+  // data runs out (no line, or a last line cut short).
+  const bool complete = got && !line->empty() && line->back() == '\n';
   int err = Z_OK;
   const char* msg = gzerror(f, &err);
-  if (err != Z_OK && err != Z_STREAM_END) {
+  if (!complete && err != Z_OK && err != Z_STREAM_END) {
     const std::string what = err == Z_ERRNO ? std::string(std::strerror(errno)) : std::string(msg ? msg : "");
     throw InputError(path_, line_ + 1, "truncated or corrupt gzip data (" + what + ")");
   }

@@ -56,12 +56,16 @@ std::string SniffFormat(const std::string& path) {
 
 }  // namespace
 
+std::string DetectLogFormat(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw InputError(path, 0, "cannot open: no such file or folder");
+  return SniffFormat(path);
+}
+
 std::vector<std::string> LogFormatNames() { return {"auto", "native", "carmen", "pioneer", "ev3"}; }
 
 std::unique_ptr<LogReader> OpenLog(const std::string& path, const std::string& format) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError(path, 0, "cannot open: no such file or folder");
-  const std::string f = format == "auto" ? SniffFormat(path) : format;
+  const std::string f = format == "auto" ? DetectLogFormat(path) : format;
   if (f == "native") return OpenNativeLog(path);
   if (f == "carmen") return OpenCarmenLog(path);
   if (f == "pioneer") return OpenPioneerLog(path);

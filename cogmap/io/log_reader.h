@@ -35,4 +35,8 @@ std::vector<std::string> LogFormatNames();
 // unknown format, or content that no reader recognises.
 std::unique_ptr<LogReader> OpenLog(const std::string& path, const std::string& format = "auto");
 
+// The format OpenLog(path, "auto") would choose ("native", "carmen", "pioneer"
+// or "ev3"); InputError when the content matches none.
+std::string DetectLogFormat(const std::string& path);
+
 }  // namespace cogmap::io
