@@ -1,0 +1,49 @@
+#pragma once
+#include <string>
+#include <vector>
+
+#include "cogmap/core/floor_plan.h"
+#include "cogmap/io/image.h"
+
+namespace cogmap::io {
+
+// ARIA/MobileSim "2D-Map" files (mm, degrees CCW) as FloorPlans (metres,
+// radians). Understood: LINES (walls), LineMinPos/LineMaxPos, Cairn RobotHome,
+// Cairn GoalWithHeading / Goal named wpNN (the route, in numeric order of NN),
+// and this project's Cairn Room / Doorway with "x1 y1 x2 y2" after the name.
+// Tolerated and ignored: the header keywords of ARIA (MinPos, MaxPos,
+// NumPoints, Resolution, MapInfo, ObjectInfo, ...), DATA points (counted in a
+// warning: they are laser scan points, not walls), other Cairn types
+// (ForbiddenLine, ForbiddenArea, Dock, ... : one warning each, naming the
+// object). Malformed numbers anywhere -> InputError "path:line: problem".
+struct WorldReadResult {
+  FloorPlan plan;
+  std::vector<std::string> warnings;  // "path:line: ..." one per ignored object
+};
+WorldReadResult ReadAriaMap(const std::string& path);
+WorldReadResult ParseAriaMap(const std::string& text, const std::string& path_for_messages);
+
+// Writes 'plan' as a 2D-Map (integer mm; headings in degrees with 0.1 degree
+// precision), atomically. Route waypoints are written as GoalWithHeading in
+// order; names that are not wpNN are replaced by wp01, wp02, ... so that the
+// order survives a round trip.
+void WriteAriaMap(const std::string& path, const FloorPlan& plan);
+std::string FormatAriaMap(const FloorPlan& plan);
+
+// Bitmap worlds: dark pixels (grey < occupied_below) are walls. Each run of
+// pixel edges between an occupied and a free pixel along a row or a column
+// becomes one wall segment, so the walls trace the outline of every occupied
+// blob exactly. Row 0 is the top of the image; the world origin is the
+// lower-left corner. The RobotHome is placed at the free (grey >=
+// free_above) pixel farthest from any occupied pixel.
+struct BitmapWorldOptions {
+  double m_per_pixel = 0.05;  // the room-segmentation maps' resolution
+  int occupied_below = 128;
+  int free_above = 250;
+};
+FloorPlan FloorPlanFromOccupancy(const GreyImage& image, const BitmapWorldOptions& options = {});
+
+// A world by file name: *.png -> bitmap world, anything else -> 2D-Map.
+WorldReadResult ReadWorld(const std::string& path, const BitmapWorldOptions& bitmap = {});
+
+}  // namespace cogmap::io

@@ -1,0 +1,27 @@
+#pragma once
+#include <cstdint>
+
+#include "cogmap/core/floor_plan.h"
+
+namespace cogmap::sim {
+
+// A synthetic office floor for scale tests: one straight corridor along x with
+// rooms on both sides, each joined to the corridor by one door.
+struct BuildingOptions {
+  int rooms = 100;
+  double corridor_m = 1000.0;     // corridor length
+  double corridor_width_m = 2.0;
+  double room_depth_m = 6.0;      // rooms reach this far from the corridor
+  double door_width_m = 0.9;
+  double width_jitter = 0.2;      // room widths vary by up to +-20 % of the mean
+  uint64_t seed = 1;
+};
+
+// Walls, Room and Doorway truth (the corridor is a room named "corridor"),
+// RobotHome at the west end of the corridor, and a route that visits every
+// room (corridor in front of the door, room centre, back to the corridor),
+// with waypoints named wp0001, wp0002, ... Throws InputError when the rooms
+// cannot fit (each room needs at least 2 m of corridor).
+FloorPlan GenerateBuilding(const BuildingOptions& options);
+
+}  // namespace cogmap::sim
