@@ -217,11 +217,18 @@ def real_logs(shared):
     return [(n, p, r) for n, p, r in logs if os.path.exists(p)]
 
 
+DRIFT_OPTIONS = ("--add-drift-deg-per-m", "--add-heading-drift-deg-per-m", "--drift-deg-per-m",
+                 "--add-heading-drift", "--add-drift")
+
+
 def drift_option(cogmap):
-    """The `cogmap map` option that adds heading drift to a log's odometry, if any."""
-    for opt in ("--add-drift-deg-per-m", "--drift-deg-per-m", "--add-heading-drift"):
-        if cogmap.has_option("map", opt):
-            return opt
+    """(command, option) that adds heading drift to a real log's odometry:
+    `cogmap map` itself, or `cogmap convert` before mapping; None if neither."""
+    for cmd in ("map", "convert"):
+        if cogmap.has(cmd):
+            for opt in DRIFT_OPTIONS:
+                if cogmap.has_option(cmd, opt):
+                    return cmd, opt
     return None
 
 
@@ -236,11 +243,22 @@ def real_job(ctx, name, path, drift):
         shutil.rmtree(out, ignore_errors=True)
         argv = [c.binary, "map", path, "-o", out]
         if drift:
-            opt = drift_option(c)
-            if not opt:
-                res["na"]["all"] = "`cogmap map` has no option to add heading drift to a log"
+            how = drift_option(c)
+            if not how:
+                res["na"]["all"] = ("neither `cogmap map` nor `cogmap convert` has an option to add "
+                                    "heading drift to a log")
                 return res
-            argv += [opt, drift]
+            cmd, opt = how
+            if cmd == "map":
+                argv += [opt, drift]
+            else:
+                drifted = os.path.join(ctx.work_dir, "real", f"{name}_d{drift:g}.log")
+                s = ctx.run([c.binary, "convert", path, opt, drift, "-o", drifted])
+                res["steps"]["convert"] = _step_summary(s)
+                if not s.ok:
+                    res["na"]["all"] = s.reason()
+                    return res
+                argv[2] = drifted
         s = ctx.run(argv)
         res["steps"]["map"] = _step_summary(s)
         if not s.ok:

@@ -159,7 +159,6 @@ def main(argv=None, smoke_default=False):
                 for d in drifts:
                     for s in seeds:
                         jobs.append(cases.sim_job(ctx, wp, r, d, s))
-    real_drift = cases.drift_option(tool)
     if "real" not in skip:
         for name, path, _ in cases.real_logs(args.shared):
             jobs.append(cases.real_job(ctx, name, path, 0.0))

@@ -357,9 +357,9 @@ class Report:
         return out
 
     def _bench_table(self, rows):
-        extra = sorted({k for r in rows for k in r if k not in (
+        extra = sorted({k for r in rows for k in r if k and finite(r.get(k)) and k not in (
             "name", "real_time", "cpu_time", "time_unit", "iterations")})
-        out = ["| benchmark | time | " + " | ".join(extra) + " |",
+        out = ["| " + " | ".join(["benchmark", "time per iteration"] + extra) + " |",
                "|---|---:|" + "---:|" * len(extra)]
         for r in rows:
             t = f"{fmt_num(r.get('real_time'))} {r.get('time_unit', '')}"

@@ -31,8 +31,26 @@ class Cogmap:
                     self._help[command] = None
         return self._help[command]
 
+    def commands(self):
+        """The subcommands `cogmap --help` lists."""
+        if not hasattr(self, "_commands"):
+            self._commands = set()
+            if self.exists():
+                try:
+                    p = subprocess.run([self.binary, "--help"], capture_output=True, text=True,
+                                       timeout=30)
+                    listing = False
+                    for line in p.stdout.splitlines():
+                        if line.strip().lower().startswith("subcommands"):
+                            listing = True
+                        elif listing and line.startswith("  ") and line.strip():
+                            self._commands.add(line.split()[0])
+                except (OSError, subprocess.TimeoutExpired):
+                    pass
+        return self._commands
+
     def has(self, command):
-        return self.help(command) is not None
+        return command in self.commands() and self.help(command) is not None
 
     def has_option(self, command, option):
         text = self.help(command)
