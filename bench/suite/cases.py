@@ -385,3 +385,65 @@ def opencv_binaries(build_dir):
     for pattern in ("*opencv*", "*approx*"):
         found += glob.glob(os.path.join(build_dir, "bench", pattern))
     return sorted({f for f in found if os.path.isfile(f) and os.access(f, os.X_OK)})
+
+
+def scale_job(ctx, rooms, seed=1):
+    """`cogmap gen-building` (issue 5's 1 km world) -> simulate -> map -> eval:
+    the run behind the time-per-ASR figure."""
+
+    def run(job):
+        res = {"params": job.params, "steps": {}, "metrics": {}, "na": {}}
+        c = ctx.cogmap
+        for cmd in ("gen-building", "simulate", "map"):
+            if not c.has(cmd):
+                res["na"]["all"] = c.missing_reason(cmd)
+                return res
+        world = os.path.join(ctx.work_dir, "scale", f"building_{rooms}.map")
+        os.makedirs(os.path.dirname(world), exist_ok=True)
+        argv = [c.binary, "gen-building", "-o", world]
+        if c.has_option("gen-building", "--rooms"):
+            argv += ["--rooms", rooms]
+        if c.has_option("gen-building", "--seed"):
+            argv += ["--seed", seed]
+        s = ctx.run(argv)
+        res["steps"]["gen-building"] = _step_summary(s)
+        if not s.ok:
+            res["na"]["all"] = s.reason()
+            return res
+        log = os.path.join(ctx.work_dir, "scale", f"building_{rooms}.log")
+        s = ctx.run([c.binary, "simulate", world, "--robot", "pioneer16", "--seed", seed,
+                     "--drift-deg-per-m", 0, "-o", log])
+        res["steps"]["simulate"] = _step_summary(s)
+        if not s.ok:
+            res["na"]["all"] = s.reason()
+            return res
+        out = os.path.join(ctx.work_dir, "scale", f"building_{rooms}_map")
+        shutil.rmtree(out, ignore_errors=True)
+        s = ctx.run([c.binary, "map", log, "-o", out])
+        res["steps"]["map"] = _step_summary(s)
+        if not s.ok:
+            res["na"]["all"] = s.reason()
+            return res
+        report = read_json(os.path.join(out, "report.json"))
+        res["map_report"] = report
+        speed = _map_report_speed(report)
+        res["asr_seconds"] = speed.get("asr_seconds", [])
+        for k in ("bytes_grid", "bytes_vertices", "bytes_polylines", "asr_count"):
+            if finite(speed.get(k)):
+                res["metrics"][k] = float(speed[k])
+        if c.has("eval"):
+            s = ctx.run([c.binary, "eval", out, "--world", world, "--json"])
+            res["steps"]["eval"] = _step_summary(s)
+            ev = parse_json_output(s.stdout) if s.ok else None
+            if ev:
+                res["eval"] = ev
+                for k in EVAL_KEYS:
+                    v = lookup(ev, k)
+                    if finite(v):
+                        res["metrics"][k] = float(v)
+        res["metrics"].update(_speed_metrics(_Step(res["steps"]["map"]), speed, res["metrics"]))
+        return res
+
+    return runner.Job(name=f"scale/building_{rooms}", kind="scale",
+                      params={"log_name": f"building_{rooms}", "rooms": rooms, "seed": seed,
+                              "drift_deg_per_m": 0.0}, run=run, cost=20.0)

@@ -39,7 +39,9 @@ def parse_args(argv, smoke_default=False):
     ap.add_argument("--drifts", default=",".join(f"{d:g}" for d in DRIFTS), help="deg per metre")
     ap.add_argument("--seeds", default=",".join(str(s) for s in SEEDS),
                     help="comma list, or a count N for seeds 1..N")
-    ap.add_argument("--skip", default="", help="comma list of: sim, real, micro, peers")
+    ap.add_argument("--skip", default="", help="comma list of: sim, real, scale, micro, peers")
+    ap.add_argument("--scale-rooms", type=int, default=100,
+                    help="rooms of the generated building of the scale run (0: none)")
     ap.add_argument("--step-timeout", type=float, default=600.0, help="seconds per command")
     ap.add_argument("--micro-min-time", type=float, default=0.1,
                     help="--benchmark_min_time of the micro-benchmarks (s)")
@@ -164,6 +166,8 @@ def main(argv=None, smoke_default=False):
             jobs.append(cases.real_job(ctx, name, path, 0.0))
             if name.startswith("carmen"):
                 jobs.append(cases.real_job(ctx, name, path, 1.0))
+    if "scale" not in skip and not args.smoke and args.scale_rooms > 0:
+        jobs.append(cases.scale_job(ctx, args.scale_rooms))
     log(f"phase 1: {len(jobs)} jobs on {args.jobs} workers", args.quiet)
     res1 = runner.run_jobs(jobs, args.jobs, progress)
     sims, reals = [], []
@@ -174,6 +178,8 @@ def main(argv=None, smoke_default=False):
         if j.kind == "sim":
             r["params"]["has_rooms"] = cases.world_has_rooms(j.params["world"])
             sims.append(r)
+        elif j.kind == "scale":
+            results["scale"] = r
         else:
             reals.append(r)
     results["sim"], results["real"] = sims, reals

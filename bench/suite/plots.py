@@ -135,8 +135,10 @@ def size_per_stage(results, path):
 def time_per_asr(results, path):
     """Seconds per ASR against the ASR's index (thesis figure 4.13), longest runs."""
     series = []
-    for kind in ("sim", "real"):
-        for r in results.get(kind, []):
+    runs = {"sim": results.get("sim", []), "real": results.get("real", []),
+            "scale": [results["scale"]] if results.get("scale") else []}
+    for kind in ("scale", "sim", "real"):
+        for r in runs[kind]:
             secs = r.get("asr_seconds") or []
             if len(secs) >= 3:
                 p = r["params"]

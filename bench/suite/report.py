@@ -222,6 +222,37 @@ class Report:
         out.append("")
         return out
 
+    def scale(self):
+        sc = self.r.get("scale")
+        out = ["## Scale: a generated building", ""]
+        if not sc:
+            return out + ["Not run (`--skip scale` or `--scale-rooms 0`).", ""]
+        p = sc["params"]
+        out.append(f"`cogmap gen-building` with {p['rooms']} rooms along a corridor, simulated with "
+                   "the 16-sonar ring without drift, then `cogmap map` (issue 5's scale test).")
+        out.append("")
+        if sc.get("na", {}).get("all"):
+            return out + [self.na(sc["na"]["all"]), ""]
+        m = sc["metrics"]
+        g = [sc]
+        out += ["| ASRs | map s | log s | x real time | s / ASR | peak MiB | polylines B | grid B | "
+                "room prec. | room recall |", "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+                "| " + " | ".join([self.cell(g, "asr_count", 0), self.cell(g, "map_s"),
+                                   self.cell(g, "log_duration_s"), self.cell(g, "times_real_time"),
+                                   self.cell(g, "seconds_per_asr"), self.cell(g, "map_peak_rss_mib"),
+                                   self.cell(g, "bytes_polylines", 0), self.cell(g, "bytes_grid", 0),
+                                   self.cell(g, "room_precision"), self.cell(g, "room_recall")]) + " |", ""]
+        secs = sc.get("asr_seconds") or []
+        if len(secs) >= 10:
+            k = max(1, len(secs) // 10)
+            first, last = sorted(secs[:k]), sorted(secs[-k:])
+            out.append(f"Per-ASR processing time, first 10% of the ASRs: median "
+                       f"{1000 * first[len(first) // 2]:.2f} ms; last 10%: median "
+                       f"{1000 * last[len(last) // 2]:.2f} ms (the thesis claims a cost per step that "
+                       "does not grow with the map; see `bench_time_per_asr.png`).")
+            out.append("")
+        return out
+
     def real(self):
         reals = self.r.get("real", [])
         out = ["## Real logs", "",
@@ -411,6 +442,7 @@ class Report:
         body += self.accuracy()
         body += self.size_speed()
         body += self.thesis_speed()
+        body += self.scale()
         body += self.real()
         body += self.peers()
         body += self.micro()
