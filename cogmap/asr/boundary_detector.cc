@@ -1,0 +1,177 @@
+#include "cogmap/asr/boundary_detector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace cogmap::asr {
+
+namespace {
+constexpr double kEps = 1e-9;  // travel sums of exact steps must still reach a length
+}  // namespace
+
+SideSensors FindSideSensors(const sensors::RobotDescription& robot, double tolerance_rad) {
+  SideSensors sides;
+  for (size_t i = 0; i < robot.sensors.size(); ++i) {
+    const double h = robot.sensors[i].robot_from_sensor.theta;
+    if (std::abs(AngleDiff(h, kPi / 2)) <= tolerance_rad + 1e-9) sides.left.push_back(static_cast<int>(i));
+    if (std::abs(AngleDiff(h, -kPi / 2)) <= tolerance_rad + 1e-9) sides.right.push_back(static_cast<int>(i));
+  }
+  return sides;
+}
+
+BoundaryDetector::BoundaryDetector(const sensors::RobotDescription& robot, const BoundaryOptions& options)
+    : robot_(robot), options_(options), sides_(FindSideSensors(robot, options.side_tolerance_rad)) {}
+
+SideObservation BoundaryDetector::Observe(const sensors::LogRecord& record,
+                                          const std::vector<int>& side) const {
+  SideObservation obs;
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& r : record.ranges) {
+    if (std::find(side.begin(), side.end(), r.sensor) == side.end()) continue;
+    const auto& s = robot_.sensors[r.sensor];
+    if (r.range_m < s.min_range_m) continue;  // unreliable: no evidence either way
+    obs.observed = true;
+    if (r.range_m >= s.max_range_m || r.range_m >= options_.close_m) continue;
+    obs.close = true;
+    if (r.range_m < best) {
+      best = r.range_m;
+      obs.point_m = sensors::ReadingEndPoint(record.odom, s, r.range_m);
+    }
+  }
+  return obs;
+}
+
+std::optional<BoundaryCut> BoundaryDetector::Push(const sensors::LogRecord& record) {
+  return PushSides(record.time_s, record.odom, Observe(record, sides_.left), Observe(record, sides_.right));
+}
+
+void BoundaryDetector::UpdateSide(Side* side, const SideObservation& obs) const {
+  if (!obs.observed) return;
+  if (obs.close) {
+    side->last_point = obs.point_m;
+    side->has_point = true;
+  }
+  if (obs.close == side->on) {
+    side->run = 0;
+    return;
+  }
+  if (++side->run >= std::max(1, options_.debounce_sweeps)) {
+    side->on = obs.close;
+    side->run = 0;
+  }
+}
+
+BoundaryCut BoundaryDetector::MakeCut(CutKind kind, const Pose2& pose, double time_s, double width_m) {
+  BoundaryCut cut;
+  cut.kind = kind;
+  cut.pose = pose;
+  cut.time_s = time_s;
+  cut.center_m = pose.translation();
+  cut.width_m = width_m;
+  return cut;
+}
+
+Pose2 BoundaryDetector::PoseAtTravel(double travel_m, double* time_s) const {
+  // First stretch sample at or past 'travel_m'.
+  for (const auto& s : stretch_) {
+    if (s.travel_m >= travel_m - 1e-12) {
+      *time_s = s.time_s;
+      return s.pose;
+    }
+  }
+  *time_s = stretch_.back().time_s;
+  return stretch_.back().pose;
+}
+
+std::optional<BoundaryCut> BoundaryDetector::PushSides(double time_s, const Pose2& pose,
+                                                       const SideObservation& left,
+                                                       const SideObservation& right) {
+  const Vec2 pos = pose.translation();
+  if (have_pose_) {
+    travel_m_ += (pos - last_pose_.translation()).norm();
+  } else {
+    prev_pos_ = pos;
+    have_pose_ = true;
+  }
+  last_pose_ = pose;
+  if ((pos - prev_pos_).norm() >= 0.2) {
+    travel_dir_ = (pos - prev_pos_).normalized();
+    has_travel_dir_ = true;
+    prev_pos_ = pos;
+  }
+  UpdateSide(&left_, left);
+  UpdateSide(&right_, right);
+
+  if (options_.mode == BoundaryMode::kFixedLength) {
+    if (asr_travel_m() >= options_.asr_length_m - kEps) {
+      asr_start_travel_m_ = travel_m_;
+      return MakeCut(CutKind::kFixedLength, pose, time_s, 0.0);
+    }
+    return std::nullopt;
+  }
+
+  const bool both = left_.on && right_.on;
+  const double width_now = (both && left_.has_point && right_.has_point)
+                               ? (left_.last_point - right_.last_point).norm()
+                               : 0.0;
+  if (state_ == BoundaryState::kInRoom) {
+    if (!both) return std::nullopt;
+    state_ = BoundaryState::kAtAccessPoint;
+    stretch_.clear();
+    stretch_.push_back({pose, time_s, travel_m_});
+    entry_dir_ = has_travel_dir_ ? travel_dir_ : Vec2(std::cos(pose.theta), std::sin(pose.theta));
+    max_depth_m_ = 0.0;
+    min_width_m_ = width_now;
+    corridor_ = false;
+    return std::nullopt;
+  }
+
+  // At an access point.
+  stretch_.push_back({pose, time_s, travel_m_});
+  const Vec2 p0 = stretch_.front().pose.translation();
+  max_depth_m_ = std::max(max_depth_m_, entry_dir_.dot(pos - p0));
+  if (width_now > 0.0 && (min_width_m_ <= 0.0 || width_now < min_width_m_)) min_width_m_ = width_now;
+
+  if (!left_.on && !right_.on) {  // released
+    state_ = BoundaryState::kInRoom;
+    if (corridor_) {
+      if (asr_travel_m() < options_.min_asr_m - kEps) return std::nullopt;
+      asr_start_travel_m_ = travel_m_;
+      return MakeCut(CutKind::kCorridorExit, pose, time_s, min_width_m_);
+    }
+    const double depth = entry_dir_.dot(pos - p0);
+    if (depth <= 0.0 || depth <= 0.5 * max_depth_m_) {
+      ++turn_backs_;  // left on the side it came in: the same room
+      return std::nullopt;
+    }
+    double cut_time = time_s;
+    const double mid = 0.5 * (stretch_.front().travel_m + travel_m_);
+    const Pose2 cut_pose = PoseAtTravel(mid, &cut_time);
+    asr_start_travel_m_ = mid;
+    BoundaryCut cut = MakeCut(CutKind::kDoorway, cut_pose, cut_time, min_width_m_);
+    stretch_.clear();
+    return cut;
+  }
+
+  const double stretch_m = travel_m_ - stretch_.front().travel_m;
+  if (!corridor_ && stretch_m > options_.corridor_m + kEps) {
+    corridor_ = true;
+    const StretchSample mouth = stretch_.front();
+    if (mouth.travel_m - asr_start_travel_m_ >= options_.min_asr_m - kEps) {
+      asr_start_travel_m_ = mouth.travel_m;
+      stretch_.erase(stretch_.begin() + 1, stretch_.end());  // keep the mouth only
+      return MakeCut(CutKind::kCorridorEntry, mouth.pose, mouth.time_s, min_width_m_);
+    }
+  }
+  if (corridor_) {
+    stretch_.erase(stretch_.begin() + 1, stretch_.end());  // nothing else needed in a corridor
+    if (asr_travel_m() >= options_.asr_length_m - kEps) {
+      asr_start_travel_m_ = travel_m_;
+      return MakeCut(CutKind::kCorridor, pose, time_s, width_now > 0.0 ? width_now : min_width_m_);
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace cogmap::asr

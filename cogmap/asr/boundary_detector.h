@@ -1,0 +1,142 @@
+#pragma once
+#include <optional>
+#include <vector>
+
+#include "cogmap/core/angles.h"
+#include "cogmap/core/pose2.h"
+#include "cogmap/sensors/reading.h"
+#include "cogmap/sensors/robot.h"
+
+namespace cogmap::asr {
+
+// How the run is cut into ASRs (SPEC 4).
+enum class BoundaryMode {
+  kDoorway,      // fig. 3.4 state machine plus the corridor rule (§3.1.2)
+  kFixedLength,  // a new ASR every asr_length_m of travel, no doorway test (§4.2)
+};
+
+struct BoundaryOptions {
+  BoundaryMode mode = BoundaryMode::kDoorway;
+  double close_m = 0.7;        // L / R: an echo nearer than this on a side (SPEC 4)
+  double corridor_m = 2.0;     // L and R held longer than this: a corridor (SPEC 4)
+  double asr_length_m = 4.5;   // corridor and fixed-length cut (§3.1.2; §4.2 uses 4 m)
+  // Side sensors: mounting heading within 90 deg +- this of the robot's left
+  // (right) side. Pioneer ring: units 0, 15 (left) and 7, 8 (right); laser: the
+  // beams from 70 to 90 degrees each side. Our choice; the thesis says "left".
+  double side_tolerance_rad = DegToRad(20.0);
+  // A side switches on (off) after this many consecutive sweeps in which its
+  // sensors reported close (not close). Sweeps without a side reading leave it.
+  int debounce_sweeps = 2;
+  // Corridor entry: the room before the corridor is only cut at the corridor's
+  // mouth when it has at least this much travel (else the corridor continues it).
+  double min_asr_m = 1.0;
+};
+
+// Indices into robot.sensors of the side sensors.
+struct SideSensors {
+  std::vector<int> left;
+  std::vector<int> right;
+};
+SideSensors FindSideSensors(const sensors::RobotDescription& robot, double tolerance_rad);
+
+// What the side sensors of one sweep say. 'observed' is false when no side
+// sensor of that side reported in the sweep (sonar fired in turn).
+struct SideObservation {
+  bool observed = false;
+  bool close = false;
+  Vec2 point_m{0, 0};  // world position of the nearest close echo (when close)
+};
+
+enum class BoundaryState { kInRoom, kAtAccessPoint };
+
+enum class CutKind {
+  kDoorway,        // L and R released on the far side of an access point
+  kCorridorEntry,  // a corridor was recognised: cut at its mouth
+  kCorridor,       // asr_length_m of corridor since the last cut
+  kCorridorExit,   // L and R released at the end of a corridor
+  kFixedLength,    // fixed-length mode
+};
+
+// The robot left one ASR for the next. The cut happened at 'pose' / 'time_s',
+// which can lie in the past (the midpoint of a doorway's L-and-R stretch, the
+// mouth of a corridor): readings after time_s belong to the next ASR too.
+struct BoundaryCut {
+  CutKind kind = CutKind::kDoorway;
+  Pose2 pose;              // odometry pose of the robot at the cut
+  double time_s = 0.0;
+  Vec2 center_m{0, 0};     // exit centre (world, raw odometry frame)
+  double width_m = 0.0;    // distance between the L and R obstacles; 0 unknown
+};
+
+// The exit-detection state machine of fig. 3.4 with the corridor rule and the
+// fixed-length mode (SPEC 4). Feed it every sweep in order; it returns a cut
+// when the robot has just left an ASR.
+//
+// Doorway: room -> access point when L and R are both on; access point -> room
+// when both are off again. When the robot left the access point on the far
+// side from where it came in (its displacement along the entry direction is
+// more than half of its deepest point in the stretch) the exit is the midpoint
+// (by travel) of the stretch and the width the narrowest L-R distance seen.
+// Otherwise the robot turned back in the doorway: no cut, turn_backs() counts
+// it. An L-and-R stretch longer than corridor_m is a corridor: the room before
+// it is cut at the corridor's mouth, then the corridor every asr_length_m; its
+// release cuts once more at the release point.
+class BoundaryDetector {
+ public:
+  BoundaryDetector(const sensors::RobotDescription& robot, const BoundaryOptions& options);
+
+  std::optional<BoundaryCut> Push(const sensors::LogRecord& record);
+  // The same from precomputed side observations (scripted tests, other sensors).
+  std::optional<BoundaryCut> PushSides(double time_s, const Pose2& pose, const SideObservation& left,
+                                       const SideObservation& right);
+
+  BoundaryState state() const { return state_; }
+  bool left_on() const { return left_.on; }
+  bool right_on() const { return right_.on; }
+  int turn_backs() const { return turn_backs_; }
+  // Travel (m) since the current ASR began.
+  double asr_travel_m() const { return travel_m_ - asr_start_travel_m_; }
+  const SideSensors& side_sensors() const { return sides_; }
+  const BoundaryOptions& options() const { return options_; }
+
+  // Observations of one sweep (exposed for tests and the bench).
+  SideObservation Observe(const sensors::LogRecord& record, const std::vector<int>& side) const;
+
+ private:
+  struct Side {
+    bool on = false;
+    int run = 0;  // consecutive sweeps disagreeing with 'on'
+    Vec2 last_point{0, 0};
+    bool has_point = false;
+  };
+  struct StretchSample {
+    Pose2 pose;
+    double time_s;
+    double travel_m;
+  };
+  void UpdateSide(Side* side, const SideObservation& obs) const;
+  BoundaryCut MakeCut(CutKind kind, const Pose2& pose, double time_s, double width_m);
+  Pose2 PoseAtTravel(double travel_m, double* time_s) const;
+
+  sensors::RobotDescription robot_;
+  BoundaryOptions options_;
+  SideSensors sides_;
+  BoundaryState state_ = BoundaryState::kInRoom;
+  Side left_, right_;
+  bool have_pose_ = false;
+  Pose2 last_pose_;
+  double travel_m_ = 0.0;
+  double asr_start_travel_m_ = 0.0;
+  int turn_backs_ = 0;
+  // The current L-and-R stretch.
+  std::vector<StretchSample> stretch_;
+  Vec2 entry_dir_{1, 0};
+  double max_depth_m_ = 0.0;
+  double min_width_m_ = 0.0;
+  bool corridor_ = false;
+  Vec2 prev_pos_{0, 0};  // a position a little behind, for the direction of travel
+  Vec2 travel_dir_{1, 0};
+  bool has_travel_dir_ = false;
+};
+
+}  // namespace cogmap::asr

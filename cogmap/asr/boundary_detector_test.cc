@@ -1,0 +1,213 @@
+#include "cogmap/asr/boundary_detector.h"
+
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <vector>
+
+namespace cogmap::asr {
+namespace {
+
+// A scripted drive: poses along a list, the two sides as functions of the pose.
+struct Script {
+  std::function<bool(const Pose2&)> left;
+  std::function<bool(const Pose2&)> right;
+  double half_width_m = 0.5;  // where the L / R obstacles sit across the robot
+};
+
+std::vector<BoundaryCut> RunScript(BoundaryDetector* d, const std::vector<Pose2>& poses, const Script& s) {
+  std::vector<BoundaryCut> cuts;
+  double t = 0.0;
+  for (const Pose2& p : poses) {
+    SideObservation l, r;
+    l.observed = r.observed = true;
+    l.close = s.left(p);
+    r.close = s.right(p);
+    const Vec2 n(-std::sin(p.theta), std::cos(p.theta));
+    l.point_m = p.translation() + s.half_width_m * n;
+    r.point_m = p.translation() - s.half_width_m * n;
+    if (auto c = d->PushSides(t, p, l, r)) cuts.push_back(*c);
+    t += 0.1;
+  }
+  return cuts;
+}
+
+// Poses along +x from x0 to x1 (inclusive) every 5 cm.
+std::vector<Pose2> Line(double x0, double x1, double step = 0.05) {
+  std::vector<Pose2> out;
+  const int n = static_cast<int>(std::lround(std::abs(x1 - x0) / step));
+  const double dir = x1 >= x0 ? 1.0 : -1.0;
+  for (int i = 0; i <= n; ++i) out.push_back({x0 + dir * i * step, 0.0, dir > 0 ? 0.0 : kPi});
+  return out;
+}
+
+bool Between(double x, double a, double b) { return x >= a - 1e-9 && x <= b + 1e-9; }
+
+BoundaryDetector MakeDetector(const BoundaryOptions& o = {}) {
+  return BoundaryDetector(sensors::BuiltinRobot("pioneer16"), o);
+}
+
+TEST(BoundaryOptions, DefaultsAreThePapers) {
+  const BoundaryOptions o;
+  EXPECT_EQ(o.mode, BoundaryMode::kDoorway);
+  EXPECT_DOUBLE_EQ(o.close_m, 0.7);
+  EXPECT_DOUBLE_EQ(o.corridor_m, 2.0);
+  EXPECT_DOUBLE_EQ(o.asr_length_m, 4.5);
+}
+
+TEST(SideSensors, PioneerRingUsesTheFourSideUnits) {
+  const SideSensors s = FindSideSensors(sensors::BuiltinRobot("pioneer16"), DegToRad(20));
+  EXPECT_EQ(s.left, (std::vector<int>{0, 15}));
+  EXPECT_EQ(s.right, (std::vector<int>{7, 8}));
+}
+
+TEST(SideSensors, LaserUsesBeamsNearNinetyDegrees) {
+  sensors::LaserOptions lo;
+  lo.beams = 181;
+  const SideSensors s = FindSideSensors(sensors::MakeLaser(lo), DegToRad(20));
+  EXPECT_EQ(s.left.size(), 21u);   // 70..90 degrees, one beam per degree
+  EXPECT_EQ(s.right.size(), 21u);  // -90..-70
+  EXPECT_EQ(s.right.front(), 0);
+  EXPECT_EQ(s.left.back(), 180);
+}
+
+TEST(BoundaryDetector, DoorwayCutsAtMidpointOfTheStretch) {
+  auto d = MakeDetector();
+  auto door = [](const Pose2& p) { return Between(p.x, 3.0, 3.4); };
+  const auto cuts = RunScript(&d, Line(0.0, 6.0), {door, door});
+  ASSERT_EQ(cuts.size(), 1u);
+  EXPECT_EQ(cuts[0].kind, CutKind::kDoorway);
+  // On at the 2nd close sweep (3.05), off at the 2nd open one (3.50).
+  EXPECT_NEAR(cuts[0].center_m.x(), 0.5 * (3.05 + 3.50), 0.05 + 1e-9);
+  EXPECT_NEAR(cuts[0].center_m.y(), 0.0, 1e-12);
+  EXPECT_NEAR(cuts[0].width_m, 1.0, 1e-12);
+  EXPECT_EQ(d.state(), BoundaryState::kInRoom);
+  EXPECT_EQ(d.turn_backs(), 0);
+}
+
+TEST(BoundaryDetector, TurningBackInADoorwayCutsNothing) {
+  auto d = MakeDetector();
+  auto door = [](const Pose2& p) { return Between(p.x, 3.0, 3.4); };
+  auto poses = Line(0.0, 3.3);
+  const auto back = Line(3.3, 0.0);
+  poses.insert(poses.end(), back.begin() + 1, back.end());
+  const auto cuts = RunScript(&d, poses, {door, door});
+  EXPECT_TRUE(cuts.empty());
+  EXPECT_EQ(d.turn_backs(), 1);
+  EXPECT_EQ(d.state(), BoundaryState::kInRoom);
+}
+
+TEST(BoundaryDetector, OneSideCloseIsNotAnAccessPoint) {
+  auto d = MakeDetector();
+  const auto cuts = RunScript(&d, Line(0.0, 10.0), {[](const Pose2&) { return true; },
+                                               [](const Pose2&) { return false; }});
+  EXPECT_TRUE(cuts.empty());
+  EXPECT_EQ(d.state(), BoundaryState::kInRoom);
+}
+
+TEST(BoundaryDetector, ASingleNoisySweepIsDebounced) {
+  auto d = MakeDetector();
+  auto blip = [](const Pose2& p) { return std::abs(p.x - 2.0) < 0.01; };
+  const auto cuts = RunScript(&d, Line(0.0, 5.0), {blip, blip});
+  EXPECT_TRUE(cuts.empty());
+  EXPECT_FALSE(d.left_on());
+}
+
+TEST(BoundaryDetector, SweepsWithoutSideReadingsKeepTheState) {
+  auto d = MakeDetector();
+  SideObservation close;
+  close.observed = close.close = true;
+  SideObservation none;  // not observed
+  d.PushSides(0.0, {0, 0, 0}, close, close);
+  d.PushSides(0.1, {0.05, 0, 0}, close, close);
+  ASSERT_EQ(d.state(), BoundaryState::kAtAccessPoint);
+  for (int i = 0; i < 10; ++i) d.PushSides(0.2 + i * 0.1, {0.1, 0, 0}, none, none);
+  EXPECT_EQ(d.state(), BoundaryState::kAtAccessPoint);
+}
+
+TEST(BoundaryDetector, CorridorIsCutAtItsMouthThenEveryAsrLength) {
+  auto d = MakeDetector();
+  auto corridor = [](const Pose2& p) { return p.x >= 3.0; };
+  const auto cuts = RunScript(&d, Line(0.0, 20.0), {corridor, corridor});
+  ASSERT_GE(cuts.size(), 4u);
+  EXPECT_EQ(cuts[0].kind, CutKind::kCorridorEntry);
+  EXPECT_NEAR(cuts[0].center_m.x(), 3.05, 1e-9);  // the mouth (debounced by one sweep)
+  for (size_t i = 1; i < cuts.size(); ++i) {
+    EXPECT_EQ(cuts[i].kind, CutKind::kCorridor);
+    EXPECT_NEAR(cuts[i].center_m.x() - cuts[i - 1].center_m.x(), 4.5, 0.05 + 1e-9);
+    EXPECT_NEAR(cuts[i].width_m, 1.0, 1e-12);
+  }
+  EXPECT_EQ(cuts.size(), 4u);  // 3.05, 7.55, 12.05, 16.55
+}
+
+TEST(BoundaryDetector, LeavingACorridorCutsAtTheRelease) {
+  auto d = MakeDetector();
+  auto corridor = [](const Pose2& p) { return Between(p.x, 3.0, 7.0); };
+  const auto cuts = RunScript(&d, Line(0.0, 12.0), {corridor, corridor});
+  ASSERT_EQ(cuts.size(), 2u);
+  EXPECT_EQ(cuts[0].kind, CutKind::kCorridorEntry);
+  EXPECT_EQ(cuts[1].kind, CutKind::kCorridorExit);
+  EXPECT_NEAR(cuts[1].center_m.x(), 7.10, 1e-9);  // off after the 2nd open sweep
+}
+
+TEST(BoundaryDetector, RobotStartingInACorridorKeepsItsFirstAsr) {
+  auto d = MakeDetector();
+  auto corridor = [](const Pose2&) { return true; };
+  const auto cuts = RunScript(&d, Line(0.0, 10.0), {corridor, corridor});
+  ASSERT_EQ(cuts.size(), 2u);  // no zero-length room at the start
+  EXPECT_EQ(cuts[0].kind, CutKind::kCorridor);
+  EXPECT_NEAR(cuts[0].center_m.x(), 4.5, 1e-9);
+  EXPECT_NEAR(cuts[1].center_m.x(), 9.0, 1e-9);
+}
+
+TEST(BoundaryDetector, FixedLengthCutsEveryLengthOfTravelRoundCorners) {
+  BoundaryOptions o;
+  o.mode = BoundaryMode::kFixedLength;
+  o.asr_length_m = 4.0;
+  auto d = MakeDetector(o);
+  std::vector<Pose2> poses = Line(0.0, 3.0);
+  for (int i = 1; i <= 100; ++i) poses.push_back({3.0, i * 0.05, kPi / 2});  // up 5 m
+  auto door = [](const Pose2&) { return true; };  // ignored in this mode
+  const auto cuts = RunScript(&d, poses, {door, door});
+  ASSERT_EQ(cuts.size(), 2u);
+  EXPECT_EQ(cuts[0].kind, CutKind::kFixedLength);
+  EXPECT_NEAR(cuts[0].center_m.x(), 3.0, 1e-9);
+  EXPECT_NEAR(cuts[0].center_m.y(), 1.0, 1e-9);
+  EXPECT_NEAR(cuts[1].center_m.y(), 5.0, 1e-9);
+  EXPECT_DOUBLE_EQ(cuts[0].width_m, 0.0);
+}
+
+TEST(BoundaryDetector, ObservesSideSonarsOfARecord) {
+  const auto robot = sensors::BuiltinRobot("pioneer16");
+  auto d = MakeDetector();
+  sensors::LogRecord rec;
+  rec.odom = {1.0, 2.0, 0.0};
+  rec.ranges = {{0, 0.4}, {15, 0.6}, {7, 2.0}, {3, 0.1}};
+  const SideObservation l = d.Observe(rec, d.side_sensors().left);
+  const SideObservation r = d.Observe(rec, d.side_sensors().right);
+  EXPECT_TRUE(l.observed);
+  EXPECT_TRUE(l.close);
+  const Vec2 expect = sensors::ReadingEndPoint(rec.odom, robot.sensors[0], 0.4);
+  EXPECT_NEAR((l.point_m - expect).norm(), 0.0, 1e-12);
+  EXPECT_TRUE(r.observed);
+  EXPECT_FALSE(r.close);
+}
+
+TEST(BoundaryDetector, RecordsThroughADoorwayCutOnce) {
+  // Two side sonars see jambs 0.36 m away while the robot crosses x in [2, 2.4].
+  auto d = MakeDetector();
+  int cuts = 0;
+  for (int i = 0; i <= 100; ++i) {
+    sensors::LogRecord rec;
+    rec.time_s = i * 0.1;
+    rec.odom = {i * 0.05, 0.0, 0.0};
+    const bool jamb = rec.odom.x >= 2.0 && rec.odom.x <= 2.4;
+    const double r = jamb ? 0.36 : 1.5;
+    rec.ranges = {{0, r}, {15, r}, {7, r}, {8, r}};
+    if (d.Push(rec)) ++cuts;
+  }
+  EXPECT_EQ(cuts, 1);
+}
+
+}  // namespace
+}  // namespace cogmap::asr

@@ -1,0 +1,163 @@
+#include "cogmap/asr/mapper.h"
+
+#include <chrono>
+#include <cstdio>
+
+namespace cogmap::asr {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::string PoseText(const Pose2& p) {
+  char buf[96];
+  std::snprintf(buf, sizeof(buf), "%.17g %.17g %.17g", p.x, p.y, p.theta);
+  return buf;
+}
+
+}  // namespace
+
+CognitiveMapper::CognitiveMapper(const sensors::RobotDescription& robot, const MapperOptions& options,
+                                 AsrStore* store, Callback on_close)
+    : robot_(robot),
+      options_(options),
+      store_(store),
+      on_close_(std::move(on_close)),
+      detector_(robot, options.boundary) {}
+
+CognitiveMapper::~CognitiveMapper() = default;
+
+void CognitiveMapper::Resume(const MapperResume& resume) {
+  resume_ = resume;
+  resumed_ = true;
+  next_id_ = resume.next_id;
+}
+
+int64_t CognitiveMapper::current_grid_cells() const {
+  return current_ && current_->grid ? current_->grid->limits().cell_count() : 0;
+}
+
+void CognitiveMapper::Start(const Pose2& entry_pose, double time_s, const std::optional<Exit>& entry_exit) {
+  current_ = std::make_unique<Current>();
+  Asr& a = current_->asr;
+  a.id = next_id_++;
+  a.world_from_local_raw = Pose2{entry_pose.x, entry_pose.y, 0.0};
+  a.world_from_local_corrected = a.world_from_local_raw;
+  a.entry_pivot_m = entry_exit ? entry_exit->center_m : entry_pose.translation();
+  a.start_time_s = time_s;
+  a.end_time_s = time_s;
+  if (entry_exit) a.exits.push_back(*entry_exit);
+  current_->local_from_world = a.world_from_local_raw.inverse();
+  grid::GridBounds bounds;
+  bounds.cell_m = options_.cell_m;
+  bounds.grow_chunk_cells = options_.grow_chunk_cells;
+  current_->grid = std::make_unique<grid::HimmFusion>(true, options_.mhimm, bounds);
+}
+
+void CognitiveMapper::Feed(const sensors::LogRecord& record) {
+  Current& c = *current_;
+  const auto t0 = Clock::now();
+  c.grid->InsertSweep(c.local_from_world * record.odom, robot_, record.ranges);
+  c.asr.seconds.grid += Since(t0);
+  stats_.peak_grid_cells = std::max<int64_t>(stats_.peak_grid_cells, c.grid->limits().cell_count());
+  auto& path = c.asr.path;
+  if (path.empty() || (path.back().translation() - record.odom.translation()).norm() >= options_.path_step_m - 1e-9) {
+    path.push_back(record.odom);
+    c.path_times.push_back(record.time_s);
+  }
+  if (record.truth) {
+    auto& tp = c.asr.true_path;
+    if (tp.empty() || (tp.back().translation() - record.truth->translation()).norm() >= options_.path_step_m - 1e-9) {
+      tp.push_back(*record.truth);
+      c.true_path_times.push_back(record.time_s);
+    }
+  }
+  c.asr.end_time_s = record.time_s;
+}
+
+void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) {
+  Current& c = *current_;
+  Asr& a = c.asr;
+  // The path ends at the cut (records of the doorway's far half went to the
+  // old grid as well, but the robot was already in the next ASR).
+  auto truncate = [end_time_s](std::vector<Pose2>* poses, std::vector<double>* times) {
+    size_t n = times->size();
+    while (n > 1 && (*times)[n - 1] > end_time_s) --n;
+    poses->resize(n);
+    times->resize(n);
+  };
+  truncate(&a.path, &c.path_times);
+  truncate(&a.true_path, &c.true_path_times);
+  if (exit) a.exits.push_back(*exit);
+  a.end_time_s = std::max(a.start_time_s, end_time_s);
+
+  const vectorize::VectorizeResult v = vectorize::Vectorize(c.grid->values(), options_.vectorize);
+  a.walls_local = v.polylines;
+  a.bytes.grid = v.bytes.grid;
+  a.bytes.vertices = v.bytes.vertices;
+  a.bytes.polylines = v.bytes.polylines;
+  a.seconds.clean = v.seconds.clean;
+  a.seconds.extract = v.seconds.extract;
+  a.seconds.simplify = v.seconds.simplify;
+  a.seconds.fit = v.seconds.fit;
+  c.grid.reset();  // the room's grid is gone from here on
+
+  Asr out = corrector_ ? corrector_(std::move(a)) : std::move(a);
+  current_.reset();
+  if (store_) {
+    store_->Put(out, {{kMetaLastRawPose, PoseText(last_raw_pose_)},
+                      {kMetaNextId, std::to_string(next_id_)}});
+  }
+  ++stats_.asr_count;
+  if (on_close_) on_close_(out);
+}
+
+void CognitiveMapper::Push(const sensors::LogRecord& input) {
+  const auto t0 = Clock::now();
+  if (!world_from_odom_) {
+    world_from_odom_ = (resumed_ && resume_.last_raw_pose) ? *resume_.last_raw_pose * input.odom.inverse()
+                                                           : Pose2{};
+  }
+  sensors::LogRecord record = input;
+  record.odom = *world_from_odom_ * input.odom;
+  last_raw_pose_ = record.odom;
+  ++stats_.records;
+  stats_.readings += static_cast<long>(record.ranges.size());
+  finished_ = false;
+
+  if (!current_) {
+    std::optional<Exit> entry;
+    if (resumed_ && resume_.previous_asr && stats_.asr_count == 0) {
+      entry = Exit{record.odom.translation(), 0.0, *resume_.previous_asr, next_id_};
+    }
+    Start(record.odom, record.time_s, entry);
+  }
+  Feed(record);
+  buffer_.push_back({seq_++, record});
+  while (buffer_.size() > std::max<size_t>(1, options_.max_replay_records)) buffer_.pop_front();
+
+  const auto cut = detector_.Push(record);
+  if (cut) {
+    const Exit exit{cut->center_m, cut->width_m, current_->asr.id, next_id_};
+    Close(exit, cut->time_s);
+    Start(cut->pose, cut->time_s, exit);
+    // Readings after the cut belong to the new ASR as well: replay them.
+    while (!buffer_.empty() && buffer_.front().record.time_s < cut->time_s) buffer_.pop_front();
+    for (const auto& b : buffer_) Feed(b.record);
+  }
+  if (detector_.state() == BoundaryState::kInRoom) buffer_.clear();
+  stats_.turn_backs = detector_.turn_backs();
+  stats_.seconds += Since(t0);
+}
+
+void CognitiveMapper::Finish() {
+  if (finished_) return;
+  const auto t0 = Clock::now();
+  if (current_) Close(std::nullopt, current_->asr.end_time_s);
+  buffer_.clear();
+  finished_ = true;
+  stats_.seconds += Since(t0);
+}
+
+}  // namespace cogmap::asr

@@ -1,0 +1,120 @@
+#pragma once
+#include <deque>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "cogmap/asr/asr.h"
+#include "cogmap/asr/boundary_detector.h"
+#include "cogmap/asr/store.h"
+#include "cogmap/grid/range_fusion.h"
+#include "cogmap/sensors/reading.h"
+#include "cogmap/sensors/robot.h"
+#include "cogmap/vectorize/vectorize.h"
+
+namespace cogmap::asr {
+
+// Options of the whole cognitive mapper (SPEC 2-4).
+struct MapperOptions {
+  double cell_m = 0.1;                 // the thesis's cell size (SPEC conventions)
+  grid::MhimmOptions mhimm;            // per-ASR MHIMM grid (SPEC 2, §3.1.4)
+  int grow_chunk_cells = 32;           // a room grid starts small and grows by this
+  vectorize::VectorizeOptions vectorize;  // grid -> polylines (SPEC 3)
+  BoundaryOptions boundary;            // where ASRs end (SPEC 4, fig. 3.4)
+  double path_step_m = 0.05;           // the stored path keeps a pose every this far
+  size_t max_replay_records = 4096;    // bound of the doorway replay buffer
+};
+
+// Continuing a run into an existing store (cogmap map --resume).
+struct MapperResume {
+  int next_id = 0;                 // the first new ASR's id (store MaxId() + 1)
+  std::optional<int> previous_asr; // linked to the first new ASR by a width-0 exit
+  // Where the stored run ended (raw world frame): the new log's first odometry
+  // pose is taken to be this pose, and every later one follows by dead reckoning.
+  std::optional<Pose2> last_raw_pose;
+};
+
+// Run-state keys written with every ASR (so --resume can continue).
+constexpr const char* kMetaLastRawPose = "last_raw_pose";  // "x y theta"
+constexpr const char* kMetaNextId = "next_asr_id";
+
+struct MapperStats {
+  int asr_count = 0;
+  long records = 0;
+  long readings = 0;
+  int turn_backs = 0;         // doorways the robot turned back in (no ASR)
+  int64_t peak_grid_cells = 0; // largest room grid seen
+  double seconds = 0.0;       // time spent inside Push / Finish
+};
+
+// The cognitive mapper of SPEC 4 as a streaming API (fit for a robot): push
+// every record in order; each ASR is mapped in its own MHIMM grid, sized to
+// the room and grown as needed, and when the boundary detector cuts it, the
+// grid is vectorised into walls, the ASR is built (walls in a local frame
+// whose origin is the entry position and whose axes are the raw world's, so
+// world_from_local_raw = (entry x, entry y, 0); see docs/store.md), handed to
+// the corrector (heading correction, when set), stored in one transaction,
+// passed to the callback, and its grid freed. Only the current room's grid
+// and a short replay buffer (the current doorway's readings) are held.
+class CognitiveMapper {
+ public:
+  using Callback = std::function<void(const Asr&)>;
+  // Heading correction of a closed ASR (localize::HeadingCorrector::Close).
+  using Corrector = std::function<Asr(Asr)>;
+
+  // 'store' may be null (then ASRs only go to the callback).
+  CognitiveMapper(const sensors::RobotDescription& robot, const MapperOptions& options,
+                  AsrStore* store, Callback on_close = {});
+  ~CognitiveMapper();
+
+  void SetCorrector(Corrector corrector) { corrector_ = std::move(corrector); }
+  // Before the first Push.
+  void Resume(const MapperResume& resume);
+
+  void Push(const sensors::LogRecord& record);
+  // Closes the ASR being mapped (a log that ends mid-room). Idempotent.
+  void Finish();
+
+  const MapperStats& stats() const { return stats_; }
+  const BoundaryDetector& detector() const { return detector_; }
+  // The id of the ASR being mapped (-1 before the first record / after Finish).
+  int current_id() const { return current_ ? current_->asr.id : -1; }
+  // Cells of the current room grid (0 when none).
+  int64_t current_grid_cells() const;
+
+ private:
+  struct Current {
+    Asr asr;
+    std::unique_ptr<grid::HimmFusion> grid;
+    std::vector<double> path_times;
+    std::vector<double> true_path_times;
+    Pose2 local_from_world;
+  };
+  struct Buffered {
+    long seq;
+    sensors::LogRecord record;  // odometry already in the raw world frame
+  };
+  void Start(const Pose2& entry_pose, double time_s, const std::optional<Exit>& entry_exit);
+  void Feed(const sensors::LogRecord& record);
+  void Close(const std::optional<Exit>& exit, double end_time_s);
+
+  sensors::RobotDescription robot_;
+  MapperOptions options_;
+  AsrStore* store_;
+  Callback on_close_;
+  Corrector corrector_;
+  BoundaryDetector detector_;
+  std::unique_ptr<Current> current_;
+  std::deque<Buffered> buffer_;
+  long seq_ = 0;
+  int next_id_ = 0;
+  MapperResume resume_;
+  bool resumed_ = false;
+  std::optional<Pose2> world_from_odom_;
+  Pose2 last_raw_pose_;
+  bool finished_ = false;
+  MapperStats stats_;
+};
+
+}  // namespace cogmap::asr

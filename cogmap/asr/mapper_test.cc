@@ -1,0 +1,263 @@
+#include "cogmap/asr/mapper.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace cogmap::asr {
+namespace {
+
+// Two 5 m x 4 m rooms side by side; the wall between them is 10 cm thick with
+// a 1 m door at y in [1.5, 2.5].
+std::vector<Segment2> TwoRooms() {
+  std::vector<Segment2> w = {{{0, 0}, {10, 0}}, {{10, 0}, {10, 4}}, {{10, 4}, {0, 4}}, {{0, 4}, {0, 0}}};
+  auto box = [&w](double x0, double y0, double x1, double y1) {
+    w.push_back({{x0, y0}, {x1, y0}});
+    w.push_back({{x1, y0}, {x1, y1}});
+    w.push_back({{x1, y1}, {x0, y1}});
+    w.push_back({{x0, y1}, {x0, y0}});
+  };
+  box(4.95, 0.0, 5.05, 1.5);
+  box(4.95, 2.5, 5.05, 4.0);
+  return w;
+}
+
+// Nearest wall along a ray, or max range.
+double Cast(const std::vector<Segment2>& walls, const Vec2& o, double h, double max_m) {
+  const Vec2 d(std::cos(h), std::sin(h));
+  double best = max_m;
+  for (const auto& s : walls) {
+    const Vec2 e = s.b - s.a;
+    const double den = d.x() * e.y() - d.y() * e.x();
+    if (std::abs(den) < 1e-12) continue;
+    const Vec2 ao = s.a - o;
+    const double t = (ao.x() * e.y() - ao.y() * e.x()) / den;
+    const double u = (ao.x() * d.y() - ao.y() * d.x()) / den;
+    if (t > 0 && u >= 0 && u <= 1) best = std::min(best, t);
+  }
+  return best;
+}
+
+// A noise-free sonar sweep: each cone sampled by 5 rays, nearest echo.
+sensors::LogRecord Sweep(const sensors::RobotDescription& robot, const std::vector<Segment2>& walls,
+                         const Pose2& pose, double t) {
+  sensors::LogRecord rec;
+  rec.time_s = t;
+  rec.odom = pose;
+  rec.truth = pose;
+  for (size_t i = 0; i < robot.sensors.size(); ++i) {
+    const auto& s = robot.sensors[i];
+    const Pose2 sp = sensors::SensorPose(pose, s);
+    double r = s.max_range_m;
+    for (int k = -2; k <= 2; ++k)
+      r = std::min(r, Cast(walls, sp.translation(), sp.theta + k * s.beam_width_rad / 4, s.max_range_m));
+    rec.ranges.push_back({static_cast<int>(i), r});
+  }
+  return rec;
+}
+
+std::vector<Pose2> Straight(Vec2 a, Vec2 b, double step = 0.05) {
+  const double h = std::atan2(b.y() - a.y(), b.x() - a.x());
+  const int n = static_cast<int>(std::lround((b - a).norm() / step));
+  std::vector<Pose2> out;
+  for (int i = 0; i <= n; ++i) {
+    const Vec2 p = a + (b - a) * (static_cast<double>(i) / n);
+    out.push_back({p.x(), p.y(), h});
+  }
+  return out;
+}
+
+struct Outcome {
+  std::vector<Asr> closed;
+  MemoryAsrStore store;
+};
+
+void Drive(CognitiveMapper* m, const std::vector<Pose2>& poses, double t0 = 0.0) {
+  const auto robot = sensors::BuiltinRobot("pioneer16");
+  const auto walls = TwoRooms();
+  double t = t0;
+  for (const auto& p : poses) {
+    m->Push(Sweep(robot, walls, p, t));
+    t += 0.1;
+  }
+}
+
+TEST(MapperOptions, DefaultsAreThePapers) {
+  const MapperOptions o;
+  EXPECT_DOUBLE_EQ(o.cell_m, 0.1);
+  EXPECT_DOUBLE_EQ(o.mhimm.window_m, 3.0);
+  EXPECT_FLOAT_EQ(o.mhimm.min_value, -3.0f);
+  EXPECT_DOUBLE_EQ(o.boundary.close_m, 0.7);
+}
+
+TEST(CognitiveMapper, DoorwaySplitsTwoRoomsIntoTwoAsrs) {
+  Outcome run;
+  CognitiveMapper m(sensors::BuiltinRobot("pioneer16"), {}, &run.store,
+                    [&run](const Asr& a) { run.closed.push_back(a); });
+  Drive(&m, Straight({1.0, 2.0}, {9.0, 2.0}));
+  EXPECT_EQ(run.closed.size(), 1u);  // room A closed at the door, B still open
+  EXPECT_EQ(m.current_id(), 1);
+  m.Finish();
+  ASSERT_EQ(run.closed.size(), 2u);
+  EXPECT_EQ(m.current_id(), -1);
+  const Asr& a = run.closed[0];
+  const Asr& b = run.closed[1];
+  EXPECT_EQ(a.id, 0);
+  EXPECT_EQ(b.id, 1);
+  ASSERT_EQ(a.exits.size(), 1u);
+  const Exit& door = a.exits[0];
+  EXPECT_EQ(door.from_asr, 0);
+  EXPECT_EQ(door.to_asr, 1);
+  EXPECT_NEAR(door.center_m.x(), 5.0, 0.3);
+  EXPECT_NEAR(door.center_m.y(), 2.0, 1e-9);
+  EXPECT_NEAR(door.width_m, 1.0, 0.35);
+  // B was entered through the same exit, which is its pivot and local origin.
+  ASSERT_EQ(b.exits.size(), 1u);
+  EXPECT_EQ(b.exits[0].center_m, door.center_m);
+  EXPECT_EQ(b.entry_pivot_m, door.center_m);
+  EXPECT_NEAR(b.world_from_local_raw.x, door.center_m.x(), 0.05);
+  EXPECT_EQ(b.world_from_local_raw.theta, 0.0);
+  EXPECT_EQ(a.world_from_local_raw.x, 1.0);
+  // Paths meet at the exit; both ASRs have walls and their sizes.
+  EXPECT_LE(a.path.back().x, door.center_m.x() + 1e-9);
+  EXPECT_GE(b.path.front().x, door.center_m.x() - 0.05);
+  EXPECT_EQ(a.true_path.size(), a.path.size());
+  EXPECT_FALSE(a.walls_local.empty());
+  EXPECT_FALSE(b.walls_local.empty());
+  EXPECT_GT(a.bytes.grid, a.bytes.polylines);
+  EXPECT_GT(a.seconds.grid, 0.0);
+  EXPECT_LE(a.end_time_s, b.start_time_s + 1e-9);
+  // Stored, with the graph edge.
+  EXPECT_EQ(run.store.Count(), 2);
+  EXPECT_EQ(run.store.Neighbours(0), (std::vector<int>{1}));
+  EXPECT_TRUE(run.store.GetMeta(kMetaLastRawPose).has_value());
+  EXPECT_EQ(*run.store.GetMeta(kMetaNextId), "2");
+}
+
+TEST(CognitiveMapper, WallsOfTheFirstRoomOutlineIt) {
+  Outcome run;
+  CognitiveMapper m(sensors::BuiltinRobot("pioneer16"), {}, &run.store,
+                    [&run](const Asr& a) { run.closed.push_back(a); });
+  // A loop in room A, then through the door.
+  auto poses = Straight({1.2, 1.2}, {3.8, 1.2});
+  for (auto leg : {Straight({3.8, 1.2}, {3.8, 2.8}), Straight({3.8, 2.8}, {1.2, 2.8}),
+                   Straight({1.2, 2.8}, {1.2, 2.0}), Straight({1.2, 2.0}, {8.0, 2.0})})
+    poses.insert(poses.end(), leg.begin() + 1, leg.end());
+  Drive(&m, poses);
+  m.Finish();
+  ASSERT_GE(run.closed.size(), 2u);
+  const auto walls = run.closed[0].WallsWorldRaw();
+  // Sonar rounds the room off (the nearest echo of a cone lies on its axis)
+  // and sees a little of room B through the door: most vertices lie in room A
+  // grown by the sonar's rounding.
+  int near_wall = 0, total = 0;
+  Vec2 lo(1e9, 1e9), hi(-1e9, -1e9);
+  for (const auto& line : walls)
+    for (const auto& p : line) {
+      ++total;
+      const bool in = p.x() > -0.7 && p.x() < 5.7 && p.y() > -0.7 && p.y() < 4.7;
+      near_wall += in ? 1 : 0;
+      if (in) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+    }
+  ASSERT_GT(total, 0);
+  EXPECT_GE(hi.x() - lo.x(), 3.5);  // the outline spans the room
+  EXPECT_GE(hi.y() - lo.y(), 2.5);
+  EXPECT_GE(static_cast<double>(near_wall) / total, 0.6);
+}
+
+TEST(CognitiveMapper, TurningBackInTheDoorwayKeepsOneAsr) {
+  Outcome run;
+  CognitiveMapper m(sensors::BuiltinRobot("pioneer16"), {}, &run.store,
+                    [&run](const Asr& a) { run.closed.push_back(a); });
+  auto poses = Straight({1.0, 2.0}, {5.0, 2.0});
+  const auto back = Straight({5.0, 2.0}, {1.0, 2.0});
+  poses.insert(poses.end(), back.begin() + 1, back.end());
+  Drive(&m, poses);
+  m.Finish();
+  EXPECT_EQ(run.closed.size(), 1u);
+  EXPECT_EQ(m.stats().turn_backs, 1);
+}
+
+TEST(CognitiveMapper, LogEndingMidRoomIsClosedByFinish) {
+  Outcome run;
+  CognitiveMapper m(sensors::BuiltinRobot("pioneer16"), {}, &run.store);
+  Drive(&m, Straight({1.0, 2.0}, {3.0, 2.0}));
+  EXPECT_EQ(run.store.Count(), 0);
+  m.Finish();
+  m.Finish();  // idempotent
+  EXPECT_EQ(run.store.Count(), 1);
+  EXPECT_TRUE(run.store.Get(0)->exits.empty());
+}
+
+TEST(CognitiveMapper, ResumeContinuesIdsAndPose) {
+  Outcome run;
+  {
+    CognitiveMapper m(sensors::BuiltinRobot("pioneer16"), {}, &run.store);
+    Drive(&m, Straight({1.0, 2.0}, {3.0, 2.0}));
+    m.Finish();
+  }
+  ASSERT_EQ(run.store.Count(), 1);
+  MapperResume r;
+  r.next_id = run.store.MaxId() + 1;
+  r.previous_asr = run.store.MaxId();
+  r.last_raw_pose = Pose2{3.0, 2.0, 0.0};
+  CognitiveMapper m(sensors::BuiltinRobot("pioneer16"), {}, &run.store);
+  m.Resume(r);
+  // The new log's odometry starts at zero; its readings are those of x = 3..4.
+  const auto robot = sensors::BuiltinRobot("pioneer16");
+  const auto walls = TwoRooms();
+  for (int i = 0; i <= 20; ++i) {
+    auto rec = Sweep(robot, walls, {3.0 + i * 0.05, 2.0, 0.0}, 100 + i * 0.1);
+    rec.odom = {i * 0.05, 0.0, 0.0};
+    m.Push(rec);
+  }
+  m.Finish();
+  ASSERT_EQ(run.store.Count(), 2);
+  const Asr b = *run.store.Get(1);
+  EXPECT_NEAR(b.world_from_local_raw.x, 3.0, 1e-12);
+  EXPECT_NEAR(b.world_from_local_raw.y, 2.0, 1e-12);
+  EXPECT_NEAR(b.path.back().x, 4.0, 1e-9);
+  ASSERT_EQ(b.exits.size(), 1u);
+  EXPECT_EQ(b.exits[0].from_asr, 0);
+  EXPECT_EQ(b.exits[0].width_m, 0.0);
+  EXPECT_EQ(run.store.Neighbours(0), (std::vector<int>{1}));
+}
+
+TEST(CognitiveMapper, FixedLengthModeCutsAsrsOfTheSetLength) {
+  MapperOptions o;
+  o.boundary.mode = BoundaryMode::kFixedLength;
+  o.boundary.asr_length_m = 2.0;
+  Outcome run;
+  CognitiveMapper m(sensors::BuiltinRobot("pioneer16"), o, &run.store,
+                    [&run](const Asr& a) { run.closed.push_back(a); });
+  Drive(&m, Straight({1.0, 2.0}, {8.95, 2.0}));
+  m.Finish();
+  ASSERT_EQ(run.closed.size(), 4u);  // cuts at 3, 5, 7; the last ends at 8.95
+  for (const auto& a : run.closed) {
+    const double length = a.path.back().x - a.world_from_local_raw.x;
+    EXPECT_NEAR(length, 2.0, 0.05 + 1e-9) << a.id;
+  }
+}
+
+TEST(CognitiveMapper, CorrectorSeesEveryAsrBeforeTheStore) {
+  Outcome run;
+  CognitiveMapper m(sensors::BuiltinRobot("pioneer16"), {}, &run.store);
+  int calls = 0;
+  m.SetCorrector([&calls](Asr a) {
+    ++calls;
+    a.world_from_local_corrected.theta = 0.1;
+    a.heading_correction_rad = 0.1;
+    return a;
+  });
+  Drive(&m, Straight({1.0, 2.0}, {9.0, 2.0}));
+  m.Finish();
+  EXPECT_EQ(calls, 2);
+  EXPECT_DOUBLE_EQ(run.store.Get(1)->heading_correction_rad, 0.1);
+}
+
+}  // namespace
+}  // namespace cogmap::asr

@@ -1,0 +1,54 @@
+#include "cogmap/asr/room_metrics.h"
+
+#include <cmath>
+#include <set>
+#include <utility>
+
+namespace cogmap::asr {
+
+std::vector<Pose2> AreaPath(const Asr& asr, bool prefer_true_path) {
+  if (prefer_true_path && !asr.true_path.empty()) return asr.true_path;
+  const Pose2 corr = asr.world_from_local_corrected * asr.world_from_local_raw.inverse();
+  std::vector<Pose2> out;
+  out.reserve(asr.path.size());
+  for (const auto& p : asr.path) out.push_back(corr * p);
+  return out;
+}
+
+RoomMetrics EvaluateRooms(const std::vector<Asr>& asrs, const std::vector<NamedBox>& rooms,
+                          const RoomMatchOptions& options) {
+  RoomMetrics m;
+  m.asr_count = static_cast<int>(asrs.size());
+  m.room_count = static_cast<int>(rooms.size());
+  std::vector<bool> room_taken(rooms.size(), false);
+  for (const Asr& a : asrs) {
+    std::set<std::pair<long, long>> cells;
+    for (const auto& p : AreaPath(a, options.prefer_true_path))
+      cells.insert({static_cast<long>(std::floor(p.x / options.cell_m)),
+                    static_cast<long>(std::floor(p.y / options.cell_m))});
+    int best = -1;
+    if (!cells.empty()) {
+      std::vector<int> counts(rooms.size(), 0);
+      for (const auto& [cx, cy] : cells) {
+        const Vec2 c((cx + 0.5) * options.cell_m, (cy + 0.5) * options.cell_m);
+        for (size_t r = 0; r < rooms.size(); ++r)
+          if (rooms[r].Contains(c)) ++counts[r];
+      }
+      for (size_t r = 0; r < rooms.size(); ++r)
+        if (counts[r] > options.majority * static_cast<double>(cells.size()) &&
+            (best < 0 || counts[r] > counts[best]))
+          best = static_cast<int>(r);
+    }
+    m.asr_room.push_back(best);
+    if (best >= 0 && !room_taken[best]) {
+      room_taken[best] = true;
+      ++m.matched_asrs;
+    }
+  }
+  for (bool t : room_taken) m.matched_rooms += t ? 1 : 0;
+  m.room_precision = m.asr_count ? static_cast<double>(m.matched_asrs) / m.asr_count : 0.0;
+  m.room_recall = m.room_count ? static_cast<double>(m.matched_rooms) / m.room_count : 0.0;
+  return m;
+}
+
+}  // namespace cogmap::asr

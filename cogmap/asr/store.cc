@@ -1,0 +1,539 @@
+#include "cogmap/asr/store.h"
+
+#include <sqlite3.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "cogmap/core/error.h"
+
+namespace cogmap::asr {
+
+// ---------------------------------------------------------------- encodings
+
+namespace {
+
+class Writer {
+ public:
+  void U32(uint32_t v) { Raw(&v, 4); }
+  void I32(int32_t v) { Raw(&v, 4); }
+  void F64(double v) { Raw(&v, 8); }
+  std::string take() { return std::move(bytes_); }
+
+ private:
+  void Raw(const void* p, size_t n) {  // the host is little-endian (x86-64, arm64)
+    bytes_.append(static_cast<const char*>(p), n);
+  }
+  std::string bytes_;
+};
+
+class Reader {
+ public:
+  explicit Reader(const std::string& bytes) : bytes_(bytes) {}
+  uint32_t U32() { uint32_t v; Raw(&v, 4); return v; }
+  int32_t I32() { int32_t v; Raw(&v, 4); return v; }
+  double F64() { double v; Raw(&v, 8); return v; }
+  // A count of items of 'item_bytes' each that must fit in what is left.
+  uint32_t Count(size_t item_bytes) {
+    const uint32_t n = U32();
+    if (item_bytes > 0 && n > (bytes_.size() - pos_) / item_bytes)
+      throw std::runtime_error("corrupt ASR blob (count past the end)");
+    return n;
+  }
+
+ private:
+  void Raw(void* p, size_t n) {
+    if (pos_ + n > bytes_.size()) throw std::runtime_error("corrupt ASR blob (truncated)");
+    std::memcpy(p, bytes_.data() + pos_, n);
+    pos_ += n;
+  }
+  const std::string& bytes_;
+  size_t pos_ = 0;
+};
+
+}  // namespace
+
+std::string EncodeWalls(const std::vector<Polyline>& walls) {
+  Writer w;
+  w.U32(static_cast<uint32_t>(walls.size()));
+  for (const auto& line : walls) {
+    w.U32(static_cast<uint32_t>(line.size()));
+    for (const auto& p : line) {
+      w.F64(p.x());
+      w.F64(p.y());
+    }
+  }
+  return w.take();
+}
+
+std::vector<Polyline> DecodeWalls(const std::string& blob) {
+  if (blob.empty()) return {};
+  Reader r(blob);
+  std::vector<Polyline> walls(r.Count(4));
+  for (auto& line : walls) {
+    line.resize(r.Count(16));
+    for (auto& p : line) {
+      const double x = r.F64();
+      p = Vec2(x, r.F64());
+    }
+  }
+  return walls;
+}
+
+std::string EncodeExits(const std::vector<Exit>& exits) {
+  Writer w;
+  w.U32(static_cast<uint32_t>(exits.size()));
+  for (const auto& e : exits) {
+    w.F64(e.center_m.x());
+    w.F64(e.center_m.y());
+    w.F64(e.width_m);
+    w.I32(e.from_asr);
+    w.I32(e.to_asr);
+  }
+  return w.take();
+}
+
+std::vector<Exit> DecodeExits(const std::string& blob) {
+  if (blob.empty()) return {};
+  Reader r(blob);
+  std::vector<Exit> exits(r.Count(32));
+  for (auto& e : exits) {
+    const double x = r.F64();
+    e.center_m = Vec2(x, r.F64());
+    e.width_m = r.F64();
+    e.from_asr = r.I32();
+    e.to_asr = r.I32();
+  }
+  return exits;
+}
+
+std::string EncodePoses(const std::vector<Pose2>& poses) {
+  Writer w;
+  w.U32(static_cast<uint32_t>(poses.size()));
+  for (const auto& p : poses) {
+    w.F64(p.x);
+    w.F64(p.y);
+    w.F64(p.theta);
+  }
+  return w.take();
+}
+
+std::vector<Pose2> DecodePoses(const std::string& blob) {
+  if (blob.empty()) return {};
+  Reader r(blob);
+  std::vector<Pose2> poses(r.Count(24));
+  for (auto& p : poses) {
+    p.x = r.F64();
+    p.y = r.F64();
+    p.theta = r.F64();
+  }
+  return poses;
+}
+
+// ---------------------------------------------------------------- memory
+
+void MemoryAsrStore::Put(const Asr& asr, const std::map<std::string, std::string>& meta) {
+  asrs_[asr.id] = asr;
+  for (const auto& e : asr.exits)
+    if (e.from_asr >= 0 && e.to_asr >= 0) edges_.insert({e.from_asr, e.to_asr});
+  for (const auto& [k, v] : meta) meta_[k] = v;
+}
+
+std::optional<Asr> MemoryAsrStore::Get(int id) const {
+  const auto it = asrs_.find(id);
+  if (it == asrs_.end()) return std::nullopt;
+  return it->second;
+}
+
+std::vector<int> MemoryAsrStore::Ids() const {
+  std::vector<int> ids;
+  for (const auto& [id, a] : asrs_) ids.push_back(id);
+  return ids;
+}
+
+std::vector<int> MemoryAsrStore::Neighbours(int id) const {
+  std::set<int> out;
+  for (const auto& [a, b] : edges_) {
+    if (a == id && b != id) out.insert(b);
+    if (b == id && a != id) out.insert(a);
+  }
+  return {out.begin(), out.end()};
+}
+
+std::optional<std::string> MemoryAsrStore::GetMeta(const std::string& key) const {
+  const auto it = meta_.find(key);
+  if (it == meta_.end()) return std::nullopt;
+  return it->second;
+}
+
+// ---------------------------------------------------------------- SQLite
+
+namespace {
+
+sqlite3* Db(void* p) { return static_cast<sqlite3*>(p); }
+
+// A prepared statement, finalized on scope exit.
+class Stmt {
+ public:
+  Stmt(sqlite3* db, const char* sql) : db_(db) {
+    if (sqlite3_prepare_v2(db, sql, -1, &stmt_, nullptr) != SQLITE_OK) stmt_ = nullptr;
+  }
+  ~Stmt() { sqlite3_finalize(stmt_); }
+  bool ok() const { return stmt_ != nullptr; }
+  sqlite3_stmt* get() { return stmt_; }
+  void Bind(int i, double v) { sqlite3_bind_double(stmt_, i, v); }
+  void BindInt(int i, int64_t v) { sqlite3_bind_int64(stmt_, i, v); }
+  void BindText(int i, const std::string& v) {
+    sqlite3_bind_text(stmt_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
+  }
+  void BindBlob(int i, const std::string& v) {
+    sqlite3_bind_blob(stmt_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
+  }
+  int Step() { return sqlite3_step(stmt_); }
+  double Double(int i) { return sqlite3_column_double(stmt_, i); }
+  int64_t Int(int i) { return sqlite3_column_int64(stmt_, i); }
+  std::string Blob(int i) {
+    const void* p = sqlite3_column_blob(stmt_, i);
+    const int n = sqlite3_column_bytes(stmt_, i);
+    return p ? std::string(static_cast<const char*>(p), n) : std::string();
+  }
+  std::string Text(int i) {
+    const unsigned char* p = sqlite3_column_text(stmt_, i);
+    return p ? std::string(reinterpret_cast<const char*>(p)) : std::string();
+  }
+
+ private:
+  sqlite3* db_;
+  sqlite3_stmt* stmt_ = nullptr;
+};
+
+const char* kSchema = R"sql(
+CREATE TABLE IF NOT EXISTS meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS asr(
+  id INTEGER PRIMARY KEY,
+  raw_x REAL NOT NULL, raw_y REAL NOT NULL, raw_theta REAL NOT NULL,
+  cor_x REAL NOT NULL, cor_y REAL NOT NULL, cor_theta REAL NOT NULL,
+  pivot_x REAL NOT NULL, pivot_y REAL NOT NULL,
+  start_time_s REAL NOT NULL, end_time_s REAL NOT NULL,
+  bytes_grid INTEGER NOT NULL, bytes_vertices INTEGER NOT NULL, bytes_polylines INTEGER NOT NULL,
+  sec_grid REAL NOT NULL, sec_clean REAL NOT NULL, sec_extract REAL NOT NULL,
+  sec_simplify REAL NOT NULL, sec_fit REAL NOT NULL,
+  heading_correction_rad REAL NOT NULL, heading_uncertainty_rad REAL NOT NULL,
+  walls BLOB NOT NULL, exits BLOB NOT NULL, path BLOB NOT NULL, true_path BLOB NOT NULL);
+CREATE TABLE IF NOT EXISTS edge(
+  from_asr INTEGER NOT NULL, to_asr INTEGER NOT NULL,
+  center_x REAL NOT NULL, center_y REAL NOT NULL, width_m REAL NOT NULL,
+  PRIMARY KEY(from_asr, to_asr));
+CREATE INDEX IF NOT EXISTS edge_to ON edge(to_asr);
+)sql";
+
+bool HasSqliteHeader(const std::string& path, bool* empty) {
+  std::ifstream in(path, std::ios::binary);
+  char header[16] = {};
+  in.read(header, 16);
+  *empty = in.gcount() == 0;
+  return in.gcount() == 16 && std::memcmp(header, "SQLite format 3\0", 16) == 0;
+}
+
+void RemoveStoreFiles(const std::string& path) {
+  std::error_code ec;
+  for (const char* suffix : {"", "-wal", "-shm", "-journal"})
+    std::filesystem::remove(path + suffix, ec);
+}
+
+}  // namespace
+
+void SqliteAsrStore::Exec(const std::string& sql) const {
+  char* err = nullptr;
+  if (sqlite3_exec(Db(db_), sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
+    const std::string msg = err ? err : "unknown error";
+    sqlite3_free(err);
+    Fail(msg);
+  }
+}
+
+void SqliteAsrStore::Fail(const std::string& what) const {
+  throw InputError(path_, 0, "store error: " + what);
+}
+
+std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, OpenMode mode) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const bool exists = fs::exists(path, ec);
+  if (mode == OpenMode::kOpenExisting && !exists) throw InputError(path, 0, "no such store");
+  if (exists && fs::is_directory(path, ec)) throw InputError(path, 0, "is a directory, not a cogmap store");
+  bool empty = false;
+  if (exists && !HasSqliteHeader(path, &empty) && !empty)
+    throw InputError(path, 0, "not a cogmap store (not an SQLite database)");
+  if (exists && !empty) {
+    // Check the markers before anything is changed.
+    sqlite3* probe = nullptr;
+    if (sqlite3_open_v2(path.c_str(), &probe, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
+      const std::string msg = probe ? sqlite3_errmsg(probe) : "cannot open";
+      sqlite3_close(probe);
+      throw InputError(path, 0, "cannot open store: " + msg);
+    }
+    int app_id = 0, version = 0;
+    bool readable = true;
+    {
+      Stmt a(probe, "PRAGMA application_id");
+      if (a.ok() && a.Step() == SQLITE_ROW) app_id = static_cast<int>(a.Int(0)); else readable = false;
+      Stmt v(probe, "PRAGMA user_version");
+      if (v.ok() && v.Step() == SQLITE_ROW) version = static_cast<int>(v.Int(0)); else readable = false;
+    }
+    int tables = 0;
+    {
+      Stmt t(probe, "SELECT count(*) FROM sqlite_master");
+      if (t.ok() && t.Step() == SQLITE_ROW) tables = static_cast<int>(t.Int(0)); else readable = false;
+    }
+    sqlite3_close(probe);
+    if (!readable) throw InputError(path, 0, "not a cogmap store (unreadable SQLite file)");
+    if (tables > 0 && app_id != kStoreApplicationId)
+      throw InputError(path, 0, "not a cogmap store (an SQLite database of another application)");
+    if (version > kStoreSchemaVersion)
+      throw InputError(path, 0, "schema version " + std::to_string(version) +
+                                    " is newer than this cogmap (" + std::to_string(kStoreSchemaVersion) + ")");
+    if (mode == OpenMode::kReplace) RemoveStoreFiles(path);
+  }
+  sqlite3* db = nullptr;
+  if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) != SQLITE_OK) {
+    const std::string msg = db ? sqlite3_errmsg(db) : "cannot open";
+    sqlite3_close(db);
+    throw InputError(path, 0, "cannot create store: " + msg);
+  }
+  sqlite3_busy_timeout(db, 5000);
+  std::unique_ptr<SqliteAsrStore> store(new SqliteAsrStore(path, db));
+  store->Exec("PRAGMA journal_mode=WAL");
+  store->Exec("PRAGMA synchronous=FULL");
+  store->Exec("BEGIN IMMEDIATE");
+  try {
+    store->Exec(kSchema);
+    store->Exec("PRAGMA application_id=" + std::to_string(kStoreApplicationId));
+    store->Exec("PRAGMA user_version=" + std::to_string(kStoreSchemaVersion));
+    store->Exec("INSERT OR IGNORE INTO meta(key, value) VALUES('application', 'cogmap')");
+    store->Exec("INSERT OR REPLACE INTO meta(key, value) VALUES('schema_version', '" +
+                std::to_string(kStoreSchemaVersion) + "')");
+    store->Exec("COMMIT");
+  } catch (...) {
+    sqlite3_exec(db, "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+  return store;
+}
+
+SqliteAsrStore::~SqliteAsrStore() { sqlite3_close(Db(db_)); }
+
+void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string>& meta) {
+  sqlite3* db = Db(db_);
+  Exec("BEGIN IMMEDIATE");
+  auto fail = [&](const std::string& what) {
+    const std::string msg = what + ": " + sqlite3_errmsg(db);
+    sqlite3_exec(db, "ROLLBACK", nullptr, nullptr, nullptr);
+    Fail("cannot store ASR " + std::to_string(asr.id) + " (" + msg + ")");
+  };
+  {
+    Stmt s(db, "INSERT OR REPLACE INTO asr VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+    if (!s.ok()) fail("prepare");
+    int i = 1;
+    s.BindInt(i++, asr.id);
+    s.Bind(i++, asr.world_from_local_raw.x);
+    s.Bind(i++, asr.world_from_local_raw.y);
+    s.Bind(i++, asr.world_from_local_raw.theta);
+    s.Bind(i++, asr.world_from_local_corrected.x);
+    s.Bind(i++, asr.world_from_local_corrected.y);
+    s.Bind(i++, asr.world_from_local_corrected.theta);
+    s.Bind(i++, asr.entry_pivot_m.x());
+    s.Bind(i++, asr.entry_pivot_m.y());
+    s.Bind(i++, asr.start_time_s);
+    s.Bind(i++, asr.end_time_s);
+    s.BindInt(i++, asr.bytes.grid);
+    s.BindInt(i++, asr.bytes.vertices);
+    s.BindInt(i++, asr.bytes.polylines);
+    s.Bind(i++, asr.seconds.grid);
+    s.Bind(i++, asr.seconds.clean);
+    s.Bind(i++, asr.seconds.extract);
+    s.Bind(i++, asr.seconds.simplify);
+    s.Bind(i++, asr.seconds.fit);
+    s.Bind(i++, asr.heading_correction_rad);
+    s.Bind(i++, asr.heading_uncertainty_rad);
+    s.BindBlob(i++, EncodeWalls(asr.walls_local));
+    s.BindBlob(i++, EncodeExits(asr.exits));
+    s.BindBlob(i++, EncodePoses(asr.path));
+    s.BindBlob(i++, EncodePoses(asr.true_path));
+    if (s.Step() != SQLITE_DONE) fail("insert");
+  }
+  for (const auto& e : asr.exits) {
+    if (e.from_asr < 0 || e.to_asr < 0) continue;
+    Stmt s(db, "INSERT OR REPLACE INTO edge VALUES(?,?,?,?,?)");
+    if (!s.ok()) fail("prepare");
+    s.BindInt(1, e.from_asr);
+    s.BindInt(2, e.to_asr);
+    s.Bind(3, e.center_m.x());
+    s.Bind(4, e.center_m.y());
+    s.Bind(5, e.width_m);
+    if (s.Step() != SQLITE_DONE) fail("insert edge");
+  }
+  for (const auto& [k, v] : meta) {
+    Stmt s(db, "INSERT OR REPLACE INTO meta VALUES(?,?)");
+    if (!s.ok()) fail("prepare");
+    s.BindText(1, k);
+    s.BindText(2, v);
+    if (s.Step() != SQLITE_DONE) fail("insert meta");
+  }
+  if (sqlite3_exec(db, "COMMIT", nullptr, nullptr, nullptr) != SQLITE_OK) fail("commit");
+}
+
+std::optional<Asr> SqliteAsrStore::Get(int id) const {
+  Stmt s(Db(db_), "SELECT * FROM asr WHERE id=?");
+  if (!s.ok()) Fail(sqlite3_errmsg(Db(db_)));
+  s.BindInt(1, id);
+  if (s.Step() != SQLITE_ROW) return std::nullopt;
+  Asr a;
+  int i = 0;
+  a.id = static_cast<int>(s.Int(i++));
+  a.world_from_local_raw.x = s.Double(i++);
+  a.world_from_local_raw.y = s.Double(i++);
+  a.world_from_local_raw.theta = s.Double(i++);
+  a.world_from_local_corrected.x = s.Double(i++);
+  a.world_from_local_corrected.y = s.Double(i++);
+  a.world_from_local_corrected.theta = s.Double(i++);
+  const double px = s.Double(i++);
+  a.entry_pivot_m = Vec2(px, s.Double(i++));
+  a.start_time_s = s.Double(i++);
+  a.end_time_s = s.Double(i++);
+  a.bytes.grid = s.Int(i++);
+  a.bytes.vertices = s.Int(i++);
+  a.bytes.polylines = s.Int(i++);
+  a.seconds.grid = s.Double(i++);
+  a.seconds.clean = s.Double(i++);
+  a.seconds.extract = s.Double(i++);
+  a.seconds.simplify = s.Double(i++);
+  a.seconds.fit = s.Double(i++);
+  a.heading_correction_rad = s.Double(i++);
+  a.heading_uncertainty_rad = s.Double(i++);
+  try {
+    a.walls_local = DecodeWalls(s.Blob(i++));
+    a.exits = DecodeExits(s.Blob(i++));
+    a.path = DecodePoses(s.Blob(i++));
+    a.true_path = DecodePoses(s.Blob(i++));
+  } catch (const std::runtime_error& e) {
+    throw InputError(path_, 0, "ASR " + std::to_string(id) + ": " + e.what());
+  }
+  return a;
+}
+
+std::vector<int> SqliteAsrStore::Ids() const {
+  Stmt s(Db(db_), "SELECT id FROM asr ORDER BY id");
+  std::vector<int> ids;
+  while (s.ok() && s.Step() == SQLITE_ROW) ids.push_back(static_cast<int>(s.Int(0)));
+  return ids;
+}
+
+int SqliteAsrStore::Count() const {
+  Stmt s(Db(db_), "SELECT count(*) FROM asr");
+  return s.ok() && s.Step() == SQLITE_ROW ? static_cast<int>(s.Int(0)) : 0;
+}
+
+int SqliteAsrStore::MaxId() const {
+  Stmt s(Db(db_), "SELECT coalesce(max(id), -1) FROM asr");
+  return s.ok() && s.Step() == SQLITE_ROW ? static_cast<int>(s.Int(0)) : -1;
+}
+
+std::vector<int> SqliteAsrStore::Neighbours(int id) const {
+  Stmt s(Db(db_),
+         "SELECT to_asr FROM edge WHERE from_asr=?1 AND to_asr<>?1 UNION "
+         "SELECT from_asr FROM edge WHERE to_asr=?1 AND from_asr<>?1 ORDER BY 1");
+  s.BindInt(1, id);
+  std::vector<int> out;
+  while (s.ok() && s.Step() == SQLITE_ROW) out.push_back(static_cast<int>(s.Int(0)));
+  return out;
+}
+
+std::vector<Edge> SqliteAsrStore::Edges() const {
+  Stmt s(Db(db_), "SELECT from_asr, to_asr, center_x, center_y, width_m FROM edge ORDER BY from_asr, to_asr");
+  std::vector<Edge> out;
+  while (s.ok() && s.Step() == SQLITE_ROW) {
+    Edge e;
+    e.from_asr = static_cast<int>(s.Int(0));
+    e.to_asr = static_cast<int>(s.Int(1));
+    e.center_m = Vec2(s.Double(2), s.Double(3));
+    e.width_m = s.Double(4);
+    out.push_back(e);
+  }
+  return out;
+}
+
+std::optional<std::string> SqliteAsrStore::GetMeta(const std::string& key) const {
+  Stmt s(Db(db_), "SELECT value FROM meta WHERE key=?");
+  s.BindText(1, key);
+  if (!s.ok() || s.Step() != SQLITE_ROW) return std::nullopt;
+  return s.Text(0);
+}
+
+void SqliteAsrStore::SetMeta(const std::string& key, const std::string& value) {
+  Stmt s(Db(db_), "INSERT OR REPLACE INTO meta VALUES(?,?)");
+  s.BindText(1, key);
+  s.BindText(2, value);
+  if (!s.ok() || s.Step() != SQLITE_DONE) Fail(sqlite3_errmsg(Db(db_)));
+}
+
+std::string SqliteAsrStore::IntegrityCheck() const {
+  Stmt s(Db(db_), "PRAGMA integrity_check");
+  if (!s.ok() || s.Step() != SQLITE_ROW) return sqlite3_errmsg(Db(db_));
+  return s.Text(0);
+}
+
+void SqliteAsrStore::LimitPagesForTest(int pages) { Exec("PRAGMA max_page_count=" + std::to_string(pages)); }
+
+// ---------------------------------------------------------------- graph
+
+void AsrGraph::Touch(int id) {
+  lru_.remove(id);
+  lru_.push_front(id);
+}
+
+void AsrGraph::Evict() {
+  size_t unpinned = 0;
+  for (int id : lru_) unpinned += pinned_.count(id) ? 0 : 1;
+  for (auto it = lru_.end(); unpinned > capacity_ && it != lru_.begin();) {
+    --it;
+    if (pinned_.count(*it)) continue;
+    cache_.erase(*it);
+    it = lru_.erase(it);
+    --unpinned;
+  }
+}
+
+std::shared_ptr<const Asr> AsrGraph::Get(int id) {
+  auto it = cache_.find(id);
+  if (it != cache_.end()) {
+    Touch(id);
+    return it->second;
+  }
+  auto asr = store_->Get(id);
+  if (!asr) return nullptr;
+  ++loads_;
+  auto ptr = std::make_shared<const Asr>(std::move(*asr));
+  cache_[id] = ptr;
+  Touch(id);
+  Evict();
+  return ptr;
+}
+
+void AsrGraph::SetCurrent(int id) {
+  current_ = id;
+  pinned_.clear();
+  pinned_.insert(id);
+  for (int n : store_->Neighbours(id)) pinned_.insert(n);
+  for (int p : std::set<int>(pinned_)) Get(p);
+  Evict();
+}
+
+void AsrGraph::Invalidate(int id) {
+  cache_.erase(id);
+  lru_.remove(id);
+}
+
+}  // namespace cogmap::asr

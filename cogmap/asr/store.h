@@ -1,0 +1,152 @@
+#pragma once
+#include <cstdint>
+#include <list>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "cogmap/asr/asr.h"
+
+namespace cogmap::asr {
+
+// Where finished ASRs live (SPEC 4, §2.4.1: only the current ASR and its
+// neighbours need to be in memory). Two implementations: SQLite on disk (the
+// default, map.sqlite) and memory (tests, short runs). Every Put is atomic: it
+// stores the whole ASR, its graph edges and the run-state keys, or nothing.
+class AsrStore {
+ public:
+  virtual ~AsrStore() = default;
+  // Inserts or replaces 'asr' (by id), its edges (exits whose two ASRs are
+  // known), and the 'meta' key/values, in one transaction. Throws on a write
+  // error (full disk...), leaving the store as before the call.
+  virtual void Put(const Asr& asr, const std::map<std::string, std::string>& meta = {}) = 0;
+  virtual std::optional<Asr> Get(int id) const = 0;
+  virtual std::vector<int> Ids() const = 0;
+  virtual int Count() const = 0;
+  // Largest id, -1 when empty.
+  virtual int MaxId() const = 0;
+  // ASRs joined to 'id' by an exit, ascending.
+  virtual std::vector<int> Neighbours(int id) const = 0;
+  virtual std::optional<std::string> GetMeta(const std::string& key) const = 0;
+  virtual void SetMeta(const std::string& key, const std::string& value) = 0;
+};
+
+// A graph edge: an exit joining two stored ASRs.
+struct Edge {
+  int from_asr = -1;
+  int to_asr = -1;
+  Vec2 center_m{0, 0};
+  double width_m = 0.0;
+};
+
+class MemoryAsrStore : public AsrStore {
+ public:
+  void Put(const Asr& asr, const std::map<std::string, std::string>& meta = {}) override;
+  std::optional<Asr> Get(int id) const override;
+  std::vector<int> Ids() const override;
+  int Count() const override { return static_cast<int>(asrs_.size()); }
+  int MaxId() const override { return asrs_.empty() ? -1 : asrs_.rbegin()->first; }
+  std::vector<int> Neighbours(int id) const override;
+  std::optional<std::string> GetMeta(const std::string& key) const override;
+  void SetMeta(const std::string& key, const std::string& value) override { meta_[key] = value; }
+
+ private:
+  std::map<int, Asr> asrs_;
+  std::set<std::pair<int, int>> edges_;
+  std::map<std::string, std::string> meta_;
+};
+
+
+// map.sqlite: schema version kStoreSchemaVersion, PRAGMA application_id
+// kStoreApplicationId ("cogm"), a meta table (application = "cogmap",
+// schema_version), WAL journal, synchronous=FULL, one transaction per Put.
+// See docs/store.md.
+constexpr int kStoreSchemaVersion = 1;
+constexpr int32_t kStoreApplicationId = 0x636f676d;  // "cogm"
+
+class SqliteAsrStore : public AsrStore {
+ public:
+  enum class OpenMode {
+    kCreateOrOpen,  // open a cogmap store, or create one (missing or empty file)
+    kOpenExisting,  // the file must exist and be a cogmap store
+    kReplace,       // an existing cogmap store is deleted first (a new run)
+  };
+  // Throws InputError: "PATH: schema version N is newer than this cogmap (M)",
+  // "PATH: not a cogmap store (...)", or a message naming the path when the
+  // file cannot be opened or created.
+  static std::unique_ptr<SqliteAsrStore> Open(const std::string& path,
+                                              OpenMode mode = OpenMode::kCreateOrOpen);
+  ~SqliteAsrStore() override;
+  SqliteAsrStore(const SqliteAsrStore&) = delete;
+  SqliteAsrStore& operator=(const SqliteAsrStore&) = delete;
+
+  void Put(const Asr& asr, const std::map<std::string, std::string>& meta = {}) override;
+  std::optional<Asr> Get(int id) const override;
+  std::vector<int> Ids() const override;
+  int Count() const override;
+  int MaxId() const override;
+  std::vector<int> Neighbours(int id) const override;
+  std::optional<std::string> GetMeta(const std::string& key) const override;
+  void SetMeta(const std::string& key, const std::string& value) override;
+
+  std::vector<Edge> Edges() const;
+  // "ok" when PRAGMA integrity_check passes, else its first message.
+  std::string IntegrityCheck() const;
+  // Test seam: limits the file to 'pages' pages (PRAGMA max_page_count), so
+  // that a write fails as on a full disk.
+  void LimitPagesForTest(int pages);
+  const std::string& path() const { return path_; }
+
+ private:
+  SqliteAsrStore(std::string path, void* db) : path_(std::move(path)), db_(db) {}
+  void Exec(const std::string& sql) const;
+  [[noreturn]] void Fail(const std::string& what) const;
+
+  std::string path_;
+  void* db_ = nullptr;  // sqlite3*
+};
+
+// Binary encodings of the ASR's variable parts (little-endian, versioned by
+// the schema): walls, exits, poses. Exposed for the store's tests.
+std::string EncodeWalls(const std::vector<Polyline>& walls);
+std::vector<Polyline> DecodeWalls(const std::string& blob);
+std::string EncodeExits(const std::vector<Exit>& exits);
+std::vector<Exit> DecodeExits(const std::string& blob);
+std::string EncodePoses(const std::vector<Pose2>& poses);
+std::vector<Pose2> DecodePoses(const std::string& blob);
+
+// The room graph over a store: ASRs are nodes, exits edges. Holds the current
+// ASR and its neighbours pinned in memory, plus at most 'capacity' others
+// (least recently used first out); everything else is loaded on demand.
+class AsrGraph {
+ public:
+  explicit AsrGraph(const AsrStore* store, size_t capacity = 8) : store_(store), capacity_(capacity) {}
+  // The ASR, loaded when needed; nullptr when the store has no such id.
+  std::shared_ptr<const Asr> Get(int id);
+  // Pins 'id' and its neighbours (loading them), unpinning the previous ones.
+  void SetCurrent(int id);
+  // Drops a cached copy (after the ASR was rewritten in the store).
+  void Invalidate(int id);
+  std::vector<int> Neighbours(int id) const { return store_->Neighbours(id); }
+  size_t resident() const { return cache_.size(); }
+  long loads() const { return loads_; }
+  int current() const { return current_; }
+
+ private:
+  void Touch(int id);
+  void Evict();
+
+  const AsrStore* store_;
+  size_t capacity_;
+  int current_ = -1;
+  std::set<int> pinned_;
+  std::unordered_map<int, std::shared_ptr<const Asr>> cache_;
+  std::list<int> lru_;  // front = most recent (unpinned and pinned alike)
+  long loads_ = 0;
+};
+
+}  // namespace cogmap::asr

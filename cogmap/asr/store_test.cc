@@ -1,0 +1,273 @@
+#include "cogmap/asr/store.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sqlite3.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "cogmap/core/error.h"
+
+namespace cogmap::asr {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh folder per test.
+std::string TempDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("cogmap_store_test_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+// A deterministic ASR whose content follows from its id.
+Asr MakeAsr(int id, int walls = 3) {
+  Asr a;
+  a.id = id;
+  a.world_from_local_raw = {id * 4.5, 1.0, 0.0};
+  a.world_from_local_corrected = {id * 4.5 + 0.01, 1.02, 0.003 * id};
+  a.entry_pivot_m = {id * 4.5, 1.25};
+  for (int w = 0; w < walls; ++w) a.walls_local.push_back({{0.1 * w, 0.0}, {0.1 * w + 3.0, 0.25 * id}, {1.0, -2.0}});
+  if (id > 0) a.exits.push_back({{id * 4.5, 1.0}, 0.9, id - 1, id});
+  a.exits.push_back({{id * 4.5 + 4.5, 1.0}, 1.1, id, id + 1});
+  for (int i = 0; i < 20; ++i) a.path.push_back({id * 4.5 + 0.2 * i, 1.0, 0.01 * i});
+  a.true_path = a.path;
+  a.start_time_s = id * 10.0;
+  a.end_time_s = id * 10.0 + 9.5;
+  a.bytes = {2500 + id, 56, 8};
+  a.seconds.grid = 0.5;
+  a.seconds.clean = 0.25;
+  a.seconds.extract = 0.125;
+  a.seconds.simplify = 0.0625;
+  a.seconds.fit = 0.03125;
+  a.heading_correction_rad = 0.003 * id;
+  a.heading_uncertainty_rad = 0.01;
+  return a;
+}
+
+void ExpectSame(const Asr& a, const Asr& b) {
+  EXPECT_EQ(a.id, b.id);
+  EXPECT_EQ(a.world_from_local_raw.x, b.world_from_local_raw.x);
+  EXPECT_EQ(a.world_from_local_corrected.theta, b.world_from_local_corrected.theta);
+  EXPECT_EQ(a.entry_pivot_m, b.entry_pivot_m);
+  ASSERT_EQ(a.walls_local.size(), b.walls_local.size());
+  for (size_t i = 0; i < a.walls_local.size(); ++i) EXPECT_EQ(a.walls_local[i], b.walls_local[i]);
+  ASSERT_EQ(a.exits.size(), b.exits.size());
+  for (size_t i = 0; i < a.exits.size(); ++i) {
+    EXPECT_EQ(a.exits[i].center_m, b.exits[i].center_m);
+    EXPECT_EQ(a.exits[i].width_m, b.exits[i].width_m);
+    EXPECT_EQ(a.exits[i].from_asr, b.exits[i].from_asr);
+    EXPECT_EQ(a.exits[i].to_asr, b.exits[i].to_asr);
+  }
+  ASSERT_EQ(a.path.size(), b.path.size());
+  for (size_t i = 0; i < a.path.size(); ++i) {
+    EXPECT_EQ(a.path[i].x, b.path[i].x);
+    EXPECT_EQ(a.path[i].theta, b.path[i].theta);
+  }
+  EXPECT_EQ(a.true_path.size(), b.true_path.size());
+  EXPECT_EQ(a.start_time_s, b.start_time_s);
+  EXPECT_EQ(a.end_time_s, b.end_time_s);
+  EXPECT_EQ(a.bytes.grid, b.bytes.grid);
+  EXPECT_EQ(a.bytes.vertices, b.bytes.vertices);
+  EXPECT_EQ(a.bytes.polylines, b.bytes.polylines);
+  EXPECT_EQ(a.seconds.total(), b.seconds.total());
+  EXPECT_EQ(a.heading_correction_rad, b.heading_correction_rad);
+  EXPECT_EQ(a.heading_uncertainty_rad, b.heading_uncertainty_rad);
+}
+
+TEST(StoreEncoding, WallsExitsPosesRoundTrip) {
+  const Asr a = MakeAsr(3);
+  EXPECT_EQ(DecodeWalls(EncodeWalls(a.walls_local)), a.walls_local);
+  EXPECT_EQ(DecodeExits(EncodeExits(a.exits)).size(), 2u);
+  EXPECT_EQ(DecodePoses(EncodePoses(a.path)).size(), 20u);
+}
+
+TEST(StoreEncoding, TruncatedBlobThrows) {
+  std::string blob = EncodeWalls(MakeAsr(1).walls_local);
+  blob.resize(blob.size() - 3);
+  EXPECT_THROW(DecodeWalls(blob), std::runtime_error);
+}
+
+TEST(MemoryAsrStore, RoundTripAndNeighbours) {
+  MemoryAsrStore s;
+  for (int i = 0; i < 4; ++i) s.Put(MakeAsr(i));
+  EXPECT_EQ(s.Count(), 4);
+  EXPECT_EQ(s.MaxId(), 3);
+  ExpectSame(*s.Get(2), MakeAsr(2));
+  EXPECT_EQ(s.Neighbours(2), (std::vector<int>{1, 3}));
+  EXPECT_FALSE(s.Get(9).has_value());
+}
+
+TEST(SqliteAsrStore, RoundTrip) {
+  const std::string dir = TempDir("roundtrip");
+  auto s = SqliteAsrStore::Open(dir + "/map.sqlite");
+  for (int i = 0; i < 5; ++i) s->Put(MakeAsr(i), {{"last_raw_pose", "1 2 3"}});
+  EXPECT_EQ(s->Count(), 5);
+  EXPECT_EQ(s->MaxId(), 4);
+  EXPECT_EQ(s->Ids(), (std::vector<int>{0, 1, 2, 3, 4}));
+  for (int i = 0; i < 5; ++i) ExpectSame(*s->Get(i), MakeAsr(i));
+  EXPECT_EQ(s->Neighbours(0), (std::vector<int>{1}));
+  EXPECT_EQ(s->Neighbours(2), (std::vector<int>{1, 3}));
+  EXPECT_EQ(s->Neighbours(4), (std::vector<int>{3, 5}));  // exit to the ASR not yet stored
+  EXPECT_EQ(*s->GetMeta("last_raw_pose"), "1 2 3");
+  EXPECT_EQ(*s->GetMeta("application"), "cogmap");
+  EXPECT_EQ(*s->GetMeta("schema_version"), "1");
+  EXPECT_EQ(s->IntegrityCheck(), "ok");
+}
+
+TEST(SqliteAsrStore, ReopenKeepsEverythingAndUsesWal) {
+  const std::string dir = TempDir("reopen");
+  const std::string path = dir + "/map.sqlite";
+  {
+    auto s = SqliteAsrStore::Open(path);
+    for (int i = 0; i < 3; ++i) s->Put(MakeAsr(i));
+  }
+  auto s = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kOpenExisting);
+  EXPECT_EQ(s->Count(), 3);
+  ExpectSame(*s->Get(1), MakeAsr(1));
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  sqlite3_stmt* st = nullptr;
+  sqlite3_prepare_v2(db, "PRAGMA journal_mode", -1, &st, nullptr);
+  ASSERT_EQ(sqlite3_step(st), SQLITE_ROW);
+  EXPECT_STREQ(reinterpret_cast<const char*>(sqlite3_column_text(st, 0)), "wal");
+  sqlite3_finalize(st);
+  sqlite3_prepare_v2(db, "PRAGMA application_id", -1, &st, nullptr);
+  ASSERT_EQ(sqlite3_step(st), SQLITE_ROW);
+  EXPECT_EQ(sqlite3_column_int(st, 0), kStoreApplicationId);
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+}
+
+TEST(SqliteAsrStore, ReplaceStartsEmpty) {
+  const std::string path = TempDir("replace") + "/map.sqlite";
+  SqliteAsrStore::Open(path)->Put(MakeAsr(0));
+  EXPECT_EQ(SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReplace)->Count(), 0);
+}
+
+TEST(SqliteAsrStore, NewerSchemaIsAClearError) {
+  const std::string path = TempDir("newer") + "/map.sqlite";
+  SqliteAsrStore::Open(path)->Put(MakeAsr(0));
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  sqlite3_exec(db, "PRAGMA user_version=7", nullptr, nullptr, nullptr);
+  sqlite3_close(db);
+  try {
+    SqliteAsrStore::Open(path);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": schema version 7 is newer than this cogmap (1)");
+  }
+}
+
+TEST(SqliteAsrStore, TextFileIsNotAStore) {
+  const std::string path = TempDir("text") + "/map.sqlite";
+  std::ofstream(path) << "hello, this is not a database at all\n";
+  try {
+    SqliteAsrStore::Open(path);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not a cogmap store"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SqliteAsrStore, OtherSqliteDatabaseIsNotAStore) {
+  const std::string path = TempDir("other") + "/map.sqlite";
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  sqlite3_exec(db, "CREATE TABLE t(x)", nullptr, nullptr, nullptr);
+  sqlite3_close(db);
+  EXPECT_THROW(SqliteAsrStore::Open(path), InputError);
+}
+
+TEST(SqliteAsrStore, FullDiskLosesNoFinishedAsr) {
+  const std::string path = TempDir("full") + "/map.sqlite";
+  auto s = SqliteAsrStore::Open(path);
+  s->Put(MakeAsr(0));
+  s->Put(MakeAsr(1));
+  const int pages = [&] {
+    sqlite3* db = nullptr;
+    sqlite3_open(path.c_str(), &db);
+    sqlite3_stmt* st = nullptr;
+    sqlite3_prepare_v2(db, "PRAGMA page_count", -1, &st, nullptr);
+    sqlite3_step(st);
+    const int n = sqlite3_column_int(st, 0);
+    sqlite3_finalize(st);
+    sqlite3_close(db);
+    return n;
+  }();
+  s->LimitPagesForTest(pages);
+  EXPECT_THROW(s->Put(MakeAsr(2, 400)), InputError);  // ~40 KB of walls do not fit
+  EXPECT_EQ(s->Count(), 2);
+  s.reset();
+  auto again = SqliteAsrStore::Open(path);
+  EXPECT_EQ(again->Count(), 2);
+  EXPECT_EQ(again->IntegrityCheck(), "ok");
+  ExpectSame(*again->Get(1), MakeAsr(1));
+}
+
+TEST(SqliteAsrStore, KillDuringWritesLeavesAValidStore) {
+  const std::string path = TempDir("kill") + "/map.sqlite";
+  SqliteAsrStore::Open(path);  // created by the parent
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    try {
+      auto s = SqliteAsrStore::Open(path);
+      for (int i = 0;; ++i) s->Put(MakeAsr(i, 50));
+    } catch (...) {
+    }
+    ::_exit(1);
+  }
+  // Let it commit a few, then kill it mid-stream.
+  for (int waited = 0; waited < 200; ++waited) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    sqlite3* db = nullptr;
+    sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr);
+    sqlite3_stmt* st = nullptr;
+    int n = 0;
+    if (sqlite3_prepare_v2(db, "SELECT count(*) FROM asr", -1, &st, nullptr) == SQLITE_OK &&
+        sqlite3_step(st) == SQLITE_ROW)
+      n = sqlite3_column_int(st, 0);
+    sqlite3_finalize(st);
+    sqlite3_close(db);
+    if (n >= 5) break;
+  }
+  ::kill(child, SIGKILL);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status));
+  auto s = SqliteAsrStore::Open(path);
+  EXPECT_EQ(s->IntegrityCheck(), "ok");
+  const int count = s->Count();
+  EXPECT_GE(count, 5);
+  EXPECT_EQ(s->MaxId(), count - 1);  // no gap: every committed ASR is whole
+  for (int i = 0; i < count; ++i) ExpectSame(*s->Get(i), MakeAsr(i, 50));
+}
+
+TEST(AsrGraph, HoldsCurrentAndNeighboursAndLoadsTheRestOnDemand) {
+  MemoryAsrStore store;
+  for (int i = 0; i < 20; ++i) store.Put(MakeAsr(i));
+  AsrGraph graph(&store, 2);
+  graph.SetCurrent(10);
+  EXPECT_EQ(graph.resident(), 3u);  // 9, 10, 11
+  EXPECT_EQ(graph.loads(), 3);
+  for (int i = 0; i < 20; ++i) ASSERT_NE(graph.Get(i), nullptr);
+  EXPECT_EQ(graph.resident(), 5u);  // 3 pinned + 2 least recently used
+  EXPECT_EQ(graph.Get(99), nullptr);
+  const long loads = graph.loads();
+  graph.Get(10);
+  EXPECT_EQ(graph.loads(), loads);  // pinned: no reload
+  graph.SetCurrent(15);
+  EXPECT_LE(graph.resident(), 5u);
+  EXPECT_EQ(graph.Get(16)->id, 16);
+}
+
+}  // namespace
+}  // namespace cogmap::asr
