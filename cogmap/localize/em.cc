@@ -191,20 +191,39 @@ DirectionEstimate EstimateDirectionRobust(const std::vector<WallDirection>& s,
   double wsum = 0.0;
   for (double v : w) wsum += v;
 
-  // Start at the data point with the most weight nearby (kernel density on the
-  // circle): deterministic, and inside the dominant cluster rather than
-  // between clusters.
+  // Start at the direction with the most weight nearby: a histogram of phi
+  // (1 degree bins) smoothed by a circular Gaussian kernel, cost independent of
+  // the number of edges. Deterministic, and inside the dominant cluster rather
+  // than between clusters.
   const double ks = 4.0 * options.init_kernel_sigma_rad;
   const double kernel_kappa = 1.0 / std::max(ks * ks, 1e-12);
-  double mu = phi[0], best = -kInf;
+  constexpr int kBins = 360;
+  constexpr double kBin = 2.0 * kPi / kBins;
+  const int half = std::min(kBins / 2, static_cast<int>(std::ceil(3.0 * ks / kBin)));
+  // hist[half + b] is bin b; the margins repeat the other end of the circle.
+  std::vector<double> hist(kBins + 2 * half, 0.0);
   for (size_t i = 0; i < n; ++i) {
-    double dens = 0.0;
-    for (size_t j = 0; j < n; ++j) dens += w[j] * std::exp(kernel_kappa * (std::cos(phi[j] - phi[i]) - 1.0));
-    if (dens > best + 1e-12 * wsum) {
+    const int b = std::clamp(static_cast<int>(std::floor((phi[i] + kPi) / kBin)), 0, kBins - 1);
+    hist[half + b] += w[i];
+  }
+  for (int d = 0; d < half; ++d) {
+    hist[d] = hist[kBins + d];                 // bins kBins-half .. kBins-1
+    hist[half + kBins + d] = hist[half + d];   // bins 0 .. half-1
+  }
+  std::vector<double> kernel(half + 1);
+  for (int d = 0; d <= half; ++d) kernel[d] = std::exp(-0.5 * (d * kBin) * (d * kBin) / (ks * ks));
+  int best_bin = 0;
+  double best = -1.0;
+  for (int b = 0; b < kBins; ++b) {
+    const double* h = &hist[half + b];
+    double dens = h[0] * kernel[0];
+    for (int d = 1; d <= half; ++d) dens += (h[d] + h[-d]) * kernel[d];
+    if (dens > best * (1.0 + 1e-12)) {
       best = dens;
-      mu = phi[i];
+      best_bin = b;
     }
   }
+  double mu = -kPi + (best_bin + 0.5) * kBin;
   const double cap_s = 4.0 * options.min_edge_sigma_rad;
   const double kappa_max = 1.0 / std::max(cap_s * cap_s, 1e-12);
   double kappa = std::min(kernel_kappa, kappa_max);

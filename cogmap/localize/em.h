@@ -62,7 +62,7 @@ struct RobustEmOptions {
   // Kernel width (theta, 1 sigma) of the density used to pick the starting
   // direction: the data point with the most length nearby.
   double init_kernel_sigma_rad = DegToRad(3.0);
-  double epsilon_rad = 1e-10;  // stop when the dominant direction moves less (theta)
+  double epsilon_rad = 1e-7;  // stop when the dominant direction moves less (theta)
   int max_iterations = 200;
   // A fitted wall is never trusted to better than this (1 sigma, theta): caps
   // the concentration, so perfect synthetic walls do not give zero uncertainty.

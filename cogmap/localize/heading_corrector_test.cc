@@ -154,6 +154,25 @@ TEST_P(CorridorTest, CorrectedWallsLandNearTheTruth) {
   RecordProperty("cor_err_m", std::to_string(cor_err));
 }
 
+TEST(HeadingCorrector, DefaultModeIgnoresClutterThatBiasesPaperMode) {
+  testing::WallNoise noise;
+  noise.pieces = 4;             // each wall in four edges
+  noise.vertex_sigma_m = 0.05;  // vertices jittered by 5 cm
+  noise.clutter_edges = 8;      // 8 short edges at random angles per room
+  noise.seed = 5;
+  const auto raw = DriftingCorridor(12, DegToRad(1.0), 0.05, noise);
+  HeadingCorrectionOptions o;
+  const HeadingErrorStats robust = ComputeHeadingErrors(CorrectHeadings(raw, o));
+  o.mode = HeadingMode::kPaper;
+  const HeadingErrorStats paper = ComputeHeadingErrors(CorrectHeadings(raw, o));
+  EXPECT_LT(robust.median_deg, 0.5);
+  EXPECT_LT(robust.max_deg, 1.0);
+  EXPECT_GT(robust.max_raw_deg, 5.0);
+  EXPECT_LT(robust.median_deg, paper.median_deg);
+  RecordProperty("paper_median_deg", std::to_string(paper.median_deg));
+  RecordProperty("default_median_deg", std::to_string(robust.median_deg));
+}
+
 INSTANTIATE_TEST_SUITE_P(Modes, CorridorTest, ::testing::Values(HeadingMode::kPaper, HeadingMode::kDefault));
 
 }  // namespace
