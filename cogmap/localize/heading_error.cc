@@ -30,15 +30,21 @@ HeadingErrorStats ComputeHeadingErrors(const std::vector<asr::Asr>& asrs) {
   HeadingErrorStats st;
   std::vector<double> raw, cor;
   for (const auto& a : asrs) {
-    const size_t n = std::min(a.path.size(), a.true_path.size());
-    if (n == 0) continue;
+    const size_t n = a.path.size(), nt = a.true_path.size();
+    if (n == 0 || nt == 0) continue;
     const Pose2 correction = CorrectionOf(a);
     std::vector<double> er, ec;
     er.reserve(n);
     ec.reserve(n);
     for (size_t i = 0; i < n; ++i) {
-      er.push_back(AngleDiff(a.path[i].theta, a.true_path[i].theta));
-      ec.push_back(AngleDiff((correction * a.path[i]).theta, a.true_path[i].theta));
+      // Same length: index pairs. Otherwise the same fraction of the way
+      // (both paths are sampled by distance travelled).
+      const size_t j = n == nt ? i
+                       : n == 1 ? nt / 2
+                                : static_cast<size_t>(std::lround(double(i) * double(nt - 1) / double(n - 1)));
+      const double truth = a.true_path[j].theta;
+      er.push_back(AngleDiff(a.path[i].theta, truth));
+      ec.push_back(AngleDiff((correction * a.path[i]).theta, truth));
     }
     AsrHeadingError e;
     e.asr_id = a.id;

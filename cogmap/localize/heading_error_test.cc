@@ -52,6 +52,19 @@ TEST(HeadingError, WrapsAcrossPi) {
   EXPECT_NEAR(st.max_raw_deg, 0.5, 1e-6);
 }
 
+TEST(HeadingError, PairsPathsOfDifferentLengthByFraction) {
+  asr::Asr a;
+  for (int i = 0; i < 3; ++i) a.path.push_back({double(i), 0, DegToRad(10.0 * i + 1.0)});
+  for (int i = 0; i < 5; ++i) a.true_path.push_back({0.5 * i, 0, DegToRad(5.0 * i)});
+  asr::Asr b = a;
+  for (auto& p : b.path) p.theta -= DegToRad(2.0);
+  const HeadingErrorStats st = ComputeHeadingErrors({a, b});
+  ASSERT_EQ(st.per_asr.size(), 2u);
+  EXPECT_EQ(st.per_asr[0].poses, 3);
+  EXPECT_NEAR(RadToDeg(st.global_rotation_raw_rad), 0.0, 1e-9);  // errors +1 and -1
+  EXPECT_NEAR(st.max_raw_deg, 1.0, 1e-9);
+}
+
 TEST(HeadingError, NoTruthGivesNoKeys) {
   asr::Asr a;
   a.path = {{0, 0, 0}};
