@@ -4,10 +4,12 @@
 //   cogmap_mrpt_grid_compare LOG [--format auto] [--robot NAME|FILE]
 //       [--poses odom|truth] [--cell 0.1] [--window 3.0]
 //       [--engine both|cogmap|mrpt|none] [--png SIDE_BY_SIDE.png] [--json OUT.json]
+//       [--world WORLD.map]
 //
 // Prints one JSON object (also written to --json): per engine the insertion
 // time, the process's peak resident memory, the grid's own size in memory and
-// its known area; and the map sizes of docs/BENCHMARKS.md (grid as map_server
+// its known area, and with --world how close its occupied cells lie to the
+// true walls (use --poses truth to judge the fusion rule alone); and the map sizes of docs/BENCHMARKS.md (grid as map_server
 // PGM, as PNG, as MRPT's gzip-compressed serialized gridmap) with the mapped
 // floor they cover. Memory is per process: run once per engine (and once with
 // --engine none for the baseline of reading the log) to compare peak memory;
@@ -33,6 +35,7 @@
 #include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -45,10 +48,12 @@
 #include <vector>
 
 #include "cogmap/core/error.h"
+#include "cogmap/core/geometry.h"
 #include "cogmap/grid/range_fusion.h"
 #include "cogmap/io/atomic_file.h"
 #include "cogmap/io/image.h"
 #include "cogmap/io/log_reader.h"
+#include "cogmap/io/world_io.h"
 #include "cogmap/sensors/robot.h"
 #include "cogmap/sensors/robot_json.h"
 
@@ -336,6 +341,34 @@ void DrawSideBySide(const std::string& path, const cogmap::grid::HimmFusion* our
   cogmap::io::WritePng(path, img);
 }
 
+// ---- accuracy against the true walls -------------------------------------
+
+// Distance from each occupied cell's centre to the nearest true wall, over the
+// cells a predicate calls occupied: mean, 95th percentile and the share within
+// 'near_m' (SPEC's 0.2 m of wall recall; 2 cells at 0.1 m).
+template <typename IsOccupied, typename CentreOf>
+nlohmann::json OccupiedAccuracy(int width, int height, IsOccupied occupied, CentreOf centre,
+                                const std::vector<cogmap::Segment2>& walls, double near_m = 0.2) {
+  std::vector<double> d;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      if (occupied(x, y)) {
+        const Vec2 p = centre(x, y);
+        double best = 1e18;
+        for (const auto& w : walls) best = std::min(best, cogmap::PointSegmentDistance(p, w.a, w.b));
+        d.push_back(best);
+      }
+  if (d.empty()) return {{"occupied_cells", 0}};
+  std::sort(d.begin(), d.end());
+  double sum = 0;
+  long near = 0;
+  for (double v : d) sum += v, near += v <= near_m;
+  return {{"occupied_cells", static_cast<long>(d.size())},
+          {"mean_m", sum / d.size()},
+          {"p95_m", d[std::min(d.size() - 1, static_cast<size_t>(0.95 * d.size()))]},
+          {"share_within_0_2m", static_cast<double>(near) / d.size()}};
+}
+
 nlohmann::json ToJson(const EngineRun& r) {
   return {{"insert_s", r.insert_s},
           {"rss_after_kib", r.rss_after_kib},
@@ -364,6 +397,8 @@ int Run(int argc, char** argv) {
   app.add_option("--png", png, "side-by-side picture (needs --engine both)");
   app.add_option("--title", title, "label drawn over the picture");
   app.add_option("--json", json_path, "also write the JSON here");
+  std::string world;
+  app.add_option("--world", world, "a world (2D-Map) whose walls the occupied cells are measured against");
   CLI11_PARSE(app, argc, argv);
 
   nlohmann::json out;
@@ -402,6 +437,22 @@ int Run(int argc, char** argv) {
     out["mrpt"] = ToJson(r);
     out["mrpt"]["readings_per_s"] = r.insert_s > 0 ? log.readings / r.insert_s : 0.0;
     out["sizes"]["mrpt_gridmap_gz_bytes"] = MrptGzBytes(*theirs);
+  }
+  if (!world.empty()) {
+    const auto walls = cogmap::io::ReadWorld(world).plan.walls;
+    if (ours) {
+      const auto& l = ours->limits();
+      out["cogmap"]["occupied_vs_walls"] = OccupiedAccuracy(
+          l.width(), l.height(),
+          [&](int x, int y) { return ours->Classify(x, y) == CellClass::kOccupied; },
+          [&](int x, int y) { return l.CenterOf({x, y}); }, walls);
+    }
+    if (theirs) {
+      out["mrpt"]["occupied_vs_walls"] = OccupiedAccuracy(
+          static_cast<int>(theirs->getSizeX()), static_cast<int>(theirs->getSizeY()),
+          [&](int x, int y) { return theirs->getCell(x, y) < 0.35f; },
+          [&](int x, int y) { return Vec2(theirs->idx2x(x), theirs->idx2y(y)); }, walls);
+    }
   }
   out["peak_rss_kib"] = PeakRssKib();
   if (!png.empty() && ours && theirs) {

@@ -206,7 +206,8 @@ def main(argv=None, smoke_default=False):
             lp, job = sim_log(world, robot)
             name = f"{world}_{robot}"
             peers["sources"][name] = ("sim", job)
-            pjobs.append(cases.mrpt_job(ctx, name, lp))
+            wp = world_path(args.shared, next(w for w in worlds if w.split("/")[-1] == world))
+            pjobs.append(cases.mrpt_job(ctx, name, lp, extra=("--poses", "truth", "--world", wp)))
         if not args.smoke:
             for name, path, _ in cases.real_logs(args.shared):
                 if name in ("pioneer-sonar", "carmen-intel"):

@@ -277,7 +277,8 @@ class Report:
 
     def peers(self):
         out = ["## Peers", "", "### Occupancy grid: MRPT `COccupancyGridMap2D` against cogmap's modified HIMM", "",
-               "Same readings, same (odometry) poses, 0.1 m cells, readings used up to the MHIMM "
+               "Same readings, same poses (the true poses for the simulated logs, odometry for the real "
+               "ones), 0.1 m cells, readings used up to the MHIMM "
                "window w = 3 m (MRPT's `maxDistanceInsertion`). MRPT fuses each sonar reading over "
                "its whole cone (log-odds, free triangle and occupied arc), cogmap's MHIMM only "
                "along the beam's centre line, as the thesis does; for the laser both trace rays. "
@@ -288,6 +289,7 @@ class Report:
                "cogmap +MiB | MRPT +MiB | cogmap grid B in memory | MRPT grid B in memory | "
                "cogmap known m² | MRPT known m² | picture |",
                "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+        acc_rows = []
         wins = []
         size_rows = []
         for p in self.r.get("peers", {}).get("mrpt", []):
@@ -319,7 +321,28 @@ class Report:
                 wins.append(f"MRPT's cone model covers more floor from the same readings on `{name}` "
                             f"({fmt_num(m['known_area_m2'])} m² known against {fmt_num(c['known_area_m2'])} m²).")
             size_rows.append((name, p))
+            ca, ma = both.get("cogmap", {}).get("occupied_vs_walls"), both.get("mrpt", {}).get("occupied_vs_walls")
+            if ca and ma and "mean_m" in ca and "mean_m" in ma:
+                acc_rows.append("| " + " | ".join([
+                    name, str(ca["occupied_cells"]), str(ma["occupied_cells"]),
+                    _pct(ca["share_within_0_2m"]), _pct(ma["share_within_0_2m"]),
+                    fmt_num(ca["mean_m"]), fmt_num(ma["mean_m"]), fmt_num(ca["p95_m"]),
+                    fmt_num(ma["p95_m"])]) + " |")
+                if ma["share_within_0_2m"] > ca["share_within_0_2m"]:
+                    wins.append(f"MRPT's grid is more accurate on `{name}`: "
+                                f"{_pct(ma['share_within_0_2m'])} of its occupied cells lie within 0.2 m of "
+                                f"a true wall against {_pct(ca['share_within_0_2m'])} for the MHIMM "
+                                "(the cone model places a wall where several cones agree; the MHIMM's "
+                                "centre-line hits and 8-neighbour increments thicken walls, which "
+                                "cogmap's clean stage then thins to one cell).")
         out.append("")
+        if acc_rows:
+            out += ["Occupied cells (MHIMM: value > 7; MRPT: occupancy probability > 0.65) against the "
+                    "true walls of the simulated world, with the true poses (so only the fusion rule "
+                    "differs):", "",
+                    "| log | cogmap occupied cells | MRPT occupied cells | cogmap within 0.2 m | "
+                    "MRPT within 0.2 m | cogmap mean m | MRPT mean m | cogmap p95 m | MRPT p95 m |",
+                    "|---|---:|---:|---:|---:|---:|---:|---:|---:|"] + acc_rows + [""]
         out += self.sizes(size_rows, wins)
         out += self.opencv()
         out += ["### Where a peer does better", ""]
