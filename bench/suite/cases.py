@@ -156,7 +156,10 @@ def sim_job(ctx, world, robot, drift, seed, keep_outputs=False):
             res["na"]["map"] = c.missing_reason("map")
             return res
         shutil.rmtree(out, ignore_errors=True)
-        s = ctx.run([c.binary, "map", log, "-o", out])
+        argv = [c.binary, "map", log, "-o", out]
+        if c.has_option("map", "--world"):
+            argv += ["--world", world]  # room precision / recall in report.json
+        s = ctx.run(argv)
         res["steps"]["map"] = _step_summary(s)
         if not s.ok:
             res["na"]["map"] = s.reason()
@@ -166,6 +169,11 @@ def sim_job(ctx, world, robot, drift, seed, keep_outputs=False):
         res["map_report"] = report
         speed = _map_report_speed(report)
         res["asr_seconds"] = speed.get("asr_seconds", [])
+        # Metrics that the map's own report gives (eval, below, wins when both do).
+        for k in EVAL_KEYS:
+            v = lookup(report, k) if isinstance(report, dict) else None
+            if finite(v):
+                res["metrics"][k] = float(v)
         if not c.has("eval"):
             res["na"]["eval"] = c.missing_reason("eval")
         else:
@@ -186,6 +194,9 @@ def sim_job(ctx, world, robot, drift, seed, keep_outputs=False):
         for k in ("bytes_grid", "bytes_vertices", "bytes_polylines", "asr_count"):
             if k not in res["metrics"] and finite(speed.get(k)):
                 res["metrics"][k] = float(speed[k])
+        if not world_has_rooms(world):  # no ground-truth rooms: no room metrics
+            for k in ROOM_KEYS:
+                res["metrics"].pop(k, None)
         res["metrics"].update(_speed_metrics(_Step(res["steps"]["map"]), speed, res["metrics"]))
         return res
 
@@ -419,13 +430,20 @@ def scale_job(ctx, rooms, seed=1):
             return res
         out = os.path.join(ctx.work_dir, "scale", f"building_{rooms}_map")
         shutil.rmtree(out, ignore_errors=True)
-        s = ctx.run([c.binary, "map", log, "-o", out])
+        argv = [c.binary, "map", log, "-o", out]
+        if c.has_option("map", "--world"):
+            argv += ["--world", world]
+        s = ctx.run(argv)
         res["steps"]["map"] = _step_summary(s)
         if not s.ok:
             res["na"]["all"] = s.reason()
             return res
         report = read_json(os.path.join(out, "report.json"))
         res["map_report"] = report
+        for k in EVAL_KEYS:
+            v = lookup(report, k) if isinstance(report, dict) else None
+            if finite(v):
+                res["metrics"][k] = float(v)
         speed = _map_report_speed(report)
         res["asr_seconds"] = speed.get("asr_seconds", [])
         for k in ("bytes_grid", "bytes_vertices", "bytes_polylines", "asr_count"):

@@ -98,7 +98,7 @@ def size_per_stage(results, path):
             ax.bar(x + (j - 1) * w, vals, w, label=label)
         ax.set_yscale("log")
         ax.set_xticks(x)
-        ax.set_xticklabels([f"{w_}\n{r}" for (w_, r), _ in rows], fontsize=6, rotation=60)
+        ax.set_xticklabels([f"{w_}\n{r}" for (w_, r), _ in rows], fontsize=7, rotation=45, ha="right")
         ax.set_ylabel("bytes (log scale)")
         ax.set_title("map size per stage (thesis table 4.2), median")
         ax.legend()

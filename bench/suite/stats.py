@@ -23,6 +23,8 @@ def summary(values):
 def fmt_num(x, digits=3):
     if x is None:
         return "n/a"
+    if digits == 0 and abs(x - round(x)) < 1e-9:
+        return f"{x:.0f}"
     ax = abs(x)
     if ax == 0:
         return "0"
