@@ -45,6 +45,29 @@ asr::Asr HeadingCorrector::Close(asr::Asr raw) {
   return raw;
 }
 
+void HeadingCorrector::Restore(const Pose2& correction, std::optional<double> reference_rad) {
+  world_corrected_from_raw_ = correction;
+  reference_rad_ = reference_rad;
+  if (reference_rad_) reference_rad_ = FoldToQuarterTurn(*reference_rad_);
+}
+
+std::optional<double> ReferenceDirection(const std::vector<asr::Asr>& corrected,
+                                         const HeadingCorrectionOptions& options) {
+  const HeadingCorrector estimator(options);
+  for (const auto& a : corrected) {
+    // Estimate on the corrected walls: a copy whose raw pose is the corrected one.
+    asr::Asr view = a;
+    view.world_from_local_raw = a.world_from_local_corrected;
+    const Pose2 c = CorrectionOf(a);
+    view.entry_pivot_m = c * a.entry_pivot_m;
+    for (auto& e : view.exits) e.center_m = c * e.center_m;
+    for (auto& p : view.path) p = c * p;
+    const DirectionEstimate e = estimator.Estimate(view);
+    if (e.accepted) return e.direction_rad;
+  }
+  return std::nullopt;
+}
+
 std::vector<asr::Asr> CorrectHeadings(std::vector<asr::Asr> asrs,
                                       const HeadingCorrectionOptions& options) {
   HeadingCorrector corrector(options);

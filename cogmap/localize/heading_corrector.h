@@ -46,6 +46,13 @@ class HeadingCorrector {
   // Corrects one ASR that has just closed; call in visiting order.
   asr::Asr Close(asr::Asr raw);
 
+  // Continues a stored run (cogmap map --resume), before the first Close:
+  // 'correction' is the raw -> corrected transform in force at the end of the
+  // stored run (CorrectionOf(its last ASR)), 'reference_rad' the reference
+  // direction in the corrected frame (ReferenceDirection of the stored ASRs;
+  // nullopt: the next accepted ASR sets it).
+  void Restore(const Pose2& correction, std::optional<double> reference_rad);
+
   // The rigid transform from the raw world frame to the corrected one after the
   // ASRs closed so far (identity at start). The corrected pose of any raw pose
   // p recorded after the last closed ASR's entry is Correction() * p.
@@ -64,6 +71,12 @@ class HeadingCorrector {
   std::optional<double> reference_rad_;
   DirectionEstimate last_;
 };
+
+// The reference direction (folded, corrected frame) of already corrected ASRs:
+// the direction of the first one, in visiting order, whose estimate on its
+// corrected walls is accepted. nullopt when none is.
+std::optional<double> ReferenceDirection(const std::vector<asr::Asr>& corrected,
+                                         const HeadingCorrectionOptions& options = {});
 
 // Batch form: the same result as closing the ASRs one by one.
 std::vector<asr::Asr> CorrectHeadings(std::vector<asr::Asr> asrs,

@@ -113,6 +113,21 @@ TEST(HeadingCorrector, StreamingEqualsBatch) {
   }
 }
 
+TEST(HeadingCorrector, RestoreContinuesAStoredRun) {
+  const auto raw = DriftingCorridor(8, DegToRad(1.0), 0.1);
+  const auto whole = CorrectHeadings(raw);
+  const std::vector<asr::Asr> first(whole.begin(), whole.begin() + 5);
+  HeadingCorrector resumed;
+  const std::optional<double> ref = ReferenceDirection(first);
+  ASSERT_TRUE(ref.has_value());
+  resumed.Restore(CorrectionOf(first.back()), ref);
+  for (size_t k = 5; k < raw.size(); ++k) {
+    const asr::Asr a = resumed.Close(raw[k]);
+    EXPECT_NEAR(a.heading_correction_rad, whole[k].heading_correction_rad, 1e-9) << k;
+    EXPECT_NEAR(a.world_from_local_corrected.x, whole[k].world_from_local_corrected.x, 1e-9) << k;
+  }
+}
+
 class CorridorTest : public ::testing::TestWithParam<HeadingMode> {};
 
 TEST_P(CorridorTest, RecoversOneDegreeDriftPerAsr) {
