@@ -15,6 +15,20 @@ namespace {
 // that every run of the same log puts cells at the same world positions.
 template <typename T>
 void ReachBox(Grid2D<T>* g, const Vec2& lo, const Vec2& hi, const GridBounds& bounds, T fill) {
+  if (!lo.allFinite() || !hi.allFinite()) throw InputError("pose or range is not a finite number");
+  {
+    Vec2 a = lo, b = hi;
+    if (g->limits().width() > 0) {
+      a = a.cwiseMin(g->limits().origin());
+      b = b.cwiseMax(g->limits().max());
+    }
+    const double pad = 2.0 * std::max(1, bounds.grow_chunk_cells);
+    const double cells = ((b.x() - a.x()) / bounds.cell_m + pad) * ((b.y() - a.y()) / bounds.cell_m + pad);
+    if (cells > static_cast<double>(bounds.max_cells))
+      throw InputError("the grid would need " + std::to_string(static_cast<long long>(cells)) +
+                       " cells of " + std::to_string(bounds.cell_m) + " m (limit " +
+                       std::to_string(bounds.max_cells) + "): use larger cells or a bounded grid");
+  }
   if (g->limits().width() == 0) {
     const double c = bounds.cell_m;
     const int chunk = std::max(1, bounds.grow_chunk_cells);

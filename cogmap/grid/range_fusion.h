@@ -33,6 +33,7 @@ struct GridBounds {
   double cell_m = 0.1;                 // the thesis's cell size (SPEC conventions)
   std::optional<MapLimits> fixed;      // bounded grid; its cell_m wins over cell_m
   int grow_chunk_cells = 64;           // growth step of an unbounded grid
+  long max_cells = 50'000'000;         // growing past this is an InputError (cell too small)
 };
 
 // Counts of what a fusion rule has seen (the app prints them).

@@ -249,6 +249,15 @@ TEST(Mhimm, GrowthKeepsWorldPositionOfCells) {
   EXPECT_NEAR(ox, std::round(ox), 1e-9);
 }
 
+TEST(Mhimm, GrowingPastMaxCellsIsInputError) {
+  GridBounds b;
+  b.cell_m = 0.001;
+  b.max_cells = 1'000'000;
+  auto g = Mhimm(b);
+  g.MarkRobot(kRobot);
+  EXPECT_THROW(g.MarkRobot(Pose2{50.0, 50.0, 0.0}), InputError);
+}
+
 TEST(Mhimm, GrownGridMatchesBoundedGrid) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> range(0.2, 5.0), turn(-kPi, kPi);

@@ -290,4 +290,30 @@ grid::Grid2D<grid::CellClass> ClassesFromMapServer(const MapServerMap& map) {
   return out;
 }
 
+// ---------------------------------------------------------------- logs
+
+FuseLogStats FuseLog(LogReader& log, const sensors::RobotDescription& robot,
+                     grid::RangeFusion& fusion, const FuseLogOptions& options,
+                     const std::function<void(double)>& progress) {
+  FuseLogStats stats;
+  sensors::LogRecord record;
+  const int sensors = static_cast<int>(robot.sensors.size());
+  while (log.Next(&record)) {
+    ++stats.records;
+    for (const auto& r : record.ranges)
+      if (r.sensor < 0 || r.sensor >= sensors)
+        throw InputError(log.path(), 0,
+                         "record " + std::to_string(stats.records) + " has a reading of sensor " +
+                             std::to_string(r.sensor) + ", but robot '" + robot.name + "' has " +
+                             std::to_string(sensors) + " sensors");
+    const Pose2& pose = options.use_truth && record.truth ? *record.truth : record.odom;
+    fusion.InsertSweep(pose, robot, record.ranges);
+    stats.readings += static_cast<long>(record.ranges.size());
+    if (progress && (stats.records & 63) == 0) progress(log.progress());
+  }
+  if (stats.records == 0) throw InputError(log.path(), 0, "empty log: no records");
+  if (progress) progress(1.0);
+  return stats;
+}
+
 }  // namespace cogmap::io

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -7,6 +8,7 @@
 #include "cogmap/grid/grid2d.h"
 #include "cogmap/grid/range_fusion.h"
 #include "cogmap/io/image.h"
+#include "cogmap/io/log_reader.h"
 
 namespace cogmap::io {
 
@@ -83,5 +85,21 @@ MapServerMap ReadMapServer(const std::string& yaml_path);
 
 // The classes as map_server would see them back (for tests and later issues).
 grid::Grid2D<grid::CellClass> ClassesFromMapServer(const MapServerMap& map);
+
+// Running a whole log through a fusion rule.
+struct FuseLogOptions {
+  bool use_truth = false;  // fuse at the log's true pose where it has one
+};
+struct FuseLogStats {
+  long records = 0;
+  long readings = 0;
+};
+// Reads every record of 'log' and fuses its sweep at its pose (MarkRobot for
+// every record, odometry-only ones too). 'progress' (may be empty) gets the
+// fraction of the log read. Throws InputError naming the log for an empty log
+// or a reading of a sensor the robot does not have.
+FuseLogStats FuseLog(LogReader& log, const sensors::RobotDescription& robot,
+                     grid::RangeFusion& fusion, const FuseLogOptions& options = {},
+                     const std::function<void(double)>& progress = {});
 
 }  // namespace cogmap::io

@@ -6,7 +6,9 @@
 #include <fstream>
 #include <unistd.h>
 
+#include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
+#include "cogmap/grid/grid_summary.h"
 
 namespace cogmap::io {
 namespace {
@@ -172,6 +174,39 @@ TEST(MapServer, FailedWriteLeavesNoFile) {
   Grid2D<CellClass> c(MapLimits(0.1, Vec2(0, 0), 2, 2), CellClass::kUnknown);
   EXPECT_THROW(WriteMapServer(dir / "no/such/dir/m", c), InputError);
   EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+TEST(FuseLog, RejectsSensorTheRobotLacks) {
+  auto log = OpenLog(COGMAP_SHARED_DIR "/data/pioneer-sonar-robond", "pioneer");
+  sensors::RobotDescription two = sensors::BuiltinRobot("pioneer8");
+  two.sensors.resize(2);
+  auto f = grid::MakeFusion(grid::FusionRule::kMhimm);
+  EXPECT_THROW(FuseLog(*log, two, *f), InputError);
+}
+
+// Which sensor headings fit the real Pioneer log (data/README.md): the stock
+// front ring (-90, -50, -30, -10, 10, 30, 50, 90) or the course's (-90, -37.5,
+// -22.5, -7.5, 7.5, 22.5, 37.5, 90). Criterion: with the same readings, the
+// straighter the walls, the more occupied cells lie on straight runs and the
+// lower the mean entropy of the cells the readings touched.
+grid::GridSummary PioneerSummary(const std::vector<double>& headings_deg) {
+  sensors::RobotDescription robot = sensors::BuiltinRobot("pioneer8");
+  for (size_t i = 0; i < robot.sensors.size(); ++i)
+    robot.sensors[i].robot_from_sensor.theta = DegToRad(headings_deg[i]);
+  auto log = OpenLog(COGMAP_SHARED_DIR "/data/pioneer-sonar-robond", "pioneer");
+  auto f = grid::MakeFusion(grid::FusionRule::kMhimm);
+  const FuseLogStats stats = FuseLog(*log, robot, *f);
+  EXPECT_EQ(stats.readings, 3304);
+  return grid::Summarize(*f);
+}
+
+TEST(FuseLog, PioneerCourseHeadingsGiveStraighterWalls) {
+  const auto stock = PioneerSummary({90, 50, 30, 10, -10, -30, -50, -90});
+  const auto course = PioneerSummary({90, 37.5, 22.5, 7.5, -7.5, -22.5, -37.5, -90});
+  // Measured: line fraction 0.465 (stock) vs 0.544 (course); mean entropy
+  // 0.349 vs 0.335 bits.
+  EXPECT_GT(course.line_fraction, stock.line_fraction + 0.05);
+  EXPECT_LT(course.mean_entropy_bits, stock.mean_entropy_bits);
 }
 
 }  // namespace
