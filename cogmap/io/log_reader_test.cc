@@ -72,3 +72,21 @@ TEST(OpenLog, FixtureFilesSniff) {
 
 }  // namespace
 }  // namespace cogmap::io
+
+#include "cogmap/io/log_lines.h"
+#include "cogmap/io/ev3_log.h"
+#include "cogmap/io/native_log.h"
+
+namespace cogmap::io {
+namespace {
+
+// The documented constants of docs/log-format.md.
+TEST(LogConstants, MatchTheDocumentation) {
+  EXPECT_EQ(kAbsurdRangeM, 1000.0);
+  EXPECT_EQ(kNativeLogVersion, 1);
+  EXPECT_EQ(kEv3DisagreeCm, 10.0);
+  EXPECT_EQ(kEv3Bearings, 13);
+}
+
+}  // namespace
+}  // namespace cogmap::io
