@@ -11,13 +11,14 @@ namespace cogmap::sim {
 // error has mean drift_rad_per_m * d and standard deviation
 // heading_sigma_rad_per_sqrt_m * sqrt(d); the distance error has mean
 // scale_error * d and standard deviation trans_sigma_m_per_sqrt_m * sqrt(d).
-// Defaults: a Pioneer on a hard floor (about 1 % distance error, a few degrees
-// per 10 m of heading error); the drift is what the EM of SPEC 5 corrects.
+// Defaults: a Pioneer on a hard floor (about 1 % distance error, about one
+// degree of heading error per 10 m); the drift is what the EM of SPEC 5
+// corrects (raise it with `cogmap simulate --drift-deg-per-m`).
 struct OdometryNoiseOptions {
   double trans_sigma_m_per_sqrt_m = 0.01;        // 1 cm after 1 m
-  double rot_sigma_rad_per_sqrt_rad = 0.02;      // turning in place
-  double heading_sigma_rad_per_sqrt_m = 0.005;   // ~0.3 deg after 1 m driven
-  double drift_rad_per_m = 0.0087266462599716;   // 0.5 deg per metre, CCW (systematic)
+  double rot_sigma_rad_per_sqrt_rad = 0.005;     // turning: 0.3 deg after one radian
+  double heading_sigma_rad_per_sqrt_m = 0.003;   // 0.17 deg after 1 m driven
+  double drift_rad_per_m = 0.0017453292519943;   // 0.1 deg per metre, CCW (systematic)
   double scale_error = 0.01;                     // odometry reads 1 % long
 };
 

@@ -71,7 +71,7 @@ TEST(Odometry, RotationNoiseScalesWithTurn) {
 
 TEST(Odometry, DefaultsLocked) {
   const OdometryNoiseOptions o;
-  EXPECT_NEAR(o.drift_rad_per_m, DegToRad(0.5), 1e-12);
+  EXPECT_NEAR(o.drift_rad_per_m, DegToRad(0.1), 1e-12);
   EXPECT_DOUBLE_EQ(o.scale_error, 0.01);
   EXPECT_DOUBLE_EQ(o.trans_sigma_m_per_sqrt_m, 0.01);
 }

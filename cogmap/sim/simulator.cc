@@ -38,13 +38,15 @@ std::vector<uint8_t> FreeArea(const World& world, const grid::MapLimits& lim, co
     ++*count;
     const int cx = static_cast<int>(cur % w), cy = static_cast<int>(cur / w);
     const Vec2 pc = lim.CenterOf({cx, cy});
+    // Far from every wall, no step to a neighbour can cross one.
+    const bool open = world.Clearance(pc, 1.01 * lim.cell_m()) >= 1.01 * lim.cell_m();
     static constexpr int kDx[4] = {1, -1, 0, 0}, kDy[4] = {0, 0, 1, -1};
     for (int k = 0; k < 4; ++k) {
       const int nx = cx + kDx[k], ny = cy + kDy[k];
       if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
       const long nf = lim.Flat(nx, ny);
       if (free[nf]) continue;
-      if (!world.LineOfSight(pc, lim.CenterOf({nx, ny}))) continue;
+      if (!open && !world.LineOfSight(pc, lim.CenterOf({nx, ny}))) continue;
       free[nf] = 1;
       stack.push_back(nf);
     }
