@@ -1,0 +1,322 @@
+// `cogmap vectorize`: a whole log as one space, its MHIMM grid turned into
+// wall polylines (SPEC 3), with the stages as pictures and a report.
+// `cogmap eval`: those walls against a world's true walls.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "app/command.h"
+#include "app/progress.h"
+#include "cogmap/core/error.h"
+#include "cogmap/eval/wall_metrics.h"
+#include "cogmap/grid/range_fusion.h"
+#include "cogmap/io/atomic_file.h"
+#include "cogmap/io/image.h"
+#include "cogmap/io/log_reader.h"
+#include "cogmap/io/polyline_io.h"
+#include "cogmap/io/stages_picture.h"
+#include "cogmap/io/svg.h"
+#include "cogmap/io/world_io.h"
+#include "cogmap/sensors/robot_json.h"
+#include "cogmap/vectorize/vectorize.h"
+
+namespace cogmap::app {
+namespace {
+
+std::string Join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+std::string Num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+double Seconds(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+struct VectorizeArgs {
+  std::string log;
+  std::string format = "auto";
+  std::string robot;
+  double cell_m = 0.1;
+  double window_m = 3.0;
+  std::string mode = "default";
+  std::string outdir;
+  bool truth = false;
+};
+
+nlohmann::json PoseJson(const Pose2& p) { return {{"x", p.x}, {"y", p.y}, {"theta", p.theta}}; }
+
+int RunVectorize(const VectorizeArgs& a) {
+  if (!(a.cell_m > 0.0) || a.cell_m > 10.0) throw InputError("--cell " + Num(a.cell_m) + ": must be in (0, 10] metres");
+  if (!(a.window_m > 0.0)) throw InputError("--window " + Num(a.window_m) + ": must be positive");
+  if (a.mode != "paper" && a.mode != "default")
+    throw InputError("--mode " + a.mode + ": expected paper or default");
+  std::error_code ec;
+  std::filesystem::create_directories(a.outdir, ec);
+  if (ec || !std::filesystem::is_directory(a.outdir))
+    throw InputError(a.outdir, 0, "cannot create the output folder");
+
+  auto log = io::OpenLog(a.log, a.format);
+  sensors::RobotDescription robot;
+  if (!a.robot.empty()) robot = sensors::ResolveRobot(a.robot);
+  else if (auto hint = log->robot_hint()) robot = *hint;
+  else robot = sensors::BuiltinRobot("pioneer16");
+  double max_range_m = 0.0;
+  for (const auto& s : robot.sensors) max_range_m = std::max(max_range_m, s.max_range_m);
+
+  grid::FusionOptions fo;
+  fo.bounds.cell_m = a.cell_m;
+  fo.mhimm.window_m = a.window_m;
+  auto fusion = grid::MakeFusion(grid::FusionRule::kMhimm, fo);
+
+  // Fuse the whole log as one space.
+  const auto t_grid = std::chrono::steady_clock::now();
+  ProgressBar bar("vectorize");
+  sensors::LogRecord rec;
+  long records = 0, readings = 0, echoes = 0, truth_records = 0;
+  std::optional<Pose2> first_odom, first_truth;
+  while (log->Next(&rec)) {
+    ++records;
+    if (rec.truth) {
+      ++truth_records;
+      if (!first_truth) first_truth = rec.truth, first_odom = rec.odom;
+    }
+    const Pose2 pose = (a.truth && rec.truth) ? *rec.truth : rec.odom;
+    fusion->InsertSweep(pose, robot, rec.ranges);
+    readings += static_cast<long>(rec.ranges.size());
+    for (const auto& r : rec.ranges)
+      if (r.sensor >= 0 && r.sensor < static_cast<int>(robot.sensors.size()) &&
+          r.range_m < robot.sensors[r.sensor].max_range_m)
+        ++echoes;
+    if ((records & 255) == 0) bar.Update(log->progress());
+  }
+  bar.Finish();
+  if (records == 0) throw InputError(a.log, 0, "the log has no records");
+  const double grid_s = Seconds(t_grid);
+  const auto* himm = dynamic_cast<const grid::HimmFusion*>(fusion.get());
+  const grid::Grid2D<float>& values = himm->values();
+
+  vectorize::VectorizeOptions vo = a.mode == "paper" ? vectorize::VectorizeOptions::Paper() : vectorize::VectorizeOptions{};
+  vo.clean.max_dist_cells = std::max(1, static_cast<int>(std::lround(a.window_m / a.cell_m)));
+  const vectorize::VectorizeResult r = vectorize::Vectorize(values, vo);
+
+  // The map frame is the odometry frame; its pose in the truth's world.
+  Pose2 world_from_map;
+  if (first_truth && !a.truth) world_from_map = (*first_truth) * first_odom->inverse();
+
+  io::WallsFile wf;
+  wf.polylines = r.polylines;
+  wf.world_from_map = world_from_map;
+  wf.has_truth = truth_records > 0;
+  wf.log_path = std::filesystem::absolute(a.log).lexically_normal().string();
+  wf.log_format = a.format;
+  wf.robot = a.robot.empty() ? robot.name : a.robot;
+  wf.mode = a.mode;
+  wf.cell_m = a.cell_m;
+  // The effective range (SPEC 3.1): no reading beyond the window marks a wall.
+  wf.sensor_range_m = std::min(max_range_m, a.window_m);
+  wf.vertex_count = r.vertex_count;
+  wf.bytes_grid = r.bytes.grid;
+  wf.bytes_vertices = r.bytes.vertices;
+  wf.bytes_polylines = r.bytes.polylines;
+  const std::filesystem::path out(a.outdir);
+  io::WriteWallsJson((out / "walls.json").string(), wf);
+
+  // walls.svg: the grid's extent, the path faint, the walls black.
+  const auto& lim = values.limits();
+  io::SvgWriter svg(lim.origin(), lim.max(), 50.0);
+  svg.AddRaw("<rect x=\"" + Num(lim.origin().x()) + "\" y=\"" + Num(-lim.max().y()) + "\" width=\"" +
+             Num(lim.max().x() - lim.origin().x()) + "\" height=\"" + Num(lim.max().y() - lim.origin().y()) +
+             "\" fill=\"white\"/>\n");
+  svg.BeginGroup("path", "opacity=\"0.5\"");
+  for (int y = 0; y < lim.height(); ++y)
+    for (int x = 0; x < lim.width(); ++x)
+      if (values.at(x, y) == -100.0f) svg.AddCircle(lim.CenterOf({x, y}), lim.cell_m() * 0.4, "#f88");
+  svg.EndGroup();
+  svg.BeginGroup("walls");
+  for (const auto& l : r.polylines) svg.AddPolyline(l, "black", 0.05);
+  svg.EndGroup();
+  svg.BeginGroup("vertices");
+  for (const auto& l : r.polylines)
+    for (const auto& v : l) svg.AddCircle(v, 0.04, "#c00");
+  svg.EndGroup();
+  svg.Write((out / "walls.svg").string());
+
+  io::WritePng((out / "stages.png").string(), io::DrawStages(values, r));
+
+  nlohmann::json rep;
+  rep["log"] = wf.log_path;
+  rep["log_format"] = a.format;
+  rep["robot"] = robot.name;
+  rep["mode"] = a.mode;
+  rep["records"] = records;
+  rep["readings"] = readings;
+  rep["echoes"] = echoes;
+  rep["truth_records"] = truth_records;
+  rep["fused_at"] = a.truth ? "truth" : "odometry";
+  rep["world_from_map"] = PoseJson(world_from_map);
+  rep["grid"] = {{"width", lim.width()}, {"height", lim.height()}, {"cell_m", lim.cell_m()},
+                 {"origin", {lim.origin().x(), lim.origin().y()}}};
+  rep["options"] = {
+      {"cell_m", a.cell_m},
+      {"window_m", a.window_m},
+      {"epsilon", vo.clean.classes.occupied_above},
+      {"max_dist_cells", vo.clean.max_dist_cells},
+      {"gamma_cells", vo.extract.gamma_cells},
+      {"close_loops", vo.extract.close_loops},
+      {"tau_cells", vo.vertex_simplify.tau_cells},
+      {"eta_cells", vo.douglas_peucker.eta_cells},
+      {"fit_mode", a.mode},
+      {"min_abs_pearson", vo.fit.min_abs_pearson},
+      {"max_rms_cells", vo.fit.max_rms_cells},
+      {"min_corner_deg", vo.fit.min_corner_deg},
+      {"min_chain_points", vo.min_chain_points},
+      {"quantum_mm", vo.codec.quantum_mm}};
+  rep["counts"] = {{"occupied_cells", r.clean_stats.occupied_in},
+                   {"cleaned_cells", r.clean_stats.kept},
+                   {"path_cells", r.clean_stats.path_cells},
+                   {"extracted_points", r.extract_stats.points},
+                   {"chains", r.extract_stats.chains},
+                   {"closed_chains", r.extract_stats.closed},
+                   {"dropped_chains", r.dropped_chains},
+                   {"vertices_after_vertex_simplify", r.vertices_after_vertex_simplify},
+                   {"polylines", r.polylines.size()},
+                   {"vertex_count", r.vertex_count},
+                   {"edges", r.fit_stats.edges},
+                   {"fits_accepted", r.fit_stats.fitted},
+                   {"fits_rejected", r.fit_stats.rejected},
+                   {"edges_too_few_points", r.fit_stats.too_few_points},
+                   {"corners_joined", r.fit_stats.corners_joined}};
+  rep["bytes"] = {{"grid", r.bytes.grid}, {"vertices", r.bytes.vertices}, {"polylines", r.bytes.polylines}};
+  rep["seconds"] = {{"grid", grid_s},
+                    {"clean", r.seconds.clean},
+                    {"extract", r.seconds.extract},
+                    {"simplify", r.seconds.simplify},
+                    {"fit", r.seconds.fit},
+                    {"vectorize_total", r.seconds.total()}};
+  io::WriteFileAtomically((out / "report.json").string(), rep.dump(2) + "\n");
+
+  std::printf("%s: %ld records, grid %dx%d, %lld occupied -> %lld cleaned -> %lld points -> %zu polylines, "
+              "%lld vertices; bytes grid %lld / vertices %lld / polylines %lld; vectorize %.1f ms -> %s\n",
+              a.log.c_str(), records, lim.width(), lim.height(), static_cast<long long>(r.clean_stats.occupied_in),
+              static_cast<long long>(r.clean_stats.kept), static_cast<long long>(r.extract_stats.points),
+              r.polylines.size(), static_cast<long long>(r.vertex_count), static_cast<long long>(r.bytes.grid),
+              static_cast<long long>(r.bytes.vertices), static_cast<long long>(r.bytes.polylines),
+              r.seconds.total() * 1e3, a.outdir.c_str());
+  return 0;
+}
+
+std::function<int()> SetupVectorize(CLI::App& sub) {
+  auto a = std::make_shared<VectorizeArgs>();
+  sub.add_option("LOG", a->log, "The log (any format cogmap reads), mapped as one space")->required();
+  sub.add_option("--format", a->format, "Log format: " + Join(io::LogFormatNames()) + " (default auto)")
+      ->capture_default_str();
+  sub.add_option("--robot", a->robot,
+                 "Robot: a built-in name (" + Join(sensors::BuiltinRobotNames()) +
+                     ") or a robot JSON file (default: the log's own robot, else pioneer16)");
+  sub.add_option("--cell", a->cell_m, "Cell size in metres")->capture_default_str();
+  sub.add_option("--window", a->window_m,
+                 "Window w in metres (MHIMM hits nearer than w; also the cleaning range max_dist)")
+      ->capture_default_str();
+  sub.add_option("--mode", a->mode,
+                 "Line fit: paper (least squares + Pearson |rho| >= 0.9) or default (total least "
+                 "squares, rotation-invariant test, corners closed)")
+      ->capture_default_str();
+  sub.add_flag("--truth", a->truth, "Fuse at the log's ground-truth poses instead of odometry");
+  sub.add_option("-o,--output", a->outdir,
+                 "Folder to write walls.svg, walls.json, stages.png and report.json into")
+      ->required();
+  return [a] { return RunVectorize(*a); };
+}
+
+struct EvalArgs {
+  std::string dir;
+  std::string world;
+  double range_m = -1.0;
+  bool json = false;
+};
+
+int RunEval(const EvalArgs& a) {
+  const std::filesystem::path dir(a.dir);
+  const std::string walls_path = std::filesystem::is_directory(dir) ? (dir / "walls.json").string() : a.dir;
+  const io::WallsFile wf = io::ReadWallsJson(walls_path);
+  const io::WorldReadResult world = io::ReadWorld(a.world);
+  if (world.plan.walls.empty()) throw InputError(a.world, 0, "the world has no walls (LINES)");
+  if (!wf.has_truth)
+    throw InputError(wf.log_path, 0, "the log has no ground-truth poses: eval needs a run with truth "
+                                     "(e.g. from cogmap simulate)");
+  auto log = io::OpenLog(wf.log_path, wf.log_format);
+  std::vector<Vec2> true_path;
+  sensors::LogRecord rec;
+  while (log->Next(&rec))
+    if (rec.truth) true_path.push_back(rec.truth->translation());
+
+  const auto map_walls = Transform(wf.world_from_map, wf.polylines);
+  eval::WallMetricsOptions mo;
+  mo.sensor_range_m = a.range_m > 0.0 ? a.range_m : (wf.sensor_range_m > 0.0 ? wf.sensor_range_m : 3.0);
+  const auto prec = eval::WallPrecision(map_walls, world.plan.walls, mo);
+  const auto rec_st = eval::WallRecall(map_walls, world.plan.walls, true_path, mo);
+
+  nlohmann::json j;
+  j["wall_precision_mean_m"] = prec.mean_m;
+  j["wall_precision_p95_m"] = prec.p95_m;
+  j["wall_precision_max_m"] = prec.max_m;
+  j["wall_recall"] = rec_st.recall();
+  j["seeable_wall_length_m"] = rec_st.seeable_length_m;
+  j["found_wall_length_m"] = rec_st.found_length_m;
+  j["sensor_range_m"] = mo.sensor_range_m;
+  j["map_samples"] = prec.samples;
+  j["polylines"] = wf.polylines.size();
+  j["vertex_count"] = wf.vertex_count;
+  j["bytes_grid"] = wf.bytes_grid;
+  j["bytes_vertices"] = wf.bytes_vertices;
+  j["bytes_polylines"] = wf.bytes_polylines;
+  j["polylines_over_grid"] = wf.bytes_grid > 0 ? static_cast<double>(wf.bytes_polylines) / wf.bytes_grid : 0.0;
+  j["mode"] = wf.mode;
+  j["log"] = wf.log_path;
+  j["world"] = a.world;
+  if (a.json) {
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::printf("%s vs %s (%s mode)\n", walls_path.c_str(), a.world.c_str(), wf.mode.c_str());
+    std::printf("  wall precision: mean %.3f m, p95 %.3f m, max %.3f m (%lld samples)\n", prec.mean_m, prec.p95_m,
+                prec.max_m, static_cast<long long>(prec.samples));
+    std::printf("  wall recall: %.3f (%.1f of %.1f m seeable within %.1f m of the true path)\n", rec_st.recall(),
+                rec_st.found_length_m, rec_st.seeable_length_m, mo.sensor_range_m);
+    std::printf("  %zu polylines, %lld vertices; bytes grid %lld, vertices %lld, polylines %lld (%.2f%% of grid)\n",
+                wf.polylines.size(), static_cast<long long>(wf.vertex_count), static_cast<long long>(wf.bytes_grid),
+                static_cast<long long>(wf.bytes_vertices), static_cast<long long>(wf.bytes_polylines),
+                100.0 * j["polylines_over_grid"].get<double>());
+  }
+  return 0;
+}
+
+std::function<int()> SetupEval(CLI::App& sub) {
+  auto a = std::make_shared<EvalArgs>();
+  sub.add_option("OUTDIR", a->dir, "A folder written by cogmap vectorize (or its walls.json)")->required();
+  sub.add_option("--world", a->world, "The world the log was driven in (ARIA 2D-Map or PNG)")->required();
+  sub.add_option("--range", a->range_m,
+                 "Sensor range for recall, metres (default: the effective range recorded by vectorize, "
+                 "min(max range, window))");
+  sub.add_flag("--json", a->json, "Print the metrics as JSON");
+  return [a] { return RunEval(*a); };
+}
+
+const bool kVectorize = RegisterCommand(
+    {"vectorize", "Turn a whole log's MHIMM grid into wall polylines (clean, extract, simplify, fit)", 40,
+     SetupVectorize});
+const bool kEval = RegisterCommand(
+    {"eval", "Measure vectorized walls against a world's true walls (precision, recall, bytes)", 41, SetupEval});
+
+}  // namespace
+}  // namespace cogmap::app
