@@ -285,7 +285,10 @@ def real_job(ctx, name, path, drift):
                 res["metrics"][k] = float(speed[k])
         # Heading error against the log's own reference poses, when eval gives it
         # without a world (CARMEN corrected logs: the poses are the reference).
-        if c.has("eval"):
+        eval_help = c.help("eval") or ""
+        if c.has("eval") and re.search(r"--world[^\n]*REQUIRED", eval_help):
+            res["na"]["eval"] = "`cogmap eval` needs a world, and a real log has no true walls"
+        elif c.has("eval"):
             s2 = ctx.run([c.binary, "eval", out, "--json"])
             res["steps"]["eval"] = _step_summary(s2)
             ev = parse_json_output(s2.stdout) if s2.ok else None

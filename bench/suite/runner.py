@@ -8,6 +8,7 @@ resident memory taken from the kernel (wait4 rusage, ru_maxrss in KiB).
 import concurrent.futures
 import dataclasses
 import os
+import re
 import subprocess
 import threading
 import time
@@ -35,6 +36,9 @@ class StepResult:
         name = " ".join(os.path.basename(a) if i == 0 else a for i, a in enumerate(self.argv[:2]))
         if self.returncode == 124:
             return f"`{name}` timed out"
+        # Folders differ from run to run; keep the file name so that one
+        # reason covers every run it applies to.
+        last = re.sub(r"(/[^\s:/]+)+/", "…/", last)
         return f"`{name}` exited {self.returncode}: {last[:160]}"
 
 
