@@ -21,29 +21,75 @@ SideSensors FindSideSensors(const sensors::RobotDescription& robot, double toler
 }
 
 BoundaryDetector::BoundaryDetector(const sensors::RobotDescription& robot, const BoundaryOptions& options)
-    : robot_(robot), options_(options), sides_(FindSideSensors(robot, options.side_tolerance_rad)) {}
+    : robot_(robot), options_(options), sides_(FindSideSensors(robot, options.side_tolerance_rad)) {
+  side_of_.assign(robot.sensors.size(), 0);
+  for (int i : sides_.left) side_of_[i] = 1;
+  for (int i : sides_.right) side_of_[i] = -1;
+}
 
-SideObservation BoundaryDetector::Observe(const sensors::LogRecord& record,
-                                          const std::vector<int>& side) const {
-  SideObservation obs;
-  double best = std::numeric_limits<double>::infinity();
+std::pair<SideObservation, SideObservation> BoundaryDetector::ObserveSides(const sensors::LogRecord& record,
+                                                                           double travel_m) {
+  const Pose2 robot_from_world = record.odom.inverse();
+  // Remember the new close echoes of the side sensors.
   for (const auto& r : record.ranges) {
-    if (std::find(side.begin(), side.end(), r.sensor) == side.end()) continue;
+    if (r.sensor < 0 || r.sensor >= static_cast<int>(side_of_.size()) || side_of_[r.sensor] == 0) continue;
     const auto& s = robot_.sensors[r.sensor];
-    if (r.range_m < s.min_range_m) continue;  // unreliable: no evidence either way
-    obs.observed = true;
-    if (r.range_m >= s.max_range_m || r.range_m >= options_.close_m) continue;
-    obs.close = true;
-    if (r.range_m < best) {
-      best = r.range_m;
-      obs.point_m = sensors::ReadingEndPoint(record.odom, s, r.range_m);
+    if (r.range_m < s.min_range_m || r.range_m >= s.max_range_m) continue;
+    const Vec2 p = sensors::ReadingEndPoint(record.odom, s, r.range_m);
+    const Vec2 q = robot_from_world * p;
+    if (std::abs(q.y()) > options_.close_m || std::abs(q.x()) > options_.memory_m) continue;
+    memory_.push_back({p, travel_m, side_of_[r.sensor] > 0});
+  }
+  while (!memory_.empty() && (travel_m - memory_.front().travel_m > options_.memory_m || memory_.size() > 512))
+    memory_.pop_front();
+  // What lies beside the robot now.
+  SideObservation left, right;
+  left.observed = right.observed = true;
+  double best_l = std::numeric_limits<double>::infinity(), best_r = best_l;
+  for (const Echo& e : memory_) {
+    const Vec2 q = robot_from_world * e.point_m;
+    if (std::abs(q.x()) > options_.side_window_m) continue;
+    if (q.y() > 0.0 && q.y() <= options_.close_m && q.y() < best_l) {
+      best_l = q.y();
+      left.close = true;
+      left.point_m = e.point_m;
+    }
+    if (q.y() < 0.0 && -q.y() <= options_.close_m && -q.y() < best_r) {
+      best_r = -q.y();
+      right.close = true;
+      right.point_m = e.point_m;
     }
   }
-  return obs;
+  return {left, right};
+}
+
+void BoundaryDetector::Advance(const Pose2& pose) {
+  const Vec2 pos = pose.translation();
+  if (have_pose_) {
+    travel_m_ += (pos - last_pose_.translation()).norm();
+  } else {
+    prev_pos_ = pos;
+    have_pose_ = true;
+  }
+  last_pose_ = pose;
+  if ((pos - prev_pos_).norm() >= 0.2) {
+    travel_dir_ = (pos - prev_pos_).normalized();
+    has_travel_dir_ = true;
+    prev_pos_ = pos;
+  }
 }
 
 std::optional<BoundaryCut> BoundaryDetector::Push(const sensors::LogRecord& record) {
-  return PushSides(record.time_s, record.odom, Observe(record, sides_.left), Observe(record, sides_.right));
+  Advance(record.odom);
+  const auto [left, right] = ObserveSides(record, travel_m_);
+  return Step(record.time_s, record.odom, left, right);
+}
+
+std::optional<BoundaryCut> BoundaryDetector::PushSides(double time_s, const Pose2& pose,
+                                                       const SideObservation& left,
+                                                       const SideObservation& right) {
+  Advance(pose);
+  return Step(time_s, pose, left, right);
 }
 
 void BoundaryDetector::UpdateSide(Side* side, const SideObservation& obs) const {
@@ -84,22 +130,9 @@ Pose2 BoundaryDetector::PoseAtTravel(double travel_m, double* time_s) const {
   return stretch_.back().pose;
 }
 
-std::optional<BoundaryCut> BoundaryDetector::PushSides(double time_s, const Pose2& pose,
-                                                       const SideObservation& left,
-                                                       const SideObservation& right) {
+std::optional<BoundaryCut> BoundaryDetector::Step(double time_s, const Pose2& pose, const SideObservation& left,
+                                                  const SideObservation& right) {
   const Vec2 pos = pose.translation();
-  if (have_pose_) {
-    travel_m_ += (pos - last_pose_.translation()).norm();
-  } else {
-    prev_pos_ = pos;
-    have_pose_ = true;
-  }
-  last_pose_ = pose;
-  if ((pos - prev_pos_).norm() >= 0.2) {
-    travel_dir_ = (pos - prev_pos_).normalized();
-    has_travel_dir_ = true;
-    prev_pos_ = pos;
-  }
   UpdateSide(&left_, left);
   UpdateSide(&right_, right);
 

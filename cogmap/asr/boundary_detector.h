@@ -1,5 +1,8 @@
 #pragma once
+#include <cstdint>
+#include <deque>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "cogmap/core/angles.h"
@@ -17,13 +20,23 @@ enum class BoundaryMode {
 
 struct BoundaryOptions {
   BoundaryMode mode = BoundaryMode::kDoorway;
-  double close_m = 0.7;        // L / R: an echo nearer than this on a side (SPEC 4)
+  // L / R: an obstacle within close_m of the robot's centre line on that side
+  // (SPEC 4). Measured across the robot (robot-frame |y| of the echo point).
+  double close_m = 0.7;
   double corridor_m = 2.0;     // L and R held longer than this: a corridor (SPEC 4)
   double asr_length_m = 4.5;   // corridor and fixed-length cut (§3.1.2; §4.2 uses 4 m)
   // Side sensors: mounting heading within 90 deg +- this of the robot's left
-  // (right) side. Pioneer ring: units 0, 15 (left) and 7, 8 (right); laser: the
-  // beams from 70 to 90 degrees each side. Our choice; the thesis says "left".
-  double side_tolerance_rad = DegToRad(20.0);
+  // (right). Pioneer ring: units 0, 1, 14, 15 (left) and 6, 7, 8, 9 (right);
+  // laser: the beams from 45 to 90 degrees each side. The 50 / 130 degree
+  // sonars matter: a sonar pointing straight at a door jamb's thin edge rarely
+  // gets an echo (the jamb's faces are parallel to its beam), the diagonal
+  // ones see the jamb before and after it is beside the robot.
+  double side_tolerance_rad = DegToRad(45.0);
+  // Echo points of the side sensors are remembered (odometry frame) for this
+  // much travel; a remembered point counts for L (R) while it lies beside the
+  // robot: |robot-frame x| <= side_window_m, 0 < y <= close_m (-close_m <= y < 0).
+  double memory_m = 1.5;
+  double side_window_m = 0.35;
   // A side switches on (off) after this many consecutive sweeps in which its
   // sensors reported close (not close). Sweeps without a side reading leave it.
   int debounce_sweeps = 2;
@@ -99,8 +112,10 @@ class BoundaryDetector {
   const SideSensors& side_sensors() const { return sides_; }
   const BoundaryOptions& options() const { return options_; }
 
-  // Observations of one sweep (exposed for tests and the bench).
-  SideObservation Observe(const sensors::LogRecord& record, const std::vector<int>& side) const;
+  // Remembers the record's side echoes and says what each side sees now
+  // (called by Push; exposed for tests). 'travel_m' is the travel at the record.
+  std::pair<SideObservation, SideObservation> ObserveSides(const sensors::LogRecord& record,
+                                                           double travel_m);
 
  private:
   struct Side {
@@ -114,13 +129,23 @@ class BoundaryDetector {
     double time_s;
     double travel_m;
   };
+  struct Echo {
+    Vec2 point_m;
+    double travel_m;
+    bool left;
+  };
   void UpdateSide(Side* side, const SideObservation& obs) const;
+  void Advance(const Pose2& pose);
+  std::optional<BoundaryCut> Step(double time_s, const Pose2& pose, const SideObservation& left,
+                                  const SideObservation& right);
   BoundaryCut MakeCut(CutKind kind, const Pose2& pose, double time_s, double width_m);
   Pose2 PoseAtTravel(double travel_m, double* time_s) const;
 
   sensors::RobotDescription robot_;
   BoundaryOptions options_;
   SideSensors sides_;
+  std::vector<int8_t> side_of_;  // per sensor: +1 left, -1 right, 0 neither
+  std::deque<Echo> memory_;
   BoundaryState state_ = BoundaryState::kInRoom;
   Side left_, right_;
   bool have_pose_ = false;

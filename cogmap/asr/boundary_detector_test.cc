@@ -55,18 +55,18 @@ TEST(BoundaryOptions, DefaultsAreThePapers) {
   EXPECT_DOUBLE_EQ(o.asr_length_m, 4.5);
 }
 
-TEST(SideSensors, PioneerRingUsesTheFourSideUnits) {
-  const SideSensors s = FindSideSensors(sensors::BuiltinRobot("pioneer16"), DegToRad(20));
-  EXPECT_EQ(s.left, (std::vector<int>{0, 15}));
-  EXPECT_EQ(s.right, (std::vector<int>{7, 8}));
+TEST(SideSensors, PioneerRingUsesTheSideAndDiagonalUnits) {
+  const SideSensors s = FindSideSensors(sensors::BuiltinRobot("pioneer16"), DegToRad(45));
+  EXPECT_EQ(s.left, (std::vector<int>{0, 1, 14, 15}));
+  EXPECT_EQ(s.right, (std::vector<int>{6, 7, 8, 9}));
 }
 
 TEST(SideSensors, LaserUsesBeamsNearNinetyDegrees) {
   sensors::LaserOptions lo;
   lo.beams = 181;
-  const SideSensors s = FindSideSensors(sensors::MakeLaser(lo), DegToRad(20));
-  EXPECT_EQ(s.left.size(), 21u);   // 70..90 degrees, one beam per degree
-  EXPECT_EQ(s.right.size(), 21u);  // -90..-70
+  const SideSensors s = FindSideSensors(sensors::MakeLaser(lo), DegToRad(45));
+  EXPECT_EQ(s.left.size(), 46u);   // 45..90 degrees, one beam per degree
+  EXPECT_EQ(s.right.size(), 46u);  // -90..-45
   EXPECT_EQ(s.right.front(), 0);
   EXPECT_EQ(s.left.back(), 180);
 }
@@ -183,14 +183,31 @@ TEST(BoundaryDetector, ObservesSideSonarsOfARecord) {
   sensors::LogRecord rec;
   rec.odom = {1.0, 2.0, 0.0};
   rec.ranges = {{0, 0.4}, {15, 0.6}, {7, 2.0}, {3, 0.1}};
-  const SideObservation l = d.Observe(rec, d.side_sensors().left);
-  const SideObservation r = d.Observe(rec, d.side_sensors().right);
-  EXPECT_TRUE(l.observed);
-  EXPECT_TRUE(l.close);
+  const auto [l, r] = d.ObserveSides(rec, 0.0);
+  EXPECT_TRUE(l.close);  // unit 0: 0.136 + 0.4 m to the left; unit 15 is 0.736 m away
   const Vec2 expect = sensors::ReadingEndPoint(rec.odom, robot.sensors[0], 0.4);
   EXPECT_NEAR((l.point_m - expect).norm(), 0.0, 1e-12);
   EXPECT_TRUE(r.observed);
   EXPECT_FALSE(r.close);
+}
+
+TEST(BoundaryDetector, DiagonalEchoIsRememberedUntilItIsBesideTheRobot) {
+  // Unit 1 (50 degrees) sees a jamb ahead-left; 40 cm later, with no further
+  // echo, the jamb is beside the robot and L is on.
+  auto d = MakeDetector();
+  sensors::LogRecord rec;
+  rec.odom = {0.0, 0.0, 0.0};
+  rec.ranges = {{1, 0.55}};
+  const Vec2 jamb = sensors::ReadingEndPoint(rec.odom, sensors::BuiltinRobot("pioneer16").sensors[1], 0.55);
+  EXPECT_FALSE(d.ObserveSides(rec, 0.0).first.close);  // still 0.47 m ahead
+  rec.ranges.clear();
+  rec.odom = {jamb.x(), 0.0, 0.0};
+  const auto [l, r] = d.ObserveSides(rec, jamb.x());
+  EXPECT_TRUE(l.close);
+  EXPECT_NEAR((l.point_m - jamb).norm(), 0.0, 1e-12);
+  EXPECT_FALSE(r.close);
+  rec.odom = {jamb.x() + 0.5, 0.0, 0.0};  // passed it
+  EXPECT_FALSE(d.ObserveSides(rec, jamb.x() + 0.5).first.close);
 }
 
 TEST(BoundaryDetector, RecordsThroughADoorwayCutOnce) {

@@ -1,0 +1,274 @@
+// `cogmap map`: the whole cognitive mapper (issue 5). A log goes in; each room
+// becomes an ASR in OUTDIR/map.sqlite, and the master map is written as SVG,
+// PNG, ROS map_server PGM + YAML, GeoJSON and an ARIA 2D-Map, with report.json.
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "app/command.h"
+#include "app/progress.h"
+#include "cogmap/asr/mapper.h"
+#include "cogmap/asr/room_metrics.h"
+#include "cogmap/asr/store.h"
+#include "cogmap/core/error.h"
+#include "cogmap/io/atomic_file.h"
+#include "cogmap/io/log_reader.h"
+#include "cogmap/io/map_files.h"
+#include "cogmap/io/world_io.h"
+#include "cogmap/localize/heading_corrector.h"
+#include "cogmap/sensors/robot_json.h"
+
+namespace cogmap::app {
+namespace {
+
+struct MapArgs {
+  std::string log;
+  std::string format = "auto";
+  std::string robot;
+  double cell_m = 0.1;
+  double window_m = 3.0;
+  std::string mode = "default";
+  std::string boundary = "doorway";
+  double asr_length_m = 4.5;
+  bool no_correct = false;
+  bool resume = false;
+  bool raw = false;
+  std::string world;
+  std::string output;
+};
+
+std::string Num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+long MaxRssKb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss;
+}
+
+std::optional<Pose2> ParsePose(const std::optional<std::string>& text) {
+  if (!text) return std::nullopt;
+  std::istringstream in(*text);
+  Pose2 p;
+  if (!(in >> p.x >> p.y >> p.theta)) return std::nullopt;
+  return p;
+}
+
+int RunMap(const MapArgs& a) {
+  namespace fs = std::filesystem;
+  const auto start = std::chrono::steady_clock::now();
+  if (!(a.cell_m > 0.0) || a.cell_m > 10.0) throw InputError("--cell " + Num(a.cell_m) + ": must be in (0, 10] metres");
+  if (!(a.window_m > 0.0)) throw InputError("--window " + Num(a.window_m) + ": must be positive");
+  if (!(a.asr_length_m > 0.0)) throw InputError("--asr-length " + Num(a.asr_length_m) + ": must be positive");
+  if (a.mode != "paper" && a.mode != "default") throw InputError("--mode " + a.mode + ": expected paper or default");
+  if (a.boundary != "doorway" && a.boundary != "fixed")
+    throw InputError("--boundary " + a.boundary + ": expected doorway or fixed");
+
+  auto log = io::OpenLog(a.log, a.format);
+  sensors::RobotDescription robot;
+  if (!a.robot.empty()) robot = sensors::ResolveRobot(a.robot);
+  else if (auto hint = log->robot_hint()) robot = *hint;
+  else robot = sensors::BuiltinRobot("pioneer16");
+  std::optional<FloorPlan> truth_plan;
+  if (!a.world.empty()) truth_plan = io::ReadWorld(a.world).plan;
+
+  std::error_code ec;
+  fs::create_directories(a.output, ec);
+  if (!fs::is_directory(a.output)) throw InputError(a.output, 0, "cannot create the output folder");
+  const std::string store_path = (fs::path(a.output) / "map.sqlite").string();
+  auto store = asr::SqliteAsrStore::Open(
+      store_path, a.resume ? asr::SqliteAsrStore::OpenMode::kOpenExisting : asr::SqliteAsrStore::OpenMode::kReplace);
+
+  asr::MapperOptions options;
+  options.cell_m = a.cell_m;
+  options.mhimm.window_m = a.window_m;
+  options.vectorize = a.mode == "paper" ? vectorize::VectorizeOptions::Paper() : vectorize::VectorizeOptions{};
+  options.boundary.mode = a.boundary == "fixed" ? asr::BoundaryMode::kFixedLength : asr::BoundaryMode::kDoorway;
+  options.boundary.asr_length_m = a.asr_length_m;
+
+  nlohmann::json per_asr = nlohmann::json::array();
+  asr::StageBytes bytes_run;
+  int closed = 0;
+  asr::CognitiveMapper mapper(robot, options, store.get(), [&](const asr::Asr& x) {
+    ++closed;
+    bytes_run.grid += x.bytes.grid;
+    bytes_run.vertices += x.bytes.vertices;
+    bytes_run.polylines += x.bytes.polylines;
+    per_asr.push_back({{"id", x.id},
+                       {"seconds", x.seconds.total()},
+                       {"seconds_grid", x.seconds.grid},
+                       {"seconds_vectorize", x.seconds.total() - x.seconds.grid},
+                       {"path_m", [&] {
+                          double s = 0;
+                          for (size_t i = 1; i < x.path.size(); ++i)
+                            s += (x.path[i].translation() - x.path[i - 1].translation()).norm();
+                          return s;
+                        }()},
+                       {"walls", x.walls_local.size()},
+                       {"bytes_grid", x.bytes.grid},
+                       {"bytes_polylines", x.bytes.polylines},
+                       {"heading_correction_deg", RadToDeg(x.heading_correction_rad)}});
+  });
+
+  // Heading correction (SPEC 5). On --resume the corrector restarts with the
+  // first new ASR as its reference, composed with the correction the stored
+  // run ended with (docs/store.md).
+  localize::HeadingCorrectionOptions hc_options;
+  hc_options.mode = a.mode == "paper" ? localize::HeadingMode::kPaper : localize::HeadingMode::kDefault;
+  localize::HeadingCorrector corrector(hc_options);
+  Pose2 carried;  // raw -> corrected of the stored run's last ASR (identity on a new run)
+  if (a.resume) {
+    const int last = store->MaxId();
+    asr::MapperResume r;
+    r.next_id = last + 1;
+    if (auto next = store->GetMeta(asr::kMetaNextId)) r.next_id = std::max(r.next_id, std::atoi(next->c_str()));
+    if (last >= 0) {
+      r.previous_asr = last;
+      const auto prev = store->Get(last);
+      carried = prev->world_from_local_corrected * prev->world_from_local_raw.inverse();
+    }
+    r.last_raw_pose = ParsePose(store->GetMeta(asr::kMetaLastRawPose));
+    mapper.Resume(r);
+  }
+  if (!a.no_correct) {
+    mapper.SetCorrector([&corrector, carried](asr::Asr raw) {
+      asr::Asr out = corrector.Close(std::move(raw));
+      out.world_from_local_corrected = carried * out.world_from_local_corrected;
+      out.heading_correction_rad = NormalizeAngle(out.heading_correction_rad + carried.theta);
+      return out;
+    });
+  } else if (carried.theta != 0.0 || carried.x != 0.0 || carried.y != 0.0) {
+    mapper.SetCorrector([carried](asr::Asr raw) {
+      raw.world_from_local_corrected = carried * raw.world_from_local_raw;
+      raw.heading_correction_rad = carried.theta;
+      return raw;
+    });
+  }
+
+  ProgressBar bar("map");
+  sensors::LogRecord rec;
+  double t_first = 0.0, t_last = 0.0;
+  long records = 0;
+  while (log->Next(&rec)) {
+    if (records == 0) t_first = rec.time_s;
+    t_last = rec.time_s;
+    mapper.Push(rec);
+    if (++records % 256 == 0) bar.Update(log->progress(), std::to_string(closed) + " ASRs");
+  }
+  mapper.Finish();
+  bar.Finish();
+  const double mapping_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const long rss_mapping_kb = MaxRssKb();
+
+  // The master map from everything in the store (earlier runs included).
+  std::vector<asr::Asr> all;
+  for (int id : store->Ids()) all.push_back(*store->Get(id));
+  const io::MasterMap master = io::BuildMasterMap(all, !a.raw);
+  const auto files = io::WriteMasterMapFiles(a.output, master);
+
+  asr::StageBytes bytes_all;
+  nlohmann::json seconds_all = nlohmann::json::array();
+  for (const auto& x : all) {
+    bytes_all.grid += x.bytes.grid;
+    bytes_all.vertices += x.bytes.vertices;
+    bytes_all.polylines += x.bytes.polylines;
+    seconds_all.push_back(x.seconds.total());
+  }
+  const double total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double duration = t_last - t_first;
+  nlohmann::json report = {
+      {"log", fs::absolute(a.log).string()},
+      {"format", a.format},
+      {"robot", robot.name},
+      {"mode", a.mode},
+      {"boundary", a.boundary},
+      {"asr_length_m", a.asr_length_m},
+      {"cell_m", a.cell_m},
+      {"window_m", a.window_m},
+      {"corrected", !a.no_correct},
+      {"resumed", a.resume},
+      {"records", records},
+      {"asr_count", static_cast<int>(all.size())},
+      {"asr_count_this_run", closed},
+      {"exit_count", master.exits.size()},
+      {"turn_backs", mapper.stats().turn_backs},
+      {"bytes_grid", bytes_all.grid},
+      {"bytes_vertices", bytes_all.vertices},
+      {"bytes_polylines", bytes_all.polylines},
+      {"seconds_per_asr", seconds_all},
+      {"asrs", per_asr},
+      {"mapping_seconds", mapping_seconds},
+      {"total_seconds", total_seconds},
+      {"log_duration_s", duration},
+      {"times_real_time", mapping_seconds > 0 ? duration / mapping_seconds : 0.0},
+      {"peak_grid_cells", mapper.stats().peak_grid_cells},
+      {"max_rss_kb_mapping", rss_mapping_kb},
+      {"store", store_path},
+  };
+  if (truth_plan) {
+    const asr::RoomMetrics m = asr::EvaluateRooms(all, truth_plan->rooms);
+    report["world"] = fs::absolute(a.world).string();
+    report["room_precision"] = m.room_precision;
+    report["room_recall"] = m.room_recall;
+    report["asr_rooms"] = m.asr_room;
+  }
+  const std::string report_path = (fs::path(a.output) / "report.json").string();
+  io::WriteFileAtomically(report_path, report.dump(2) + "\n");
+
+  std::printf("%s: %ld records, %d ASRs (%d this run), %zu exits, grid %.1f KB -> polylines %.2f KB, %.2f s "
+              "(%.1fx real time)\n",
+              a.log.c_str(), records, static_cast<int>(all.size()), closed, master.exits.size(),
+              bytes_all.grid / 1024.0, bytes_all.polylines / 1024.0, total_seconds,
+              mapping_seconds > 0 ? duration / mapping_seconds : 0.0);
+  if (truth_plan)
+    std::printf("rooms: precision %.3f recall %.3f\n", report["room_precision"].get<double>(),
+                report["room_recall"].get<double>());
+  std::printf("outputs in %s: map.sqlite map.svg map.png map.pgm map.yaml map.geojson map.map report.json\n",
+              a.output.c_str());
+  return 0;
+}
+
+std::function<int()> SetupMap(CLI::App& sub) {
+  auto a = std::make_shared<MapArgs>();
+  std::string formats;
+  for (const auto& f : io::LogFormatNames()) formats += (formats.empty() ? "" : ", ") + f;
+  sub.add_option("LOG", a->log, "The log to map (native, CARMEN, Pioneer pair, EV3)")->required();
+  sub.add_option("--format", a->format, "Log format: " + formats)->capture_default_str();
+  sub.add_option("--robot", a->robot,
+                 "Robot: pioneer16, pioneer8, p2at16, laser, or a robot JSON file (default: the log's, else pioneer16)");
+  sub.add_option("--cell", a->cell_m, "Cell size of each room's grid, metres")->capture_default_str();
+  sub.add_option("--window", a->window_m, "MHIMM window w, metres")->capture_default_str();
+  sub.add_option("--mode", a->mode,
+                 "paper: the thesis's line fit and EM; default: total least squares and robust EM")
+      ->capture_default_str();
+  sub.add_option("--boundary", a->boundary,
+                 "doorway: fig. 3.4 with the corridor rule; fixed: a new ASR every --asr-length (thesis §4.2)")
+      ->capture_default_str();
+  sub.add_option("--asr-length", a->asr_length_m,
+                 "Corridor / fixed-length ASR length, metres (4.5 in §3.1.2, 4 in §4.2)")
+      ->capture_default_str();
+  sub.add_flag("--no-correct", a->no_correct, "Skip the heading correction (ASRs placed by odometry)");
+  sub.add_flag("--raw", a->raw, "Draw the master map at the raw odometry poses (the store keeps both)");
+  sub.add_flag("--resume", a->resume,
+               "Continue into OUTDIR/map.sqlite: new ASRs append with the next ids; the log's first pose is "
+               "taken to be where the stored run ended");
+  sub.add_option("--world", a->world,
+                 "Ground-truth world (2D-Map with Room cairns): adds room_precision / room_recall to report.json");
+  sub.add_option("-o,--output", a->output, "Output folder (created)")->required();
+  return [a] { return RunMap(*a); };
+}
+
+const bool kRegistered = RegisterCommand(
+    {"map", "Map a log into ASRs (rooms), store them and write the master map", 50, SetupMap});
+
+}  // namespace
+}  // namespace cogmap::app
