@@ -124,8 +124,9 @@ def _speed_metrics(map_step, report_speed, metrics):
     return m
 
 
-def sim_job(ctx, world, robot, drift, seed, keep_outputs=False):
-    """simulate -> map -> eval for one world, robot, drift and seed."""
+def sim_job(ctx, world, robot, drift, seed, map_extra=(), variant=""):
+    """simulate -> map -> eval for one world, robot, drift and seed. 'map_extra'
+    are more `cogmap map` options (the variant names them in the job)."""
 
     def run(job):
         p = job.params
@@ -135,8 +136,8 @@ def sim_job(ctx, world, robot, drift, seed, keep_outputs=False):
             res["na"]["all"] = c.missing_reason("simulate")
             return res
         tag = f"{p['world_name']}_{robot}_d{drift:g}_s{seed}"
-        log = os.path.join(ctx.work_dir, "sim", tag + ".log")
-        out = os.path.join(ctx.work_dir, "map", tag)
+        log = os.path.join(ctx.work_dir, "sim", tag + (f"_{variant}" if variant else "") + ".log")
+        out = os.path.join(ctx.work_dir, "map", tag + (f"_{variant}" if variant else ""))
         os.makedirs(os.path.dirname(log), exist_ok=True)
         argv = [c.binary, "simulate", world, "--robot", robot, "--seed", seed,
                 "--drift-deg-per-m", drift, "-o", log]
@@ -156,7 +157,11 @@ def sim_job(ctx, world, robot, drift, seed, keep_outputs=False):
             res["na"]["map"] = c.missing_reason("map")
             return res
         shutil.rmtree(out, ignore_errors=True)
-        argv = [c.binary, "map", log, "-o", out]
+        argv = [c.binary, "map", log, "-o", out] + list(map_extra)
+        for opt in map_extra:
+            if str(opt).startswith("--") and not c.has_option("map", opt):
+                res["na"]["map"] = f"`cogmap map` has no option {opt}"
+                return res
         if c.has_option("map", "--world"):
             argv += ["--world", world]  # room precision / recall in report.json
         s = ctx.run(argv)
@@ -200,9 +205,11 @@ def sim_job(ctx, world, robot, drift, seed, keep_outputs=False):
         res["metrics"].update(_speed_metrics(_Step(res["steps"]["map"]), speed, res["metrics"]))
         return res
 
-    return runner.Job(name=f"sim/{os.path.basename(world)}/{robot}/{drift:g}/{seed}", kind="sim",
+    return runner.Job(name=f"sim/{os.path.basename(world)}/{robot}/{drift:g}/{seed}" +
+                      (f"/{variant}" if variant else ""), kind="thesis" if variant else "sim",
                       params={"world": world, "world_name": os.path.splitext(os.path.basename(world))[0],
-                              "robot": robot, "drift_deg_per_m": drift, "seed": seed},
+                              "robot": robot, "drift_deg_per_m": drift, "seed": seed,
+                              "variant": variant, "map_extra": [str(a) for a in map_extra]},
                       run=run, cost=3.0 if "hallway" in world or "office" in world else 1.0)
 
 

@@ -39,7 +39,7 @@ def parse_args(argv, smoke_default=False):
     ap.add_argument("--drifts", default=",".join(f"{d:g}" for d in DRIFTS), help="deg per metre")
     ap.add_argument("--seeds", default=",".join(str(s) for s in SEEDS),
                     help="comma list, or a count N for seeds 1..N")
-    ap.add_argument("--skip", default="", help="comma list of: sim, real, scale, micro, peers")
+    ap.add_argument("--skip", default="", help="comma list of: sim, real, thesis, scale, micro, peers")
     ap.add_argument("--scale-rooms", type=int, default=100,
                     help="rooms of the generated building of the scale run (0: none)")
     ap.add_argument("--step-timeout", type=float, default=600.0, help="seconds per command")
@@ -166,6 +166,12 @@ def main(argv=None, smoke_default=False):
             jobs.append(cases.real_job(ctx, name, path, 0.0))
             if name.startswith("carmen"):
                 jobs.append(cases.real_job(ctx, name, path, 1.0))
+    if "thesis" not in skip and not args.smoke:
+        # The thesis's hallway experiment (§4.2, fig. 4.13): fixed-length ASRs of 4 m.
+        for s in seeds[:3]:
+            jobs.append(cases.sim_job(ctx, world_path(args.shared, "hallway_loop"), "pioneer16", 0.0, s,
+                                      map_extra=("--boundary", "fixed", "--asr-length", "4"),
+                                      variant="fixed4m"))
     if "scale" not in skip and not args.smoke and args.scale_rooms > 0:
         jobs.append(cases.scale_job(ctx, args.scale_rooms))
     log(f"phase 1: {len(jobs)} jobs on {args.jobs} workers", args.quiet)
@@ -180,6 +186,8 @@ def main(argv=None, smoke_default=False):
             sims.append(r)
         elif j.kind == "scale":
             results["scale"] = r
+        elif j.kind == "thesis":
+            results.setdefault("thesis", []).append(r)
         else:
             reals.append(r)
     results["sim"], results["real"] = sims, reals

@@ -136,14 +136,19 @@ def time_per_asr(results, path):
     """Seconds per ASR against the ASR's index (thesis figure 4.13), longest runs."""
     series = []
     runs = {"sim": results.get("sim", []), "real": results.get("real", []),
+            "thesis": results.get("thesis", []),
             "scale": [results["scale"]] if results.get("scale") else []}
-    for kind in ("scale", "sim", "real"):
+    for kind in ("scale", "thesis", "sim", "real"):
         for r in runs[kind]:
             secs = r.get("asr_seconds") or []
             if len(secs) >= 3:
                 p = r["params"]
-                label = (f"{p['world_name']} {p['robot']} d{p['drift_deg_per_m']:g} s{p['seed']}"
-                         if kind == "sim" else f"{p['log_name']} d{p['drift_deg_per_m']:g}")
+                if kind == "thesis":
+                    label = f"hallway-fixed-4m pioneer16 s{p['seed']}"
+                elif kind == "sim":
+                    label = f"{p['world_name']} {p['robot']} d{p['drift_deg_per_m']:g} s{p['seed']}"
+                else:
+                    label = f"{p['log_name']} d{p['drift_deg_per_m']:g}"
                 series.append((len(secs), label, secs))
     if not series:
         return "no map report gave per-ASR seconds"
