@@ -119,33 +119,32 @@ int RunMap(const MapArgs& a) {
                        {"heading_correction_deg", RadToDeg(x.heading_correction_rad)}});
   });
 
-  // Heading correction (SPEC 5). On --resume the corrector restarts with the
-  // first new ASR as its reference, composed with the correction the stored
-  // run ended with (docs/store.md).
+  // Heading correction (SPEC 5). On --resume the corrector continues from the
+  // stored run: its last correction and reference direction (docs/store.md).
   localize::HeadingCorrectionOptions hc_options;
   hc_options.mode = a.mode == "paper" ? localize::HeadingMode::kPaper : localize::HeadingMode::kDefault;
   localize::HeadingCorrector corrector(hc_options);
-  Pose2 carried;  // raw -> corrected of the stored run's last ASR (identity on a new run)
+  Pose2 carried;  // raw -> corrected at the end of the stored run (identity on a new run)
   if (a.resume) {
     const int last = store->MaxId();
     asr::MapperResume r;
     r.next_id = last + 1;
     if (auto next = store->GetMeta(asr::kMetaNextId)) r.next_id = std::max(r.next_id, std::atoi(next->c_str()));
+    std::optional<double> reference;
     if (last >= 0) {
       r.previous_asr = last;
-      const auto prev = store->Get(last);
-      carried = prev->world_from_local_corrected * prev->world_from_local_raw.inverse();
+      carried = localize::CorrectionOf(*store->Get(last));
+      for (int id : store->Ids()) {  // one ASR at a time: the first accepted one sets it
+        reference = localize::ReferenceDirection({*store->Get(id)}, hc_options);
+        if (reference) break;
+      }
     }
+    corrector.Restore(carried, reference);
     r.last_raw_pose = ParsePose(store->GetMeta(asr::kMetaLastRawPose));
     mapper.Resume(r);
   }
   if (!a.no_correct) {
-    mapper.SetCorrector([&corrector, carried](asr::Asr raw) {
-      asr::Asr out = corrector.Close(std::move(raw));
-      out.world_from_local_corrected = carried * out.world_from_local_corrected;
-      out.heading_correction_rad = NormalizeAngle(out.heading_correction_rad + carried.theta);
-      return out;
-    });
+    mapper.SetCorrector([&corrector](asr::Asr raw) { return corrector.Close(std::move(raw)); });
   } else if (carried.theta != 0.0 || carried.x != 0.0 || carried.y != 0.0) {
     mapper.SetCorrector([carried](asr::Asr raw) {
       raw.world_from_local_corrected = carried * raw.world_from_local_raw;
