@@ -30,3 +30,18 @@ if(COGMAP_BUILD_TESTS)
     set_tests_properties(bench_smoke PROPERTIES TIMEOUT 900 LABELS slow)
   endif()
 endif()
+
+# cogmap_peer_opencv_vectorize: OpenCV findContours + approxPolyDP against
+# cogmap's vectorization on the same cleaned grid; built when OpenCV is found.
+find_package(OpenCV QUIET COMPONENTS core imgproc)
+if(OpenCV_FOUND)
+  add_executable(cogmap_peer_opencv_vectorize peer_opencv_vectorize.cc)
+  target_include_directories(cogmap_peer_opencv_vectorize PRIVATE ${PROJECT_SOURCE_DIR})
+  target_include_directories(cogmap_peer_opencv_vectorize SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+  target_link_libraries(cogmap_peer_opencv_vectorize PRIVATE
+    cogmap_io cogmap_vectorize cogmap_eval cogmap_grid cogmap_sensors cogmap_core
+    opencv_core opencv_imgproc CLI11::CLI11 nlohmann_json::nlohmann_json)
+else()
+  message(STATUS "cogmap: OpenCV not found (scripts/install-deps.sh --peers), "
+                 "no cogmap_peer_opencv_vectorize")
+endif()

@@ -400,12 +400,46 @@ def mrpt_job(ctx, name, log_path, robot=None, extra=()):
                       cost=5.0)
 
 
+def opencv_peer_binary(build_dir):
+    b = os.path.join(build_dir, "bench", "cogmap_peer_opencv_vectorize")
+    return b if os.access(b, os.X_OK) else None
+
+
+def opencv_job(ctx, name, log_path, world, mode):
+    """OpenCV findContours + approxPolyDP against cogmap's vectorization on the
+    same cleaned grid of one log (bench/peer_opencv_vectorize.cc)."""
+
+    def run(job):
+        res = {"params": job.params, "na": {}}
+        b = opencv_peer_binary(ctx.build_dir)
+        if not b:
+            res["na"]["all"] = "cogmap_peer_opencv_vectorize not built (OpenCV not found by CMake)"
+            return res
+        lp = log_path() if callable(log_path) else log_path
+        if not lp or not os.path.exists(lp):
+            res["na"]["all"] = f"log for {name} not available (its simulation failed)"
+            return res
+        s = ctx.run([b, lp, "--world", world, "--mode", mode])
+        res["steps"] = {"run": _step_summary(s)}
+        if not s.ok:
+            res["na"]["all"] = s.reason()
+            return res
+        res["result"] = parse_json_output(s.stdout)
+        if not res["result"]:
+            res["na"]["all"] = "no JSON from cogmap_peer_opencv_vectorize"
+        return res
+
+    return runner.Job(name=f"peer/opencv/{name}/{mode}", kind="peer_opencv",
+                      params={"name": name, "mode": mode}, run=run, cost=2.0)
+
+
 def opencv_binaries(build_dir):
     """The vectorization issue's OpenCV comparison program, when built."""
     found = []
     for pattern in ("*opencv*", "*approx*"):
         found += glob.glob(os.path.join(build_dir, "bench", pattern))
-    return sorted({f for f in found if os.path.isfile(f) and os.access(f, os.X_OK)})
+    return sorted({f for f in found if os.path.isfile(f) and os.access(f, os.X_OK)
+                   and not f.endswith("cogmap_peer_opencv_vectorize")})
 
 
 def scale_job(ctx, rooms, seed=1):

@@ -216,6 +216,17 @@ def main(argv=None, smoke_default=False):
             peers["sources"][name] = ("sim", job)
             wp = world_path(args.shared, next(w for w in worlds if w.split("/")[-1] == world))
             pjobs.append(cases.mrpt_job(ctx, name, lp, extra=("--poses", "truth", "--world", wp)))
+        cv_wanted = [("nine_rooms", "pioneer16", "default"), ("nine_rooms", "pioneer16", "paper"),
+                     ("nine_rooms", "laser", "default"), ("cluttered_lab", "pioneer16", "default"),
+                     ("hallway_loop", "pioneer16", "default"), ("office", "pioneer16", "default")]
+        if args.smoke:
+            cv_wanted = [(worlds[0].split("/")[-1], robots[0], "default")]
+        for world, robot, mode in cv_wanted:
+            full = next((w for w in worlds if w.split("/")[-1] == world), None)
+            if full is None or robot not in robots:
+                continue
+            lp, _ = sim_log(world, robot)
+            pjobs.append(cases.opencv_job(ctx, f"{world}_{robot}", lp, world_path(args.shared, full), mode))
         if not args.smoke:
             for name, path, _ in cases.real_logs(args.shared):
                 if name in ("pioneer-sonar", "carmen-intel"):
@@ -229,7 +240,12 @@ def main(argv=None, smoke_default=False):
             r = res2[j.name]
             r["job"] = j.name
             r.setdefault("params", j.params)
-            (peers["mrpt"] if j.kind == "peer_mrpt" else peers["opencv"]).append(r)
+            if j.kind == "peer_mrpt":
+                peers["mrpt"].append(r)
+            elif j.kind == "peer_opencv":
+                peers.setdefault("opencv_vectorize", []).append(r)
+            else:
+                peers["opencv"].append(r)
     results["peers"] = peers
     rep = report.Report(results)
     for p in peers["mrpt"]:
@@ -291,6 +307,15 @@ def smoke_check(results):
                 problems.append(f"{p['job']}: sizes.{k} missing or not finite")
         if not finite(p.get("polyline_bytes")):
             problems.append(f"{p['job']}: no cogmap polyline bytes for its log")
+    for p in results["peers"].get("opencv_vectorize", []):
+        if p.get("na", {}).get("all"):
+            problems.append(f"{p['job']}: {p['na']['all']}")
+            continue
+        for side in ("cogmap", "opencv"):
+            for k in ("seconds", "vertex_count", "bytes_polylines", "wall_precision_mean_m",
+                      "wall_precision_p95_m", "wall_recall"):
+                if not finite(p["result"].get(side, {}).get(k)):
+                    problems.append(f"{p['job']}: {side}.{k} missing or not finite")
     for note in results.get("figure_notes", []):
         if "matplotlib" in note:  # a figure without data is fine at smoke size
             problems.append("figure " + note)
