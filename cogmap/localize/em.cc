@@ -214,10 +214,12 @@ DirectionEstimate EstimateDirectionRobust(const std::vector<WallDirection>& s,
   for (int d = 0; d <= half; ++d) kernel[d] = std::exp(-0.5 * (d * kBin) * (d * kBin) / (ks * ks));
   int best_bin = 0;
   double best = -1.0;
+  std::vector<double> smooth(kBins);
   for (int b = 0; b < kBins; ++b) {
     const double* h = &hist[half + b];
     double dens = h[0] * kernel[0];
     for (int d = 1; d <= half; ++d) dens += (h[d] + h[-d]) * kernel[d];
+    smooth[b] = dens;
     if (dens > best * (1.0 + 1e-12)) {
       best = dens;
       best_bin = b;
@@ -283,12 +285,31 @@ DirectionEstimate EstimateDirectionRobust(const std::vector<WallDirection>& s,
   e.inlier_fraction = pi_d;
   e.concentration = kappa;
   e.effective_edges = n_eff;
+  // Ambiguity: the highest other local maximum of the smoothed direction
+  // histogram, farther than two kernel widths from its highest peak, over
+  // that peak.
+  {
+    const int bmu = best_bin;
+    const int sep = std::max(1, static_cast<int>(std::ceil(2.0 * ks / kBin)));
+    double own = 0.0, other = 0.0;
+    for (int b = 0; b < kBins; ++b) {
+      int d = std::abs(b - bmu);
+      d = std::min(d, kBins - d);
+      const double v = smooth[b];
+      if (d <= sep) {
+        own = std::max(own, v);
+      } else if (v >= smooth[(b + 1) % kBins] && v >= smooth[(b + kBins - 1) % kBins]) {
+        other = std::max(other, v);
+      }
+    }
+    e.ambiguity = own > 0.0 ? other / own : 1.0;
+  }
 
   if (e.total_length_m < options.min_total_length_m) {
     e.decline = Decline::kTooLittleWall;
   } else if (e.edges < options.min_edges) {
     e.decline = Decline::kTooFewEdges;
-  } else if (e.inlier_fraction < options.min_inlier_fraction) {
+  } else if (e.inlier_fraction < options.min_inlier_fraction || e.ambiguity > options.max_ambiguity) {
     e.decline = Decline::kNotManhattan;
   } else if (!(e.uncertainty_rad <= options.max_uncertainty_rad)) {
     e.decline = Decline::kTooUncertain;

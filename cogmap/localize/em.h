@@ -61,7 +61,7 @@ struct RobustEmOptions {
   double outlier_weight_init = 0.3;
   // Kernel width (theta, 1 sigma) of the density used to pick the starting
   // direction: the data point with the most length nearby.
-  double init_kernel_sigma_rad = DegToRad(3.0);
+  double init_kernel_sigma_rad = DegToRad(10.0);
   double epsilon_rad = 1e-7;  // stop when the dominant direction moves less (theta)
   int max_iterations = 200;
   // A fitted wall is never trusted to better than this (1 sigma, theta): caps
@@ -70,8 +70,12 @@ struct RobustEmOptions {
   // Gates: below these the ASR is left uncorrected.
   double min_total_length_m = 1.5;   // total wall length
   int min_edges = 2;                 // number of edges with a direction
-  double min_inlier_fraction = 0.6;  // share of wall length on the dominant direction
-  double max_uncertainty_rad = DegToRad(2.0);  // 1-sigma of the dominant direction
+  double min_inlier_fraction = 0.25;  // share of wall length on the dominant direction
+  // Largest allowed ratio of the second direction peak (smoothed histogram,
+  // farther than two kernel widths) to the highest peak: a second
+  // family of walls as strong as the first (non-Manhattan, round) is ambiguous.
+  double max_ambiguity = 0.7;
+  double max_uncertainty_rad = DegToRad(5.0);  // 1-sigma of the dominant direction
 };
 
 enum class Decline {
@@ -79,7 +83,8 @@ enum class Decline {
   kNoWalls,        // no edge with a direction (no estimate at all)
   kTooLittleWall,  // total wall length below min_total_length_m
   kTooFewEdges,    // fewer than min_edges
-  kNotManhattan,   // the dominant direction explains too little wall length
+  kNotManhattan,   // too little wall length on the dominant direction, or a
+                   // second direction nearly as strong (max_ambiguity)
   kTooUncertain,   // uncertainty above max_uncertainty_rad
 };
 const char* DeclineName(Decline d);
@@ -91,6 +96,7 @@ struct DirectionEstimate {
   double direction_rad = 0.0;    // dominant wall direction, folded, [-pi/4, pi/4)
   double uncertainty_rad = -1.0; // 1-sigma of direction_rad (may be +inf)
   double inlier_fraction = 0.0;  // weight share of the dominant component
+  double ambiguity = 0.0;        // second direction peak / dominant peak (default mode)
   double concentration = 0.0;    // von Mises kappa on phi = 4 theta (default mode)
   double effective_edges = 0.0;  // Kish effective sample size of the inliers
   double total_length_m = 0.0;
