@@ -10,6 +10,7 @@ import math
 import os
 import re
 import shutil
+import subprocess
 
 from . import runner
 from .tool import finite, lookup, parse_json_output, read_json
@@ -318,10 +319,21 @@ def real_job(ctx, name, path, drift):
 
 # ---- micro-benchmarks ----------------------------------------------------------
 
+def is_google_benchmark(binary):
+    try:
+        p = subprocess.run([binary, "--benchmark_list_tests=true"], capture_output=True, text=True,
+                           timeout=60)
+        return p.returncode == 0 and bool(p.stdout.strip())
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+
+
 def micro_benchmarks(build_dir):
+    """The Google Benchmark programs among build/bench/*_bench (others, such as
+    cogmap_map_bench which takes a log, are run where they belong)."""
     found = sorted(set(glob.glob(os.path.join(build_dir, "bench", "cogmap_*_bench")) +
                        glob.glob(os.path.join(build_dir, "bench", "*_bench"))))
-    return [b for b in found if os.access(b, os.X_OK) and os.path.isfile(b)]
+    return [b for b in found if os.access(b, os.X_OK) and os.path.isfile(b) and is_google_benchmark(b)]
 
 
 def micro_job(ctx, binary, min_time_s):
@@ -472,6 +484,18 @@ def scale_job(ctx, rooms, seed=1):
         if not s.ok:
             res["na"]["all"] = s.reason()
             return res
+        mb = os.path.join(ctx.build_dir, "bench", "cogmap_map_bench")
+        if os.access(mb, os.X_OK):
+            store = os.path.join(ctx.work_dir, "scale", f"building_{rooms}_bench.sqlite")
+            for f in glob.glob(store + "*"):
+                os.remove(f)
+            s = ctx.run([mb, log, store])
+            res["steps"]["map_bench"] = _step_summary(s)
+            res["map_bench"] = parse_json_output(s.stdout) if s.ok else None
+            if not s.ok:
+                res["na"]["map_bench"] = s.reason()
+        else:
+            res["na"]["map_bench"] = "cogmap_map_bench not built"
         out = os.path.join(ctx.work_dir, "scale", f"building_{rooms}_map")
         shutil.rmtree(out, ignore_errors=True)
         argv = [c.binary, "map", log, "-o", out]

@@ -251,6 +251,18 @@ class Report:
                                    self.cell(g, "seconds_per_asr"), self.cell(g, "map_peak_rss_mib"),
                                    self.cell(g, "bytes_polylines", 0), self.cell(g, "bytes_grid", 0),
                                    self.cell(g, "room_precision"), self.cell(g, "room_recall")]) + " |", ""]
+        mb = sc.get("map_bench")
+        if mb and isinstance(mb.get("checkpoints"), list):
+            out += ["`cogmap_map_bench` (issue 5's scale benchmark) on the same log, streaming into a store:", "",
+                    "| at | records | ASRs | µs per reading | VmHWM KiB | cells of the current grid |",
+                    "|---|---:|---:|---:|---:|---:|"]
+            for c in mb["checkpoints"]:
+                out.append(f"| {c.get('at')} | {c.get('records')} | {c.get('asr_count')} | "
+                           f"{fmt_num(c.get('us_per_reading'))} | {c.get('vm_hwm_kb')} | {c.get('current_grid_cells')} |")
+            out += ["", f"Peak memory at 100% over 10%: {fmt_num(mb.get('hwm_ratio_100_over_10'))}; time per "
+                    f"reading at 100% over 10%: {fmt_num(mb.get('time_ratio_100_over_10'))}.", ""]
+        elif sc.get("na", {}).get("map_bench"):
+            out += ["`cogmap_map_bench`: " + self.na(sc["na"]["map_bench"]), ""]
         secs = sc.get("asr_seconds") or []
         if len(secs) >= 10:
             k = max(1, len(secs) // 10)
