@@ -244,6 +244,7 @@ struct EvalArgs {
   std::string world;
   double range_m = -1.0;
   bool json = false;
+  std::string png;
 };
 
 int RunEval(const EvalArgs& a) {
@@ -266,6 +267,17 @@ int RunEval(const EvalArgs& a) {
   mo.sensor_range_m = a.range_m > 0.0 ? a.range_m : (wf.sensor_range_m > 0.0 ? wf.sensor_range_m : 3.0);
   const auto prec = eval::WallPrecision(map_walls, world.plan.walls, mo);
   const auto rec_st = eval::WallRecall(map_walls, world.plan.walls, true_path, mo);
+
+  if (!a.png.empty()) {
+    Vec2 lo = world.plan.min, hi = world.plan.max;
+    for (const auto& w : world.plan.walls) lo = lo.cwiseMin(w.a).cwiseMin(w.b), hi = hi.cwiseMax(w.a).cwiseMax(w.b);
+    for (const auto& l : map_walls)
+      for (const auto& v : l) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    lo -= Vec2(0.5, 0.5);
+    hi += Vec2(0.5, 0.5);
+    const double px_per_m = std::clamp(1600.0 / std::max(hi.x() - lo.x(), hi.y() - lo.y()), 5.0, 100.0);
+    io::WritePng(a.png, io::DrawWalls(map_walls, world.plan.walls, lo, hi, px_per_m));
+  }
 
   nlohmann::json j;
   j["wall_precision_mean_m"] = prec.mean_m;
@@ -309,6 +321,7 @@ std::function<int()> SetupEval(CLI::App& sub) {
                  "Sensor range for recall, metres (default: the effective range recorded by vectorize, "
                  "min(max range, window))");
   sub.add_flag("--json", a->json, "Print the metrics as JSON");
+  sub.add_option("--png", a->png, "Also draw the map walls (black, red vertices) over the true walls (light blue)");
   return [a] { return RunEval(*a); };
 }
 

@@ -84,10 +84,45 @@ void DrawChainLines(Panel& p, const std::vector<std::vector<Vec2>>& lines, Rgb l
   }
 }
 
+// The cells of 'g' inside [x0, x0 + w) x [y0, y0 + h).
+grid::Grid2D<float> Crop(const grid::Grid2D<float>& g, int x0, int y0, int w, int h) {
+  const auto& lim = g.limits();
+  grid::Grid2D<float> out(grid::MapLimits(lim.cell_m(), lim.origin() + Vec2(x0, y0) * lim.cell_m(), w, h), 0.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) out.at(x, y) = g.get(x0 + x, y0 + y);
+  return out;
+}
+
+std::vector<std::vector<Vec2>> Shift(const std::vector<std::vector<Vec2>>& lines, const Vec2& d) {
+  auto out = lines;
+  for (auto& l : out)
+    for (auto& v : l) v -= d;
+  return out;
+}
+
 }  // namespace
 
-RgbImage DrawStages(const grid::Grid2D<float>& raw, const vectorize::VectorizeResult& r,
+RgbImage DrawStages(const grid::Grid2D<float>& raw_full, const vectorize::VectorizeResult& r_full,
                     const StagesPictureOptions& options) {
+  // Crop to the cells that hold anything (not unknown), plus a margin.
+  const auto& flim = raw_full.limits();
+  int x0 = flim.width(), y0 = flim.height(), x1 = -1, y1 = -1;
+  for (int y = 0; y < flim.height(); ++y)
+    for (int x = 0; x < flim.width(); ++x)
+      if (raw_full.at(x, y) != 0.0f) x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+  if (x1 < 0) x0 = y0 = 0, x1 = flim.width() - 1, y1 = flim.height() - 1;
+  const int m = options.crop_margin_cells;
+  x0 = std::max(0, x0 - m), y0 = std::max(0, y0 - m);
+  x1 = std::min(flim.width() - 1, x1 + m), y1 = std::min(flim.height() - 1, y1 + m);
+  const grid::Grid2D<float> raw = Crop(raw_full, x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+  vectorize::VectorizeResult r;
+  if (r_full.cleaned.limits().width() == flim.width() && r_full.cleaned.limits().height() == flim.height())
+    r.cleaned = Crop(r_full.cleaned, x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+  r.chains = r_full.chains;
+  for (auto& c : r.chains)
+    for (auto& cell : c) cell -= grid::CellIndex(x0, y0);
+  r.simplified = Shift(r_full.simplified, Vec2(x0, y0));
+  r.fitted = Shift(r_full.fitted, Vec2(x0, y0));
   const int w = raw.limits().width(), h = raw.limits().height();
   const std::vector<std::string> titles = {"RAW GRID", "CLEANED", "EXTRACTED", "SIMPLIFIED", "FITTED"};
   std::vector<Panel> panels;
@@ -111,6 +146,7 @@ RgbImage DrawStages(const grid::Grid2D<float>& raw, const vectorize::VectorizeRe
     DrawChainLines(panels[3], r.simplified, kBlue, kBlue, 2);
     DrawChainLines(panels[4], r.fitted, kBlack, kRed, 2);
   }
+  (void)r_full;
   const int label_h = 7 * options.label_scale + 8;
   int total_w = options.gap_px;
   int panel_h = 0;

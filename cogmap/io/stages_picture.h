@@ -12,11 +12,13 @@ struct StagesPictureOptions {
   int max_panel_px = 360;  // longest side of one panel
   int gap_px = 8;
   int label_scale = 2;     // DrawText scale of the panel titles
+  int crop_margin_cells = 5;  // panels show the known cells' bounding box plus this
 };
 
 // The stages side by side, like the thesis's figure 3.3: raw grid, cleaned
 // grid, extracted points (one colour per chain), simplified (vertex simplify +
-// Douglas-Peucker) and fitted, each panel titled. Grids: unknown grey, empty
+// Douglas-Peucker) and fitted, each panel titled, cropped to the cells that
+// hold anything. Grids: unknown grey, empty
 // white, occupied black, robot path red.
 RgbImage DrawStages(const grid::Grid2D<float>& raw, const vectorize::VectorizeResult& result,
                     const StagesPictureOptions& options = {});

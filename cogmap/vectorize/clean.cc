@@ -58,39 +58,78 @@ grid::Grid2D<float> CleanMap(const grid::Grid2D<float>& grid, const CleanOptions
       }
   auto get = [&](int x, int y) { return grid.get(x, y); };
 
-  std::vector<std::pair<int, std::pair<int, int>>> candidates;  // (d2, cell)
+  std::vector<std::pair<int, std::pair<int, int>>> candidates;  // (d2, path cell)
+  std::pair<int, int> witness(-1, -1);
+  // Survivors with the path cell that sees them.
+  std::vector<std::pair<grid::CellIndex, std::pair<int, int>>> survivors;
+  auto occupied_at = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < w && y < h && cls.IsOccupied(cells[lim.Flat(x, y)]);
+  };
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const float v = cells[lim.Flat(x, y)];
       if (!cls.IsOccupied(v)) continue;
       ++st.occupied_in;
-      candidates.clear();
-      if (st.path_cells > 0) {
-        const int bx0 = std::max(0, (x - m) / bucket), bx1 = std::min(bw - 1, (x + m) / bucket);
-        const int by0 = std::max(0, (y - m) / bucket), by1 = std::min(bh - 1, (y + m) / bucket);
-        for (int by = by0; by <= by1; ++by)
-          for (int bx = bx0; bx <= bx1; ++bx)
-            for (const auto& p : buckets[static_cast<size_t>(by) * bw + bx]) {
-              const int dx = p.first - x, dy = p.second - y;
-              if (std::abs(dx) > m || std::abs(dy) > m) continue;
-              candidates.push_back({dx * dx + dy * dy, p});
-            }
-        std::sort(candidates.begin(), candidates.end());
+      out.at(x, y) = 0.0f;
+      if (st.path_cells == 0) continue;
+      bool buried = true;
+      for (int dy = -1; dy <= 1 && buried; ++dy)
+        for (int dx = -1; dx <= 1 && buried; ++dx)
+          if ((dx || dy) && !occupied_at(x + dx, y + dy)) buried = false;
+      if (buried) {
+        ++st.buried;
+        continue;
       }
       bool found = false;
-      for (const auto& c : candidates) {
+      auto in_range = [&](const std::pair<int, int>& p) {
+        return std::abs(p.first - x) <= m && std::abs(p.second - y) <= m;
+      };
+      auto attempt = [&](const std::pair<int, int>& p) {
         ++st.rays_walked;
-        if (RayReachesPath(x, y, c.second.first, c.second.second, cls, get, &st.steps_walked)) {
+        return RayReachesPath(x, y, p.first, p.second, cls, get, &st.steps_walked);
+      };
+      // Nearest first: the first path cell that sees a is then about square
+      // to the wall, which kRunMiddle uses as the direction through the band.
+      candidates.clear();
+      const int bx0 = std::max(0, (x - m) / bucket), bx1 = std::min(bw - 1, (x + m) / bucket);
+      const int by0 = std::max(0, (y - m) / bucket), by1 = std::min(bh - 1, (y + m) / bucket);
+      for (int by = by0; by <= by1; ++by)
+        for (int bx = bx0; bx <= bx1; ++bx)
+          for (const auto& p : buckets[static_cast<size_t>(by) * bw + bx])
+            if (in_range(p)) {
+              const int ddx = p.first - x, ddy = p.second - y;
+              candidates.push_back({ddx * ddx + ddy * ddy, p});
+            }
+      std::sort(candidates.begin(), candidates.end());
+      for (const auto& c : candidates)
+        if (attempt(c.second)) {
           found = true;
+          witness = c.second;
           break;
         }
-      }
-      if (found)
-        ++st.kept;
-      else
-        out.at(x, y) = 0.0f;
+      if (found) survivors.push_back({grid::CellIndex(x, y), witness});
     }
   }
+  for (const auto& [a, p] : survivors) {
+    grid::CellIndex keep = a;
+    if (options.keep == KeepCell::kRunMiddle) {
+      // The run of occupied cells from a along p -> a.
+      const int dx = a.x() - p.first, dy = a.y() - p.second;
+      const double len = std::max(1e-9, std::sqrt(static_cast<double>(dx * dx + dy * dy)));
+      const int reach = std::max(1, options.max_run_cells);
+      const int ex = a.x() + static_cast<int>(std::lround(dx / len * reach));
+      const int ey = a.y() + static_cast<int>(std::lround(dy / len * reach));
+      std::vector<grid::CellIndex> run;
+      WalkBresenham(a.x(), a.y(), ex, ey, [&](int cx, int cy) {
+        if (!occupied_at(cx, cy) || static_cast<int>(run.size()) >= reach) return false;
+        run.push_back({cx, cy});
+        return true;
+      });
+      if (!run.empty()) keep = run[run.size() / 2];
+    }
+    out.at(keep) = grid.at(keep);
+  }
+  for (float v : out.cells()) st.kept += cls.IsOccupied(v);
   return out;
 }
 

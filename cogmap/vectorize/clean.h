@@ -14,6 +14,12 @@ struct CellClasses {
   bool IsPath(float v) const { return v == robot_path; }
 };
 
+// Which cell of a wall survives cleaning.
+enum class KeepCell {
+  kFace,       // the first occupied cell the path sees (fig. 3.8)
+  kRunMiddle,  // the middle of the occupied run behind it, along the sight line
+};
+
 // Clean (SPEC 3.1, fig. 3.8).
 struct CleanOptions {
   CellClasses classes;
@@ -21,6 +27,14 @@ struct CleanOptions {
   // cell, the sonar's effective range; default = window w = 3 m at 0.1 m
   // (SPEC 2, 3.1).
   int max_dist_cells = 30;
+  // Not in the paper (kRunMiddle): a sonar grid's wall is a band several
+  // cells thick whose face toward the path sits in front of the true wall
+  // (the cone returns the nearest echo, drawn along the axis); the middle of
+  // the band lies much closer to it. Each surviving face cell a, seen from
+  // path cell p, is replaced by the middle cell of the run of occupied cells
+  // starting at a along the ray p -> a (at most max_run_cells long).
+  KeepCell keep = KeepCell::kFace;
+  int max_run_cells = 12;
 };
 
 struct CleanStats {
@@ -29,15 +43,18 @@ struct CleanStats {
   int64_t path_cells = 0;    // distinct robot_path cells
   int64_t rays_walked = 0;   // Bresenham walks started
   int64_t steps_walked = 0;  // cells visited by them
+  int64_t buried = 0;        // dropped at once: all 8 neighbours occupied
 };
 
 // The fast clean. An occupied cell a survives when the Bresenham ray from a
 // toward some robot_path cell p, with |p - a| <= max_dist in both axes, meets
 // no occupied cell strictly between a and p. Every other occupied cell becomes
 // unknown (0); all other cells are copied unchanged. The path cells are found
-// through a bucket index, tried nearest first, and a walk stops at its first
-// occupied cell, so a wall cell costs a few short walks rather than the
-// (2 max_dist + 1)^2 long ones of the paper's loop.
+// through a bucket index and tried nearest first, a cell whose 8 neighbours are all occupied is dropped at once (every
+// ray's first step is blocked), and a walk stops at its first occupied cell, so
+// a wall cell costs a few short walks rather than the (2 max_dist + 1)^2 long
+// ones of the paper's loop. With keep = kRunMiddle the survivors are then
+// moved to the middle of their wall band (see CleanOptions).
 //
 // Relation to the paper's loop (CleanMapBruteForce, fig. 3.8), which walks a
 // ray toward every cell b of the square and keeps a when the ray meets a path

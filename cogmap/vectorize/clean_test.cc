@@ -20,6 +20,23 @@ TEST(Clean, PaperDefaults) {
   EXPECT_EQ(o.max_dist_cells, 30);  // w = 3 m at 0.1 m
   EXPECT_EQ(o.classes.occupied_above, 7.0f);
   EXPECT_EQ(o.classes.robot_path, -100.0f);
+  EXPECT_EQ(o.keep, KeepCell::kFace);
+}
+
+// A band 6 cells thick seen from below: the face is its first row, the run
+// middle its fourth (index 6 / 2 = 3).
+TEST(Clean, RunMiddleKeepsTheMiddleOfTheBand) {
+  auto g = Blank(30, 30);
+  for (int y = 20; y < 26; ++y)
+    for (int x = 0; x < 30; ++x) g.at(x, y) = 15.0f;
+  for (int x = 0; x < 30; ++x) g.at(x, 5) = -100.0f;
+  CleanOptions o;
+  o.keep = KeepCell::kRunMiddle;
+  const auto out = CleanMap(g, o);
+  for (int x = 0; x < 30; ++x)
+    for (int y = 20; y < 26; ++y) EXPECT_EQ(out.at(x, y), y == 23 ? 15.0f : 0.0f) << x << "," << y;
+  const auto face = CleanMap(g);
+  for (int x = 0; x < 30; ++x) EXPECT_EQ(face.at(x, 20), 15.0f);
 }
 
 // A 40 x 40 room inside walls ten cells thick, the path a loop inside: only

@@ -13,9 +13,16 @@
 namespace cogmap::vectorize {
 
 // The whole of SPEC 3: clean -> extract -> vertex simplify -> Douglas-Peucker
-// -> line fit. Each stage keeps its own options and paper defaults.
+// -> line fit. Each stage's options struct holds the paper's defaults;
+// VectorizeOptions{} is cogmap's default pipeline, which differs from the
+// paper (Paper()) in two places: the clean keeps the middle of each wall band
+// instead of its face, and the fit is total least squares with corners closed.
 struct VectorizeOptions {
-  CleanOptions clean;
+  CleanOptions clean = [] {
+    CleanOptions c;
+    c.keep = KeepCell::kRunMiddle;
+    return c;
+  }();
   ExtractOptions extract;
   VertexSimplifyOptions vertex_simplify;
   DouglasPeuckerOptions douglas_peucker;
@@ -25,9 +32,10 @@ struct VectorizeOptions {
   // (isolated echoes). 2 keeps every chain that can make a segment.
   int min_chain_points = 2;
 
-  // The paper's choices (fit mode kPaper); the default differs only in the fit.
+  // The paper's choices: the face of the wall, least squares with Pearson.
   static VectorizeOptions Paper() {
     VectorizeOptions o;
+    o.clean.keep = KeepCell::kFace;
     o.fit.mode = FitMode::kPaper;
     return o;
   }

@@ -23,6 +23,8 @@ double DistanceToWalls(const std::vector<Segment2>& walls, const Vec2& p) {
 TEST(Vectorize, PaperOptions) {
   const auto o = VectorizeOptions::Paper();
   EXPECT_EQ(o.fit.mode, FitMode::kPaper);
+  EXPECT_EQ(o.clean.keep, KeepCell::kFace);
+  EXPECT_EQ(VectorizeOptions{}.clean.keep, KeepCell::kRunMiddle);
   EXPECT_EQ(o.clean.max_dist_cells, 30);
   EXPECT_EQ(o.extract.gamma_cells, 4.0);
   EXPECT_EQ(o.vertex_simplify.tau_cells, 2.0);
@@ -38,8 +40,7 @@ TEST_P(SquareRoom, FourWallsWithinOneCell) {
   const auto walls = RectangleWalls(Vec2(1, 1), Vec2(5, 4));
   const Polyline path = {Vec2(1.8, 1.8), Vec2(4.2, 1.8), Vec2(4.2, 3.2), Vec2(1.8, 3.2), Vec2(1.8, 1.8)};
   const auto grid = MakeSyntheticGrid(walls, path);
-  VectorizeOptions o;
-  o.fit.mode = GetParam();
+  const auto o = GetParam() == FitMode::kPaper ? VectorizeOptions::Paper() : VectorizeOptions{};
   const auto r = Vectorize(grid, o);
   ASSERT_EQ(r.polylines.size(), 1u);
   const auto& l = r.polylines[0];
