@@ -54,6 +54,7 @@ struct SimulateArgs {
   double max_time_s = 0.0;
   double m_per_pixel = 0.05;
   bool noiseless = false;
+  bool vfh_from_readings = false;
   std::string output;
 };
 
@@ -77,6 +78,7 @@ int RunSimulate(const SimulateArgs& a) {
   o.max_time_s = a.max_time_s;
   o.odometry.drift_rad_per_m = DegToRad(a.drift_deg_per_m);
   o.odometry.scale_error = a.scale_error;
+  o.vfh_from_readings = a.vfh_from_readings;
   if (a.noiseless) {
     o.odometry = sim::OdometryNoiseOptions{0, 0, 0, 0, 0};
     o.sensor.sonar_range_sigma_m = o.sensor.sonar_range_sigma_frac = 0;
@@ -126,6 +128,8 @@ std::function<int()> SetupSimulate(CLI::App& sub) {
       ->capture_default_str();
   sub.add_option("--m-per-pixel", a->m_per_pixel, "Metres per pixel of a PNG world")->capture_default_str();
   sub.add_flag("--noiseless", a->noiseless, "Perfect odometry and noise-free ranges (specular effects stay)");
+  sub.add_flag("--vfh-from-readings", a->vfh_from_readings,
+               "Build VFH's certainty grid from the robot's own readings (HIMM) instead of the true walls");
   sub.add_option("-o,--output", a->output, "Native log to write")->required();
   return [a] { return RunSimulate(*a); };
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "cogmap/core/error.h"
+#include "cogmap/io/world_io.h"
 #include "cogmap/sim/simulator.h"
 
 namespace cogmap::sim {
@@ -43,6 +44,18 @@ TEST(Building, SmallBuildingRouteIsDrivable) {
   const SimStats s = Simulate(plan, sensors::BuiltinRobot("pioneer16"), {}, {});
   EXPECT_EQ(s.waypoints_reached, static_cast<int>(plan.route.size()));
   EXPECT_TRUE(s.warnings.empty());
+}
+
+TEST(Building, SurvivesTwoDMapRoundTrip) {
+  const FloorPlan plan = GenerateBuilding({});
+  const FloorPlan back = io::ParseAriaMap(io::FormatAriaMap(plan), "big.map").plan;
+  ASSERT_EQ(back.walls.size(), plan.walls.size());
+  ASSERT_EQ(back.route.size(), plan.route.size());
+  EXPECT_EQ(back.route[123].name, plan.route[123].name);
+  EXPECT_NEAR((back.route[123].pose.translation() - plan.route[123].pose.translation()).norm(), 0.0, 1e-3);
+  ASSERT_EQ(back.rooms.size(), plan.rooms.size());
+  EXPECT_EQ(back.rooms[57].name, plan.rooms[57].name);
+  EXPECT_EQ(back.doorways.size(), plan.doorways.size());
 }
 
 TEST(Building, TooManyRoomsForCorridorIsAnError) {

@@ -84,6 +84,8 @@ SimStats Simulate(const FloorPlan& plan, const sensors::RobotDescription& robot,
   long free_count = 0, seen_free = 0;
   const std::vector<uint8_t> free = FreeArea(world, lim, truth.translation(), &free_count);
   std::vector<uint8_t> seen(lim.cell_count(), 0), given_up(lim.cell_count(), 0);
+  std::vector<uint8_t> certainty;  // VFH's grid when built from the readings
+  if (o.vfh_from_readings) certainty.assign(lim.cell_count(), 0);
   auto mark_seen = [&](long f) {
     if (seen[f]) return;
     seen[f] = 1;
@@ -99,6 +101,16 @@ SimStats Simulate(const FloorPlan& plan, const sensors::RobotDescription& robot,
       mark_seen(lim.Flat(x, y));
       return true;
     });
+  };
+  auto clear_certainty_under_robot = [&](const Vec2& p) {
+    if (certainty.empty()) return;
+    const auto c = lim.CellOf(p);
+    const int r = static_cast<int>(std::ceil(radius / lim.cell_m()));
+    for (int dy = -r; dy <= r; ++dy)
+      for (int dx = -r; dx <= r; ++dx) {
+        const grid::CellIndex q(c.x() + dx, c.y() + dy);
+        if (lim.Contains(q) && (lim.CenterOf(q) - p).norm() <= radius) certainty[lim.Flat(q)] = 0;
+      }
   };
   auto mark_footprint = [&](const Vec2& p) {
     const auto c = lim.CellOf(p);
@@ -146,6 +158,22 @@ SimStats Simulate(const FloorPlan& plan, const sensors::RobotDescription& robot,
              control_every = every(o.control_interval_s), replan_every = every(o.replan_interval_s);
   long sonar_slot = 0;
   std::vector<std::pair<Vec2, Vec2>> rays;
+  auto himm = [&](int s, double range_m) {
+    if (certainty.empty()) return;
+    const auto& sensor = robot.sensors[s];
+    const bool echo = range_m < sensor.max_range_m;
+    const double len = echo ? range_m : std::min(sensor.max_range_m, 2.0);
+    const Vec2 a = sensors::SensorPose(truth, sensor).translation();
+    const Vec2 b = sensors::ReadingEndPoint(truth, sensor, len);
+    const auto ca = lim.CellOf(a), cb = lim.CellOf(b);
+    WalkBresenham(ca.x(), ca.y(), cb.x(), cb.y(), [&](int x, int y) {
+      if (x < 0 || y < 0 || x >= lim.width() || y >= lim.height()) return false;
+      uint8_t& c = certainty[lim.Flat(x, y)];
+      if (echo && x == cb.x() && y == cb.y()) c = static_cast<uint8_t>(std::min(15, c + 3));
+      else if (c > 0) --c;
+      return true;
+    });
+  };
 
   // Navigation state.
   size_t next_wp = 0;
@@ -251,6 +279,7 @@ SimStats Simulate(const FloorPlan& plan, const sensors::RobotDescription& robot,
         rays.clear();
         const double r = SimulateReading(world, truth, robot.sensors[s], o.sensor, rng, &rays);
         for (const auto& [a, b] : rays) mark_ray(a, b);
+        himm(s, r);
         rec.ranges.push_back({s, r});
       }
       ++sonar_slot;
@@ -261,6 +290,7 @@ SimStats Simulate(const FloorPlan& plan, const sensors::RobotDescription& robot,
         rays.clear();
         const double r = SimulateReading(world, truth, robot.sensors[s], o.sensor, rng, &rays);
         for (const auto& [a, b] : rays) mark_ray(a, b);
+        himm(s, r);
         rec.ranges.push_back({s, r});
       }
       any = true;
@@ -276,6 +306,8 @@ SimStats Simulate(const FloorPlan& plan, const sensors::RobotDescription& robot,
   mark_footprint(truth.translation());
   long tick = 0;
   double t = 0.0;
+  long last_seen_free = -1;
+  double last_seen_t = 0.0;
   if (o.mode == SimMode::kRoute) start_next_waypoint(t);
   for (;; ++tick) {
     t = tick * o.step_s;
@@ -296,6 +328,13 @@ SimStats Simulate(const FloorPlan& plan, const sensors::RobotDescription& robot,
         if (!active) done = true;
         else if (tick % replan_every == 0) plan_path();
       } else {
+        if (seen_free != last_seen_free) {
+          last_seen_free = seen_free;
+          last_seen_t = t;
+        } else if (t - last_seen_t > o.explore_idle_s) {
+          stats.warnings.push_back(Fmt("explore: nothing new seen for %.0f s; stopped", o.explore_idle_s));
+          break;
+        }
         bool need = path.empty() || tick % replan_every == 0 || seen[goal_cell] || given_up[goal_cell];
         if (!path.empty() && t - last_progress_t > o.stall_timeout_s) {
           given_up[goal_cell] = 1;  // cannot get there; try elsewhere
@@ -319,10 +358,17 @@ SimStats Simulate(const FloorPlan& plan, const sensors::RobotDescription& robot,
       }
       const Vec2 c = carrot();
       const double want = std::atan2(c.y() - pos.y(), c.x() - pos.x());
-      const VfhResult steer = VfhSteer(nav, pos, want, radius, o.vfh, (c - pos).norm());
+      const VfhResult steer =
+          o.vfh_from_readings
+              ? VfhSteerCertainty(lim, certainty, 15.0, pos, want, radius, o.vfh, (c - pos).norm())
+              : VfhSteer(nav, pos, want, radius, o.vfh, (c - pos).norm());
+      // Everything blocked: with the true walls, turn toward the aim point in
+      // place; with the robot's own certainty grid (phantom echoes), trust the
+      // planner's aim point, whose straight line is known to be clear.
+      const bool go = steer.free || o.vfh_from_readings;
       const double heading = steer.free ? steer.heading_rad : want;
       const double err = AngleDiff(heading, truth.theta);
-      v_cmd = (!steer.free || std::abs(err) > DegToRad(60.0)) ? 0.0 : o.cruise_mps * std::cos(err);
+      v_cmd = (!go || std::abs(err) > DegToRad(60.0)) ? 0.0 : o.cruise_mps * std::cos(err);
       if (o.mode == SimMode::kRoute) v_cmd = std::min(v_cmd, std::max(0.15, d));
       omega_cmd = std::clamp(3.0 * err, -o.max_turn_rate_rad_s, o.max_turn_rate_rad_s);
       if (progress && tick % (control_every * 50) == 0)
@@ -356,6 +402,7 @@ SimStats Simulate(const FloorPlan& plan, const sensors::RobotDescription& robot,
       truth.y = next.y();
       stats.min_clearance_m = std::min(stats.min_clearance_m, clear);
       mark_footprint(next);
+      clear_certainty_under_robot(next);
     }
     truth.theta = NormalizeAngle(truth.theta + dtheta);
     odo.Step(trans, dtheta, rng);

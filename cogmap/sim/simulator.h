@@ -51,7 +51,13 @@ struct SimulatorOptions {
   // Upper bound of simulated time; 0 picks one: route: 300 s + 4 x the length
   // of the straight legs / cruise + 30 s per waypoint; explore: 3600 s.
   double max_time_s = 0.0;
+  double explore_idle_s = 300.0;  // explore ends when no new free cell was seen for this long
   double seen_range_m = 3.0;  // coverage: cells along sensor rays up to this range count as seen
+
+  // VFH's certainty grid: false: the true walls (c = 1 on every cell a wall
+  // crosses); true: the robot's own readings, HIMM-style (+3 at the echo cell,
+  // -1 along the sensor axis before it, within [0, 15]; no echo clears 2 m).
+  bool vfh_from_readings = false;
 
   SensorModelOptions sensor;
   OdometryNoiseOptions odometry;

@@ -37,9 +37,9 @@ void ExpectNeverInsideWall(const FloorPlan& plan, const SimRun& run, double radi
     ASSERT_GE(world.Clearance(r.truth->translation(), radius), radius - 1e-9) << "t=" << r.time_s;
 }
 
-void ExpectRouteCompleted(const std::string& name) {
+void ExpectRouteCompleted(const std::string& name, const SimulatorOptions& o = {}) {
   const FloorPlan plan = io::ReadAriaMap(kWorlds + name).plan;
-  const SimRun run = Drive(plan);
+  const SimRun run = Drive(plan, o);
   EXPECT_EQ(run.stats.waypoints_reached, static_cast<int>(plan.route.size()));
   for (const auto& w : run.stats.warnings) ADD_FAILURE() << w;
   EXPECT_FALSE(run.stats.time_limit_reached);
@@ -50,6 +50,13 @@ void ExpectRouteCompleted(const std::string& name) {
 TEST(Simulator, CompletesNineRoomsRoute) { ExpectRouteCompleted("nine_rooms.map"); }
 TEST(Simulator, CompletesHallwayLoopRoute) { ExpectRouteCompleted("hallway_loop.map"); }
 TEST(Simulator, CompletesClutteredLabRoute) { ExpectRouteCompleted("cluttered_lab.map"); }
+
+TEST(Simulator, CompletesRoutesWithVfhOnOwnSonar) {
+  SimulatorOptions o;
+  o.vfh_from_readings = true;
+  ExpectRouteCompleted("nine_rooms.map", o);
+  ExpectRouteCompleted("cluttered_lab.map", o);
+}
 
 TEST(Simulator, ExploreCoversMostOfNineRooms) {
   const FloorPlan plan = io::ReadAriaMap(kWorlds + "nine_rooms.map").plan;

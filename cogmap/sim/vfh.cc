@@ -48,11 +48,14 @@ VfhResult VfhChoose(std::vector<double> histogram, double goal, const VfhOptions
   return r;  // everything blocked
 }
 
-VfhResult VfhSteer(const NavGrid& nav, const Vec2& position, double goal_heading_rad,
-                   double robot_radius_m, const VfhOptions& o, double goal_distance_m) {
+namespace {
+
+template <typename CertaintyAt>
+VfhResult Steer(const grid::MapLimits& lim, CertaintyAt&& certainty_at, const Vec2& position,
+                double goal_heading_rad, double robot_radius_m, const VfhOptions& o,
+                double goal_distance_m) {
   const int n = std::max(1, static_cast<int>(std::lround(2 * kPi / o.sector_rad)));
   std::vector<double> hist(n, 0.0);
-  const auto& lim = nav.limits();
   const auto c0 = lim.CellOf(position);
   const int r = static_cast<int>(std::ceil(o.window_radius_m / lim.cell_m()));
   const double enlarge = robot_radius_m + o.safety_m;
@@ -60,11 +63,13 @@ VfhResult VfhSteer(const NavGrid& nav, const Vec2& position, double goal_heading
   for (int dy = -r; dy <= r; ++dy) {
     for (int dx = -r; dx <= r; ++dx) {
       const grid::CellIndex c(c0.x() + dx, c0.y() + dy);
-      if (!lim.Contains(c) || !nav.WallCell(lim.Flat(c))) continue;
+      if (!lim.Contains(c)) continue;
+      const double cert = certainty_at(lim.Flat(c));
+      if (cert <= 0.0) continue;
       const Vec2 v = lim.CenterOf(c) - position;
       const double d = v.norm();
       if (d > reach) continue;
-      const double m = o.a - o.b * d;  // c = 1
+      const double m = cert * cert * (o.a - o.b * d);
       if (m <= 0) continue;
       const double beta = std::atan2(v.y(), v.x());
       const double gamma = d <= enlarge ? kPi / 2 : std::asin(enlarge / d);
@@ -74,6 +79,21 @@ VfhResult VfhSteer(const NavGrid& nav, const Vec2& position, double goal_heading
     }
   }
   return VfhChoose(std::move(hist), goal_heading_rad, o);
+}
+
+}  // namespace
+
+VfhResult VfhSteer(const NavGrid& nav, const Vec2& position, double goal_heading_rad,
+                   double robot_radius_m, const VfhOptions& o, double goal_distance_m) {
+  return Steer(nav.limits(), [&](long f) { return nav.WallCell(f) ? 1.0 : 0.0; }, position,
+               goal_heading_rad, robot_radius_m, o, goal_distance_m);
+}
+
+VfhResult VfhSteerCertainty(const grid::MapLimits& limits, const std::vector<uint8_t>& certainty,
+                            double c_max, const Vec2& position, double goal_heading_rad,
+                            double robot_radius_m, const VfhOptions& o, double goal_distance_m) {
+  return Steer(limits, [&](long f) { return certainty[f] / c_max; }, position, goal_heading_rad,
+               robot_radius_m, o, goal_distance_m);
 }
 
 }  // namespace cogmap::sim

@@ -1,4 +1,5 @@
 #pragma once
+#include <cstdint>
 #include <vector>
 
 #include "cogmap/core/pose2.h"
@@ -36,6 +37,13 @@ struct VfhResult {
 VfhResult VfhSteer(const NavGrid& nav, const Vec2& position, double goal_heading_rad,
                    double robot_radius_m, const VfhOptions& options = {},
                    double goal_distance_m = 1e9);
+
+// The same from a certainty grid over 'limits' (e.g. built from the robot's
+// own readings, HIMM-style): cell certainty c = value / c_max in [0, 1].
+VfhResult VfhSteerCertainty(const grid::MapLimits& limits, const std::vector<uint8_t>& certainty,
+                            double c_max, const Vec2& position, double goal_heading_rad,
+                            double robot_radius_m, const VfhOptions& options = {},
+                            double goal_distance_m = 1e9);
 
 // The valley selection alone, on a given histogram (for tests).
 VfhResult VfhChoose(std::vector<double> histogram, double goal_heading_rad, const VfhOptions& options);
