@@ -291,6 +291,7 @@ void ConeFusion::Update(long flat, bool arc, double f) {
     // Table 2.2 and eq. 2.9 in log-odds: l += log(P(s|H) / P(s|not H)).
     constexpr double kEps = 1e-3;
     double p_occ = arc ? f * options_.max_occupied : 1.0 - f;
+    if (!arc && options_.region2_never_occupied) p_occ = std::min(p_occ, 0.5);
     p_occ = std::clamp(p_occ, kEps, 1.0 - kEps);
     const float l = o + static_cast<float>(std::log(p_occ / (1.0 - p_occ)));
     o = std::clamp(l, -options_.log_odds_clamp, options_.log_odds_clamp);
@@ -347,13 +348,18 @@ void ConeFusion::Insert(const Pose2& world_from_robot, const sensors::RangeSenso
   CellIndex a = lim.CellOf(lo), b = lim.CellOf(hi);
   a = a.cwiseMax(CellIndex(0, 0));
   b = b.cwiseMin(CellIndex(lim.width() - 1, lim.height() - 1));
+  const double reach2 = reach * reach, cos_beta = std::cos(beta);
+  const bool narrow = beta < kPi / 2;
   for (int y = a.y(); y <= b.y(); ++y) {
     for (int x = a.x(); x <= b.x(); ++x) {
       const Vec2 ctr = lim.CenterOf(CellIndex(x, y));
       const double dx = ctr.x() - sp.x, dy = ctr.y() - sp.y;
-      const double d = std::hypot(dx, dy);
-      if (d > reach || d <= 0.0) continue;
-      const double along = dx * c + dy * s, across = c * dy - s * dx;
+      const double d2 = dx * dx + dy * dy;
+      if (d2 > reach2 || d2 <= 0.0) continue;
+      const double along = dx * c + dy * s;
+      if (narrow && (along <= 0.0 || along * along < d2 * cos_beta * cos_beta)) continue;  // outside
+      const double d = std::sqrt(d2);
+      const double across = c * dy - s * dx;
       const double alpha = std::atan2(std::abs(across), along);
       if (alpha > beta) continue;
       const bool arc = hit && d >= range_m - tol;

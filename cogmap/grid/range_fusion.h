@@ -121,6 +121,11 @@ struct ConeOptions {
   double occupied_probability = 0.65;  // classify occupied above (map_server's default)
   double free_probability = 0.35;      // classify empty below
   float log_odds_clamp = 10.0f;        // Bayes only: keeps cells revisable
+  // Bayes only: table 2.2's region II gives Pr(occupied) = 1 - f, which is
+  // above 0.5 (evidence *for* an obstacle) near the cone's edges far from the
+  // sensor. True caps it at 0.5 there (no evidence); the table's model is the
+  // default.
+  bool region2_never_occupied = false;
   bool ignore_below_min_range = true;
 };
 

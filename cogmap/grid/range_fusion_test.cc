@@ -357,6 +357,21 @@ TEST(Bayes, CellInsideConeBecomesFree) {
   EXPECT_EQ(g.Classify(45, 50), CellClass::kUnknown);  // outside the cone
 }
 
+TEST(Bayes, RegionTwoEdgeFollowsTableOrIsCapped) {
+  // A cell near the cone's edge, 2.5 m out: f < 0.5, so table 2.2 calls it
+  // slightly occupied; the cap leaves it at 0.5.
+  for (bool cap : {false, true}) {
+    ConeOptions o;
+    o.region2_never_occupied = cap;
+    ConeFusion g(false, o, Bounded());
+    g.Insert(kRobot, Ahead(), 2.9);
+    const double alpha = std::atan2(0.6, 2.5);  // cell (65, 46): centre (2.55, 0.65)
+    const double f = ((5.0 - std::hypot(2.5, 0.6)) / 5.0 + (kPi / 12 - alpha) / (kPi / 12)) / 2.0;
+    ASSERT_LT(f, 0.5);
+    EXPECT_NEAR(g.OccupancyAt(65, 46), cap ? 0.5 : 1.0 - f, 1e-5);
+  }
+}
+
 TEST(Bayes, RepeatedReadingsAddLogOdds) {
   ConeFusion g(false, ConeOptions{}, Bounded());
   g.Insert(kRobot, Ahead(), 1.0);
