@@ -70,6 +70,7 @@ const char* DeclineName(Decline d) {
     case Decline::kTooFewEdges: return "too_few_edges";
     case Decline::kNotManhattan: return "not_manhattan";
     case Decline::kTooUncertain: return "too_uncertain";
+    case Decline::kDriftOutlier: return "drift_outlier";
   }
   return "unknown";
 }

@@ -86,6 +86,8 @@ enum class Decline {
   kNotManhattan,   // too little wall length on the dominant direction, or a
                    // second direction nearly as strong (max_ambiguity)
   kTooUncertain,   // uncertainty above max_uncertainty_rad
+  kDriftOutlier,   // HeadingCorrector: the implied drift is more than odometry can
+                   // have drifted since the last accepted ASR (default mode)
 };
 const char* DeclineName(Decline d);
 

@@ -23,13 +23,27 @@ DirectionEstimate HeadingCorrector::Estimate(const asr::Asr& raw) const {
 
 asr::Asr HeadingCorrector::Close(asr::Asr raw) {
   last_ = Estimate(raw);
+  for (size_t i = 1; i < raw.path.size(); ++i)
+    distance_since_accepted_m_ += (raw.path[i].translation() - raw.path[i - 1].translation()).norm();
   if (last_.accepted) {
     // Direction in the corrected frame before this ASR's own rotation.
+    const double d = FoldToQuarterTurn(last_.direction_rad + world_corrected_from_raw_.theta);
+    // Wrapped into (-45, 45]: FoldToQuarterTurn gives [-45, 45).
+    double drift = reference_rad_ ? FoldToQuarterTurn(d - *reference_rad_) : 0.0;
+    if (drift == -kPi / 4.0) drift = kPi / 4.0;
+    const bool gate = options_.mode == HeadingMode::kDefault && options_.drift_gate;
+    if (gate && std::abs(drift) > options_.max_drift_base_rad +
+                                      options_.max_drift_rad_per_m * distance_since_accepted_m_) {
+      last_.accepted = false;
+      last_.decline = Decline::kDriftOutlier;
+    }
+  }
+  if (last_.accepted) {
+    distance_since_accepted_m_ = 0.0;
     const double d = FoldToQuarterTurn(last_.direction_rad + world_corrected_from_raw_.theta);
     if (!reference_rad_) {
       reference_rad_ = d;
     } else {
-      // Wrapped into (-45, 45]: FoldToQuarterTurn gives [-45, 45).
       double drift = FoldToQuarterTurn(d - *reference_rad_);
       if (drift == -kPi / 4.0) drift = kPi / 4.0;
       const Vec2 pivot = world_corrected_from_raw_ * raw.entry_pivot_m;
@@ -48,6 +62,7 @@ asr::Asr HeadingCorrector::Close(asr::Asr raw) {
 void HeadingCorrector::Restore(const Pose2& correction, std::optional<double> reference_rad) {
   world_corrected_from_raw_ = correction;
   reference_rad_ = reference_rad;
+  distance_since_accepted_m_ = 0.0;
   if (reference_rad_) reference_rad_ = FoldToQuarterTurn(*reference_rad_);
 }
 

@@ -17,6 +17,15 @@ struct HeadingCorrectionOptions {
   PaperEmOptions paper;    // used in kPaper mode
   RobustEmOptions robust;  // used in kDefault mode
   double min_motor_chord_m = 0.2;  // m data (paper mode): shortest chord used
+  // Drift gate (default mode only; not in the thesis): an accepted estimate
+  // whose drift exceeds max_drift_base_rad + max_drift_rad_per_m x (distance
+  // travelled since the last accepted ASR, its path included) is a gross
+  // error (clutter taken for walls) and is declined, so that it can neither
+  // rotate the ASR wildly nor push the next ASR's drift across the +-45 degree
+  // wrap (a quarter-turn slip that would rotate every later ASR by 90).
+  bool drift_gate = true;
+  double max_drift_base_rad = DegToRad(10.0);
+  double max_drift_rad_per_m = DegToRad(3.0);
 };
 
 // Heading correction of a sequence of ASRs by EM over wall directions (SPEC 5,
@@ -28,7 +37,8 @@ struct HeadingCorrectionOptions {
 //     corrected frame by the rotation accumulated so far: d' = d + C;
 //  2. drift = d' - reference, wrapped into (-45, 45] degrees, where reference is
 //     the corrected direction of the previous ASR that had an accepted estimate
-//     (the first such ASR sets it and is not rotated);
+//     (the first such ASR sets it and is not rotated); in default mode a drift
+//     larger than odometry can plausibly have drifted is declined (drift gate);
 //  3. the ASR is rotated by -drift about its entry pivot (in the corrected
 //     frame) and that rotation is composed into the accumulated correction, so
 //     it carries to every later ASR pose, pivot and path.
@@ -69,6 +79,7 @@ class HeadingCorrector {
   HeadingCorrectionOptions options_;
   Pose2 world_corrected_from_raw_;
   std::optional<double> reference_rad_;
+  double distance_since_accepted_m_ = 0.0;
   DirectionEstimate last_;
 };
 

@@ -16,6 +16,9 @@ TEST(HeadingCorrectionOptions, DefaultModeIsTheRobustOne) {
   const HeadingCorrectionOptions o;
   EXPECT_EQ(o.mode, HeadingMode::kDefault);
   EXPECT_EQ(o.min_motor_chord_m, 0.2);
+  EXPECT_TRUE(o.drift_gate);
+  EXPECT_EQ(o.max_drift_base_rad, DegToRad(10.0));
+  EXPECT_EQ(o.max_drift_rad_per_m, DegToRad(3.0));
 }
 
 TEST(RotationAbout, KeepsThePivotFixed) {
@@ -87,9 +90,29 @@ TEST(HeadingCorrector, ComposesRotationsAboutSuccessivePivots) {
 TEST(HeadingCorrector, DriftWrapsModulo90Degrees) {
   HeadingCorrector c;
   c.Close(AsrWithWorldWalls({Rectangle({0, 0}, 4, 4, DegToRad(40))}));
-  // 40 + 10 = 50 folds to -40: the drift is +10, not -80.
-  const asr::Asr b = c.Close(AsrWithWorldWalls({Rectangle({0, 0}, 4, 4, DegToRad(50))}));
-  EXPECT_NEAR(RadToDeg(b.heading_correction_rad), -10.0, 1e-6);
+  // 40 + 8 = 48 folds to -42: the drift is +8, not -82.
+  const asr::Asr b = c.Close(AsrWithWorldWalls({Rectangle({0, 0}, 4, 4, DegToRad(48))}));
+  EXPECT_NEAR(RadToDeg(b.heading_correction_rad), -8.0, 1e-6);
+}
+
+TEST(HeadingCorrector, DriftGateDeclinesAGrossError) {
+  HeadingCorrector c;
+  c.Close(AsrWithWorldWalls({Rectangle({0, 0}, 4, 4, 0.0)}));
+  // 30 degrees of drift with no distance travelled: more than 10 + 3/m x 0.
+  const asr::Asr b = c.Close(AsrWithWorldWalls({Rectangle({0, 0}, 4, 4, DegToRad(30))}));
+  EXPECT_EQ(b.heading_correction_rad, 0.0);
+  EXPECT_EQ(c.LastEstimate().decline, Decline::kDriftOutlier);
+  // After 8 m of path the same drift is plausible (10 + 24 degrees).
+  asr::Asr d = AsrWithWorldWalls({Rectangle({0, 0}, 4, 4, DegToRad(30))});
+  d.path = {{0, 0, 0}, {8, 0, 0}};
+  EXPECT_NEAR(RadToDeg(c.Close(d).heading_correction_rad), -30.0, 1e-6);
+  // Paper mode has no gate.
+  HeadingCorrectionOptions o;
+  o.mode = HeadingMode::kPaper;
+  HeadingCorrector p(o);
+  p.Close(AsrWithWorldWalls({Rectangle({0, 0}, 4, 4, 0.0)}));
+  EXPECT_NEAR(RadToDeg(p.Close(AsrWithWorldWalls({Rectangle({0, 0}, 4, 4, DegToRad(30))})).heading_correction_rad),
+              -30.0, 1e-6);
 }
 
 TEST(HeadingCorrector, DeclinedAsrIsNotRotated) {
