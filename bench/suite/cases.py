@@ -291,6 +291,11 @@ def real_job(ctx, name, path, drift):
         for k in ("bytes_grid", "bytes_vertices", "bytes_polylines", "asr_count"):
             if finite(speed.get(k)):
                 res["metrics"][k] = float(speed[k])
+        for k in ("heading_error_deg_median", "heading_error_deg_max",
+                  "heading_error_deg_median_raw", "heading_error_deg_max_raw"):
+            v = lookup(report, k) if isinstance(report, dict) else None
+            if finite(v):
+                res["metrics"][k] = float(v)
         # Heading error against the log's own reference poses, when eval gives it
         # without a world (CARMEN corrected logs: the poses are the reference).
         eval_help = c.help("eval") or ""

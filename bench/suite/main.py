@@ -265,6 +265,14 @@ def main(argv=None, smoke_default=False):
     results["figure_notes"] = notes
     results["suite_wall_s"] = time.monotonic() - t_start
 
+    # Keep results.json small: the per-ASR lists of each map's report are in
+    # its map folder; the suite keeps only the per-ASR seconds (asr_seconds).
+    runs = results["sim"] + results["real"] + results.get("thesis", []) + (
+        [results["scale"]] if results.get("scale") else [])
+    for r in runs:
+        rep_ = r.get("map_report")
+        if isinstance(rep_, dict):
+            r["map_report"] = {k: v for k, v in rep_.items() if not isinstance(v, (list, dict))}
     with open(os.path.join(docs, "benchmarks", "results.json"), "w") as f:
         json.dump(results, f, indent=1, default=str)
     md = report.Report(results).markdown()

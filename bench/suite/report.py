@@ -223,11 +223,6 @@ class Report:
             out.append(f"- this CPU's clock is {clock:.1f} times the thesis's ({mhz:.0f} MHz against 400 MHz), "
                        f"so per clock cycle cogmap runs at {thesis / ref['median'] / clock:.1f} times the "
                        f"thesis's speed ({'fixed-length setting' if ts else 'all runs'}).")
-        hall = [r for r in sims if r["params"]["world_name"] == "hallway_loop"]
-        hs = summary([r["metrics"].get("seconds_per_asr") for r in hall if r.get("metrics")])
-        if hs:
-            out.append(f"- `hallway_loop` (the thesis's 60 m corridor setting): {fmt_summary(hs)} s per ASR, "
-                       f"ASR count {fmt_summary(summary([r['metrics'].get('asr_count') for r in hall]), 0)}.")
         out.append("")
         return out
 
