@@ -14,7 +14,7 @@ namespace cogmap::sim {
 namespace {
 
 std::string Fmt(const char* fmt, double a) {
-  char buf[64];
+  char buf[160];
   std::snprintf(buf, sizeof buf, fmt, a);
   return buf;
 }
@@ -74,6 +74,10 @@ SimStats Simulate(const FloorPlan& plan, const sensors::RobotDescription& robot,
   std::vector<Vec2> extra{truth.translation()};
   for (const auto& wp : plan.route) extra.push_back(wp.pose.translation());
   const grid::MapLimits lim = LimitsAround(world, extra, o.nav_cell_m, 1.0);
+  if (lim.cell_count() > 60'000'000L)
+    throw InputError(Fmt("world spans %.0f x ", lim.width() * lim.cell_m()) +
+                     Fmt("%.0f m: too large for the navigation grid (at most 60 million cells; raise "
+                         "nav_cell_m)", lim.height() * lim.cell_m()));
   const NavGrid nav(world, lim, radius, o.nav_margin_m);
   if (world.Clearance(truth.translation(), radius) < radius)
     throw InputError("start pose " + At(truth.translation()) + " is inside a wall or within the robot radius (" +

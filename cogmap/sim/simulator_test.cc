@@ -127,6 +127,12 @@ TEST(Simulator, StartInsideWallIsAnError) {
   EXPECT_THROW(Drive(plan), InputError);
 }
 
+TEST(Simulator, HugeWorldIsAnErrorNotACrash) {
+  FloorPlan plan = Box(6, 4);
+  plan.walls.push_back({{1e6, 1e6}, {1e6 + 1, 1e6}});
+  EXPECT_THROW(Drive(plan), InputError);
+}
+
 TEST(Simulator, WaypointInsideWallIsSkippedWithWarning) {
   FloorPlan plan = Box(6, 4);
   plan.walls.push_back({{3, 0}, {3, 2.5}});
