@@ -75,9 +75,18 @@ const char* DeclineName(Decline d) {
   return "unknown";
 }
 
-PaperEmResult FitPaperEm(const std::vector<double>& s, const std::vector<double>& m,
+PaperEmResult FitPaperEm(const std::vector<double>& s_raw, const std::vector<double>& m_raw,
                          const PaperEmOptions& options) {
   PaperEmResult r;
+  // Non-finite values carry no direction.
+  auto finite = [](const std::vector<double>& v) {
+    std::vector<double> out;
+    for (double a : v)
+      if (std::isfinite(a)) out.push_back(a);
+    return out;
+  };
+  const std::vector<double> s_in = finite(s_raw), m = finite(m_raw);
+  const std::vector<double>& s = s_in;
   if (s.empty()) return r;
   const double floor2 = options.min_sigma_rad * options.min_sigma_rad;
   std::vector<double> x = s;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "cogmap/localize/test_rooms.h"
@@ -87,6 +88,21 @@ TEST(PaperEm, EmptySGivesNoEstimate) {
   const DirectionEstimate e = EstimateDirectionPaper({}, {});
   EXPECT_FALSE(e.valid);
   EXPECT_FALSE(e.accepted);
+}
+
+TEST(PaperEm, NonFiniteValuesAreIgnored) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const PaperEmResult r = FitPaperEm({0.1, nan, 0.1}, {nan});
+  ASSERT_TRUE(r.valid);
+  EXPECT_DOUBLE_EQ(r.s.mu, 0.1);
+  EXPECT_FALSE(FitPaperEm({nan}, {}).valid);
+}
+
+TEST(WallDirectionsInput, NonFiniteVerticesAreSkipped) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const auto s = WallDirections({{{0, 0}, {inf, 0}, {1, 1}}, {{0, 0}, {2, 0}}});
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_NEAR(s[0].length_m, 2.0, 1e-12);
 }
 
 TEST(PaperEm, ZeroVarianceIsFloored) {

@@ -22,7 +22,7 @@ std::vector<WallDirection> WallDirections(const std::vector<Polyline>& walls, do
     for (size_t i = 1; i < line.size(); ++i) {
       const Vec2 d = line[i] - line[i - 1];
       const double len = d.norm();
-      if (!(len > min_edge_m)) continue;
+      if (!(len > min_edge_m) || !std::isfinite(len)) continue;
       out.push_back({FoldToQuarterTurn(std::atan2(d.y(), d.x())), len});
     }
   }
@@ -37,7 +37,7 @@ std::vector<double> MotorDirections(const asr::Asr& asr, double min_chord_m) {
   std::vector<double> out;
   auto add_chord = [&](const Vec2& a, const Vec2& b) {
     const Vec2 d = b - a;
-    if (d.norm() < min_chord_m) return;
+    if (!(d.norm() >= min_chord_m) || !std::isfinite(d.norm())) return;
     out.push_back(FoldToQuarterTurn(std::atan2(d.y(), d.x())));
   };
   if (!asr.exits.empty()) {

@@ -21,7 +21,7 @@ struct WallDirection {
 
 // The s data (fig. A.7): one entry per edge (pair of consecutive vertices) of
 // every polyline, in order. Edges shorter than 'min_edge_m' (repeated vertices)
-// carry no direction and are skipped.
+// carry no direction and are skipped, as are edges with a non-finite vertex.
 std::vector<WallDirection> WallDirections(const std::vector<Polyline>& walls,
                                           double min_edge_m = 1e-9);
 
