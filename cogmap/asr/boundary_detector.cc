@@ -166,7 +166,7 @@ std::optional<BoundaryCut> BoundaryDetector::Step(double time_s, const Pose2& po
   max_depth_m_ = std::max(max_depth_m_, entry_dir_.dot(pos - p0));
   if (width_now > 0.0 && (min_width_m_ <= 0.0 || width_now < min_width_m_)) min_width_m_ = width_now;
 
-  if (!left_.on && !right_.on) {  // released
+  if (!both) {  // the L-and-R stretch ended: back in a room
     state_ = BoundaryState::kInRoom;
     if (corridor_) {
       if (asr_travel_m() < options_.min_asr_m - kEps) return std::nullopt;

@@ -53,20 +53,21 @@ TEST(BoundaryOptions, DefaultsAreThePapers) {
   EXPECT_DOUBLE_EQ(o.close_m, 0.7);
   EXPECT_DOUBLE_EQ(o.corridor_m, 2.0);
   EXPECT_DOUBLE_EQ(o.asr_length_m, 4.5);
+  EXPECT_DOUBLE_EQ(o.side_tolerance_rad, DegToRad(60.0));
 }
 
 TEST(SideSensors, PioneerRingUsesTheSideAndDiagonalUnits) {
-  const SideSensors s = FindSideSensors(sensors::BuiltinRobot("pioneer16"), DegToRad(45));
-  EXPECT_EQ(s.left, (std::vector<int>{0, 1, 14, 15}));
-  EXPECT_EQ(s.right, (std::vector<int>{6, 7, 8, 9}));
+  const SideSensors s = FindSideSensors(sensors::BuiltinRobot("pioneer16"), BoundaryOptions{}.side_tolerance_rad);
+  EXPECT_EQ(s.left, (std::vector<int>{0, 1, 2, 13, 14, 15}));
+  EXPECT_EQ(s.right, (std::vector<int>{5, 6, 7, 8, 9, 10}));
 }
 
 TEST(SideSensors, LaserUsesBeamsNearNinetyDegrees) {
   sensors::LaserOptions lo;
   lo.beams = 181;
-  const SideSensors s = FindSideSensors(sensors::MakeLaser(lo), DegToRad(45));
-  EXPECT_EQ(s.left.size(), 46u);   // 45..90 degrees, one beam per degree
-  EXPECT_EQ(s.right.size(), 46u);  // -90..-45
+  const SideSensors s = FindSideSensors(sensors::MakeLaser(lo), BoundaryOptions{}.side_tolerance_rad);
+  EXPECT_EQ(s.left.size(), 61u);   // 30..90 degrees, one beam per degree
+  EXPECT_EQ(s.right.size(), 61u);  // -90..-30
   EXPECT_EQ(s.right.front(), 0);
   EXPECT_EQ(s.left.back(), 180);
 }
@@ -95,6 +96,16 @@ TEST(BoundaryDetector, TurningBackInADoorwayCutsNothing) {
   EXPECT_TRUE(cuts.empty());
   EXPECT_EQ(d.turn_backs(), 1);
   EXPECT_EQ(d.state(), BoundaryState::kInRoom);
+}
+
+TEST(BoundaryDetector, AWallAlongOneSideAfterTheDoorDoesNotHoldTheAccessPoint) {
+  auto d = MakeDetector();
+  auto left = [](const Pose2& p) { return Between(p.x, 3.0, 3.4); };
+  auto right = [](const Pose2& p) { return Between(p.x, 3.0, 9.0); };  // hugging a wall
+  const auto cuts = RunScript(&d, Line(0.0, 12.0), {left, right});
+  ASSERT_EQ(cuts.size(), 1u);
+  EXPECT_EQ(cuts[0].kind, CutKind::kDoorway);
+  EXPECT_NEAR(cuts[0].center_m.x(), 0.5 * (3.05 + 3.50), 0.05 + 1e-9);
 }
 
 TEST(BoundaryDetector, OneSideCloseIsNotAnAccessPoint) {
