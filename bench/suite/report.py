@@ -129,6 +129,11 @@ class Report:
             "each `cogmap simulate` -> `cogmap map` -> `cogmap eval --json`",
             "",
         ]
+        failed = cfg.get("failed_targets") or []
+        if failed:
+            lines.append("These targets did not build, so their figures are n/a: " +
+                         ", ".join(f"`{t}`" for t in failed) + ".")
+            lines.append("")
         missing = {k: v for k, v in self.r.get("commands", {}).items() if v is not True}
         if missing:
             lines.append("Not available in this build: " + "; ".join(
