@@ -1,5 +1,7 @@
 #include "cogmap/grid/range_fusion.h"
 
+#include "cogmap/core/bresenham.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -104,9 +106,24 @@ void HimmFusion::MarkRobot(const Pose2& world_from_robot) {
   ++stats_.robot_updates;
   if (!modified_) return;
   const Vec2 p = world_from_robot.translation();
-  Reach(p, p);
+  const bool join = last_path_point_ && options_.join_path_max_m > 0.0 &&
+                    (p - *last_path_point_).norm() <= options_.join_path_max_m;
+  if (join) {
+    Reach(p.cwiseMin(*last_path_point_), p.cwiseMax(*last_path_point_));
+  } else {
+    Reach(p, p);
+  }
   const CellIndex c = grid_.limits().CellOf(p);
-  if (grid_.limits().Contains(c)) grid_.at(c) = options_.robot_path;
+  if (join) {
+    const CellIndex a = grid_.limits().CellOf(*last_path_point_);
+    WalkBresenham(a.x(), a.y(), c.x(), c.y(), [&](int x, int y) {
+      if (grid_.limits().Contains(CellIndex(x, y))) grid_.at(x, y) = options_.robot_path;
+      return true;
+    });
+  } else if (grid_.limits().Contains(c)) {
+    grid_.at(c) = options_.robot_path;
+  }
+  last_path_point_ = p;
 }
 
 void HimmFusion::Insert(const Pose2& world_from_robot, const sensors::RangeSensor& sensor,

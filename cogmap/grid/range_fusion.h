@@ -109,6 +109,11 @@ struct HimmOptions {
 struct MhimmOptions : HimmOptions {
   MhimmOptions() { min_value = -3.0f; }  // [-3, 15] (§3.1.4)
   float robot_path = -100.0f;           // set under the robot, never changed (§3.1.4)
+  // Default mode: also mark the Bresenham line between consecutive robot
+  // cells (up to this many metres apart), so that a robot moving more than a
+  // cell between sweeps leaves an unbroken path for cleaning. The papers mark
+  // only the centre cell at each update: 0 reproduces that.
+  double join_path_max_m = 1.0;
 };
 
 // The two sonar-cone rules of chapter II (Moravec / Murphy): the cone of
@@ -162,6 +167,7 @@ class HimmFusion : public RangeFusion {
   GridBounds bounds_;
   Grid2D<float> grid_;
   bool bounded_;
+  std::optional<Vec2> last_path_point_;  // for join_path_max_m
 };
 
 // Bayes in log-odds (Moravec; thesis §2.2.1, table 2.2, eq. 2.9) or

@@ -69,9 +69,9 @@ TEST(Ev3Log, RobotHasThirteenBearingsAtTheCentre) {
   const auto robot = Ev3Robot();
   ASSERT_EQ(robot.sensors.size(), 13u);
   EXPECT_EQ(robot.name, "ev3");
-  EXPECT_DOUBLE_EQ(robot.sensors[0].robot_from_sensor.theta, -kPi / 2);
+  EXPECT_DOUBLE_EQ(robot.sensors[0].robot_from_sensor.theta, kPi / 2);
   EXPECT_DOUBLE_EQ(robot.sensors[6].robot_from_sensor.theta, 0.0);
-  EXPECT_DOUBLE_EQ(robot.sensors[12].robot_from_sensor.theta, kPi / 2);
+  EXPECT_DOUBLE_EQ(robot.sensors[12].robot_from_sensor.theta, -kPi / 2);
   EXPECT_EQ(robot.sensors[5].robot_from_sensor.x, 0.0);
   EXPECT_DOUBLE_EQ(robot.sensors[0].beam_width_rad, DegToRad(25));
   EXPECT_EQ(robot.sensors[0].min_range_m, 0.03);

@@ -16,7 +16,7 @@ constexpr int kSonars = 8;
 class PioneerReader : public LogReader {
  public:
   PioneerReader(const std::string& path, const PioneerPairPaths& pair)
-      : path_(path), meas_(pair.measurements), poses_(pair.poses), robot_(sensors::BuiltinRobot("pioneer8")) {}
+      : path_(path), meas_(pair.measurements), poses_(pair.poses), robot_(sensors::BuiltinRobot("pioneer8-course")) {}
 
   bool Next(sensors::LogRecord* out) override {
     std::string m, p;

@@ -42,7 +42,7 @@ TEST(PioneerLog, NoEchoIsAtOrAboveMaxRange) {
   const auto rs = ReadAll(*r);
   EXPECT_EQ(rs[0].ranges[0].range_m, 5.11);
   EXPECT_GE(rs[0].ranges[0].range_m, r->robot_hint()->sensors[0].max_range_m);
-  EXPECT_EQ(r->robot_hint()->name, "pioneer8");
+  EXPECT_EQ(r->robot_hint()->name, "pioneer8-course");
 }
 
 TEST(PioneerLog, AcceptsFolderOrEitherFile) {

@@ -57,7 +57,7 @@ RobotDescription MakeLaser(const LaserOptions& o, const std::string& name) {
   return r;
 }
 
-std::vector<std::string> BuiltinRobotNames() { return {"pioneer16", "pioneer8", "p2at16", "laser"}; }
+std::vector<std::string> BuiltinRobotNames() { return {"pioneer16", "pioneer8", "pioneer8-course", "p2at16", "laser"}; }
 
 RobotDescription BuiltinRobot(const std::string& name, const LaserOptions& laser) {
   RobotDescription r;
@@ -65,6 +65,19 @@ RobotDescription BuiltinRobot(const std::string& name, const LaserOptions& laser
   if (name == "pioneer16" || name == "pioneer8") {
     const int n = name == "pioneer16" ? 16 : 8;
     for (int i = 0; i < n; ++i) r.sensors.push_back(Sonar(kP3dx[i]));
+    r.radius_m = 0.26;
+    return r;
+  }
+  if (name == "pioneer8-course") {
+    // The front ring with the headings that fit the real Pioneer log of
+    // ../shared/data/pioneer-sonar-robond better than the stock ones (walls
+    // straighter: line fraction 0.465 -> 0.544, entropy 0.349 -> 0.335 bits).
+    constexpr double kCourseDeg[8] = {90, 37.5, 22.5, 7.5, -7.5, -22.5, -37.5, -90};
+    for (int i = 0; i < 8; ++i) {
+      MountMmDeg m = kP3dx[i];
+      m.heading_deg = kCourseDeg[i];
+      r.sensors.push_back(Sonar(m));
+    }
     r.radius_m = 0.26;
     return r;
   }

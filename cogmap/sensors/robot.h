@@ -33,7 +33,8 @@ struct LaserOptions {
   double min_range_m = 0.02;
 };
 
-// Built-in robots: "pioneer16", "pioneer8", "p2at16", "laser".
+// Built-in robots: "pioneer16", "pioneer8", "pioneer8-course" (the front ring
+// with the headings of the real Pioneer log), "p2at16", "laser".
 // Throws InputError naming the unknown robot (and the known ones).
 RobotDescription BuiltinRobot(const std::string& name, const LaserOptions& laser = {});
 
