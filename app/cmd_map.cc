@@ -20,6 +20,7 @@
 #include "cogmap/io/atomic_file.h"
 #include "cogmap/io/log_reader.h"
 #include "cogmap/io/map_files.h"
+#include "cogmap/io/polyline_io.h"
 #include "cogmap/io/world_io.h"
 #include "cogmap/localize/heading_corrector.h"
 #include "cogmap/sensors/robot_json.h"
@@ -157,8 +158,11 @@ int RunMap(const MapArgs& a) {
   sensors::LogRecord rec;
   double t_first = 0.0, t_last = 0.0;
   long records = 0;
+  std::optional<Pose2> first_odom, first_truth;
   while (log->Next(&rec)) {
     if (records == 0) t_first = rec.time_s;
+    if (!first_odom) first_odom = rec.odom;
+    if (!first_truth && rec.truth) first_truth = *rec.truth * rec.odom.inverse();  // world_from_map
     t_last = rec.time_s;
     mapper.Push(rec);
     if (++records % 256 == 0) bar.Update(log->progress(), std::to_string(closed) + " ASRs");
@@ -173,6 +177,32 @@ int RunMap(const MapArgs& a) {
   for (int id : store->Ids()) all.push_back(*store->Get(id));
   const io::MasterMap master = io::BuildMasterMap(all, !a.raw);
   const auto files = io::WriteMasterMapFiles(a.output, master);
+
+  // walls.json for `cogmap eval` (the master map's walls; map frame = the raw
+  // odometry frame of the first run, placed in the truth's world when known).
+  if (!a.resume && first_truth) {
+    const Pose2 w = *first_truth;
+    store->SetMeta("world_from_map", std::to_string(w.x) + " " + std::to_string(w.y) + " " + std::to_string(w.theta));
+  }
+  io::WallsFile wf;
+  for (const auto& r : master.rooms) wf.polylines.insert(wf.polylines.end(), r.walls.begin(), r.walls.end());
+  if (auto w = ParsePose(store->GetMeta("world_from_map"))) {
+    wf.world_from_map = *w;
+    wf.has_truth = true;
+  }
+  wf.log_path = fs::absolute(a.log).string();
+  wf.log_format = a.format;
+  wf.robot = a.robot.empty() ? robot.name : a.robot;
+  wf.mode = a.mode;
+  wf.cell_m = a.cell_m;
+  for (const auto& s : robot.sensors) wf.sensor_range_m = std::max(wf.sensor_range_m, s.max_range_m);
+  for (const auto& l : wf.polylines) wf.vertex_count += static_cast<int64_t>(l.size());
+  for (const auto& x : all) {
+    wf.bytes_grid += x.bytes.grid;
+    wf.bytes_vertices += x.bytes.vertices;
+    wf.bytes_polylines += x.bytes.polylines;
+  }
+  io::WriteWallsJson((fs::path(a.output) / "walls.json").string(), wf);
 
   asr::StageBytes bytes_all;
   nlohmann::json seconds_all = nlohmann::json::array();
@@ -231,7 +261,7 @@ int RunMap(const MapArgs& a) {
   if (truth_plan)
     std::printf("rooms: precision %.3f recall %.3f\n", report["room_precision"].get<double>(),
                 report["room_recall"].get<double>());
-  std::printf("outputs in %s: map.sqlite map.svg map.png map.pgm map.yaml map.geojson map.map report.json\n",
+  std::printf("outputs in %s: map.sqlite map.svg map.png map.pgm map.yaml map.geojson map.map walls.json report.json\n",
               a.output.c_str());
   return 0;
 }
