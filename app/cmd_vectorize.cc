@@ -52,6 +52,11 @@ struct VectorizeArgs {
   std::string mode = "default";
   std::string outdir;
   bool truth = false;
+  // Stage overrides (< 0: the mode's default).
+  double gamma_cells = -1, tau_cells = -1, eta_cells = -1, max_rms_cells = -1;
+  int min_chain_points = -1;
+  int smooth = -1;
+  std::string keep;
 };
 
 nlohmann::json PoseJson(const Pose2& p) { return {{"x", p.x}, {"y", p.y}, {"theta", p.theta}}; }
@@ -108,6 +113,15 @@ int RunVectorize(const VectorizeArgs& a) {
 
   vectorize::VectorizeOptions vo = a.mode == "paper" ? vectorize::VectorizeOptions::Paper() : vectorize::VectorizeOptions{};
   vo.clean.max_dist_cells = std::max(1, static_cast<int>(std::lround(a.window_m / a.cell_m)));
+  if (a.gamma_cells > 0) vo.extract.gamma_cells = a.gamma_cells;
+  if (a.tau_cells > 0) vo.vertex_simplify.tau_cells = a.tau_cells;
+  if (a.eta_cells > 0) vo.douglas_peucker.eta_cells = a.eta_cells;
+  if (a.max_rms_cells > 0) vo.fit.max_rms_cells = a.max_rms_cells;
+  if (a.min_chain_points >= 0) vo.min_chain_points = a.min_chain_points;
+  if (a.smooth >= 0) vo.smooth_half_window = a.smooth;
+  if (a.keep == "face") vo.clean.keep = vectorize::KeepCell::kFace;
+  else if (a.keep == "middle") vo.clean.keep = vectorize::KeepCell::kRunMiddle;
+  else if (!a.keep.empty()) throw InputError("--keep " + a.keep + ": expected face or middle");
   const vectorize::VectorizeResult r = vectorize::Vectorize(values, vo);
 
   // The map frame is the odometry frame; its pose in the truth's world.
@@ -174,6 +188,7 @@ int RunVectorize(const VectorizeArgs& a) {
       {"max_dist_cells", vo.clean.max_dist_cells},
       {"gamma_cells", vo.extract.gamma_cells},
       {"close_loops", vo.extract.close_loops},
+      {"clean_keep", vo.clean.keep == vectorize::KeepCell::kFace ? "face" : "middle"},
       {"tau_cells", vo.vertex_simplify.tau_cells},
       {"eta_cells", vo.douglas_peucker.eta_cells},
       {"fit_mode", a.mode},
@@ -181,6 +196,7 @@ int RunVectorize(const VectorizeArgs& a) {
       {"max_rms_cells", vo.fit.max_rms_cells},
       {"min_corner_deg", vo.fit.min_corner_deg},
       {"min_chain_points", vo.min_chain_points},
+      {"smooth_half_window", vo.smooth_half_window},
       {"quantum_mm", vo.codec.quantum_mm}};
   rep["counts"] = {{"occupied_cells", r.clean_stats.occupied_in},
                    {"cleaned_cells", r.clean_stats.kept},
@@ -233,6 +249,17 @@ std::function<int()> SetupVectorize(CLI::App& sub) {
                  "squares, rotation-invariant test, corners closed)")
       ->capture_default_str();
   sub.add_flag("--truth", a->truth, "Fuse at the log's ground-truth poses instead of odometry");
+  sub.add_option("--keep", a->keep,
+                 "Cell a wall keeps when cleaned: face (the paper) or middle (of the band behind the "
+                 "face; the default mode's)");
+  sub.add_option("--gamma", a->gamma_cells, "Extract: a step longer than this (cells) ends a polyline (4)");
+  sub.add_option("--tau", a->tau_cells, "Vertex simplify tolerance, cells (2)");
+  sub.add_option("--eta", a->eta_cells, "Douglas-Peucker tolerance, cells (1.5)");
+  sub.add_option("--max-rms", a->max_rms_cells, "Default fit: largest RMS residual of a straight edge, cells");
+  sub.add_option("--min-chain", a->min_chain_points,
+                 "Chains of fewer extracted cells are not walls (default: the mode's)");
+  sub.add_option("--smooth", a->smooth,
+                 "Moving mean over this many points either side along each extracted chain (0 = off)");
   sub.add_option("-o,--output", a->outdir,
                  "Folder to write walls.svg, walls.json, stages.png and report.json into")
       ->required();

@@ -34,6 +34,17 @@ VectorizeResult Vectorize(const grid::Grid2D<float>& grid, const VectorizeOption
       continue;
     }
     points.push_back(ChainToCellCoords(chain));
+    if (options.smooth_half_window > 0) {
+      const auto raw = points.back();
+      const int n = static_cast<int>(raw.size()), k = options.smooth_half_window;
+      for (int i = 0; i < n; ++i) {
+        Vec2 sum(0, 0);
+        int count = 0;
+        for (int j = std::max(0, i - k); j <= std::min(n - 1, i + k); ++j) sum += raw[j], ++count;
+        points.back()[i] = sum / count;
+      }
+      if (n >= 2 && chain.front() == chain.back()) points.back().back() = points.back().front();
+    }
     const auto& pts = points.back();
     const std::vector<int> vs = VertexSimplifyIndices(pts, options.vertex_simplify);
     r.vertices_after_vertex_simplify += static_cast<int64_t>(vs.size());

@@ -31,6 +31,14 @@ struct VectorizeOptions {
   // Not in the paper: chains of fewer extracted cells than this are not walls
   // (isolated echoes). 2 keeps every chain that can make a segment.
   int min_chain_points = 2;
+  // Not in the paper: each extracted point (cell coordinates) is replaced by
+  // the mean of the points within this many steps along its chain before the
+  // simplify and the fit (0: off, as the paper). Damps the zig-zag of a walk
+  // through a ragged band; ends and loop seams use the points that exist.
+  // Off by default: on the nine_rooms sonar run +-1 cut the p95 wall error
+  // from 0.35 m to 0.30 m and the vertices by a quarter, but it chamfers
+  // corners (an L room's inner corner moved 0.2 m).
+  int smooth_half_window = 0;
 
   // The paper's choices: the face of the wall, least squares with Pearson.
   static VectorizeOptions Paper() {

@@ -25,6 +25,7 @@ TEST(Vectorize, PaperOptions) {
   EXPECT_EQ(o.fit.mode, FitMode::kPaper);
   EXPECT_EQ(o.clean.keep, KeepCell::kFace);
   EXPECT_EQ(VectorizeOptions{}.clean.keep, KeepCell::kRunMiddle);
+  EXPECT_EQ(o.smooth_half_window, 0);
   EXPECT_EQ(o.clean.max_dist_cells, 30);
   EXPECT_EQ(o.extract.gamma_cells, 4.0);
   EXPECT_EQ(o.vertex_simplify.tau_cells, 2.0);
@@ -87,6 +88,21 @@ TEST(Vectorize, ThickNoisyWallsStillGiveFourWalls) {
   ASSERT_EQ(r.polylines.size(), 1u);
   EXPECT_EQ(r.polylines[0].size(), 5u);
   for (const auto& v : r.polylines[0]) EXPECT_LE(DistanceToWalls(walls, v), 0.3 + 0.1);
+}
+
+// A wall whose cells alternate between two rows: smoothing puts the fitted
+// wall on their mean row.
+TEST(Vectorize, SmoothingDampsAZigZagBand) {
+  grid::Grid2D<float> g(grid::MapLimits(0.1, Vec2(0, 0), 60, 30), 0.0f);
+  for (int x = 5; x < 55; ++x) g.at(x, 20 + (x / 2) % 2) = 15.0f;
+  for (int x = 5; x < 55; ++x) g.at(x, 5) = -100.0f;
+  VectorizeOptions o;
+  o.clean.keep = KeepCell::kFace;
+  o.smooth_half_window = 2;
+  const auto r = Vectorize(g, o);
+  ASSERT_EQ(r.polylines.size(), 1u);
+  ASSERT_EQ(r.polylines[0].size(), 2u);
+  for (const auto& v : r.polylines[0]) EXPECT_NEAR(v.y(), 2.1, 0.03);
 }
 
 TEST(Vectorize, EmptyGridGivesNoWalls) {
