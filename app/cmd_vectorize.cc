@@ -90,6 +90,7 @@ int RunVectorize(const VectorizeArgs& a) {
   sensors::LogRecord rec;
   long records = 0, readings = 0, echoes = 0, truth_records = 0;
   std::optional<Pose2> first_odom, first_truth;
+  Polyline path;  // the fused poses, thinned to 5 cm (for walls.svg)
   while (log->Next(&rec)) {
     ++records;
     if (rec.truth) {
@@ -98,6 +99,7 @@ int RunVectorize(const VectorizeArgs& a) {
     }
     const Pose2 pose = (a.truth && rec.truth) ? *rec.truth : rec.odom;
     fusion->InsertSweep(pose, robot, rec.ranges);
+    if (path.empty() || (pose.translation() - path.back()).norm() >= 0.05) path.push_back(pose.translation());
     readings += static_cast<long>(rec.ranges.size());
     for (const auto& r : rec.ranges)
       if (r.sensor >= 0 && r.sensor < static_cast<int>(robot.sensors.size()) &&
@@ -146,16 +148,20 @@ int RunVectorize(const VectorizeArgs& a) {
   const std::filesystem::path out(a.outdir);
   io::WriteWallsJson((out / "walls.json").string(), wf);
 
-  // walls.svg: the grid's extent, the path faint, the walls black.
+  // walls.svg: the box of the walls and the path, the path faint, the walls black.
   const auto& lim = values.limits();
-  io::SvgWriter svg(lim.origin(), lim.max(), 50.0);
-  svg.AddRaw("<rect x=\"" + Num(lim.origin().x()) + "\" y=\"" + Num(-lim.max().y()) + "\" width=\"" +
-             Num(lim.max().x() - lim.origin().x()) + "\" height=\"" + Num(lim.max().y() - lim.origin().y()) +
-             "\" fill=\"white\"/>\n");
-  svg.BeginGroup("path", "opacity=\"0.5\"");
-  for (int y = 0; y < lim.height(); ++y)
-    for (int x = 0; x < lim.width(); ++x)
-      if (values.at(x, y) == -100.0f) svg.AddCircle(lim.CenterOf({x, y}), lim.cell_m() * 0.4, "#f88");
+  Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
+  for (const auto& p : path) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  for (const auto& l : r.polylines)
+    for (const auto& v : l) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  if (lo.x() > hi.x()) lo = lim.origin(), hi = lim.max();
+  lo -= Vec2(0.5, 0.5);
+  hi += Vec2(0.5, 0.5);
+  io::SvgWriter svg(lo, hi, 50.0);
+  svg.AddRaw("<rect x=\"" + Num(lo.x()) + "\" y=\"" + Num(-hi.y()) + "\" width=\"" + Num(hi.x() - lo.x()) +
+             "\" height=\"" + Num(hi.y() - lo.y()) + "\" fill=\"white\"/>\n");
+  svg.BeginGroup("path", "opacity=\"0.6\"");
+  svg.AddPolyline(path, "#f88", 0.03);
   svg.EndGroup();
   svg.BeginGroup("walls");
   for (const auto& l : r.polylines) svg.AddPolyline(l, "black", 0.05);
@@ -229,6 +235,14 @@ int RunVectorize(const VectorizeArgs& a) {
               r.polylines.size(), static_cast<long long>(r.vertex_count), static_cast<long long>(r.bytes.grid),
               static_cast<long long>(r.bytes.vertices), static_cast<long long>(r.bytes.polylines),
               r.seconds.total() * 1e3, a.outdir.c_str());
+  if (r.polylines.empty()) {
+    if (r.clean_stats.occupied_in == 0)
+      std::printf("no walls: the grid has no occupied cells (no echo nearer than the window)\n");
+    else if (r.clean_stats.path_cells == 0)
+      std::printf("no walls: the grid has no robot path, so cleaning keeps nothing\n");
+    else
+      std::printf("no walls: no occupied cell is seen from the path within the window\n");
+  }
   return 0;
 }
 
@@ -307,9 +321,16 @@ int RunEval(const EvalArgs& a) {
   }
 
   nlohmann::json j;
-  j["wall_precision_mean_m"] = prec.mean_m;
-  j["wall_precision_p95_m"] = prec.p95_m;
-  j["wall_precision_max_m"] = prec.max_m;
+  // No map walls: precision is undefined (null), recall 0.
+  if (prec.samples > 0) {
+    j["wall_precision_mean_m"] = prec.mean_m;
+    j["wall_precision_p95_m"] = prec.p95_m;
+    j["wall_precision_max_m"] = prec.max_m;
+  } else {
+    j["wall_precision_mean_m"] = nullptr;
+    j["wall_precision_p95_m"] = nullptr;
+    j["wall_precision_max_m"] = nullptr;
+  }
   j["wall_recall"] = rec_st.recall();
   j["seeable_wall_length_m"] = rec_st.seeable_length_m;
   j["found_wall_length_m"] = rec_st.found_length_m;
@@ -328,8 +349,11 @@ int RunEval(const EvalArgs& a) {
     std::cout << j.dump(2) << "\n";
   } else {
     std::printf("%s vs %s (%s mode)\n", walls_path.c_str(), a.world.c_str(), wf.mode.c_str());
-    std::printf("  wall precision: mean %.3f m, p95 %.3f m, max %.3f m (%lld samples)\n", prec.mean_m, prec.p95_m,
-                prec.max_m, static_cast<long long>(prec.samples));
+    if (prec.samples > 0)
+      std::printf("  wall precision: mean %.3f m, p95 %.3f m, max %.3f m (%lld samples)\n", prec.mean_m, prec.p95_m,
+                  prec.max_m, static_cast<long long>(prec.samples));
+    else
+      std::printf("  wall precision: n/a (the map has no walls)\n");
     std::printf("  wall recall: %.3f (%.1f of %.1f m seeable within %.1f m of the true path)\n", rec_st.recall(),
                 rec_st.found_length_m, rec_st.seeable_length_m, mo.sensor_range_m);
     std::printf("  %zu polylines, %lld vertices; bytes grid %lld, vertices %lld, polylines %lld (%.2f%% of grid)\n",
