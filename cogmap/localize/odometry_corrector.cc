@@ -1,0 +1,186 @@
+#include "cogmap/localize/odometry_corrector.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cogmap::localize {
+namespace {
+
+// Wraps into (-pi/4, pi/4]: walls fix a heading modulo a quarter turn.
+double WrapQuarter(double a) {
+  double w = FoldToQuarterTurn(a);
+  if (w == -kPi / 4.0) w = kPi / 4.0;
+  return w;
+}
+
+}  // namespace
+
+OdometryCorrector::OdometryCorrector(const DriftFilterOptions& options)
+    : options_(options),
+      p_ee_(options.heading_prior_sigma_rad * options.heading_prior_sigma_rad),
+      p_rr_(options.rate_prior_sigma_rad_per_m * options.rate_prior_sigma_rad_per_m) {}
+
+Pose2 OdometryCorrector::Correct(const Pose2& raw_odom, double time_s) {
+  if (!last_raw_) {
+    last_raw_ = raw_odom;
+    corrected_ = raw_odom;
+    samples_.push_back({time_s, distance_m_, applied_rad_, 0.0});
+    return corrected_;
+  }
+  Pose2 inc = last_raw_->inverse() * raw_odom;
+  const double ds = std::hypot(inc.x, inc.y);
+  const double dth = options_.precorrect && std::isfinite(rate_) ? rate_ * ds : 0.0;
+  // The heading change of the step shrinks by dth; the step's translation
+  // (along the mid heading) turns by half of it.
+  const Vec2 t = RotateAbout(inc.translation(), Vec2(0.0, 0.0), -0.5 * dth);
+  inc = {t.x(), t.y(), inc.theta - dth};
+  corrected_ = corrected_ * inc;
+  applied_rad_ += dth;
+  distance_m_ += ds;
+  last_raw_ = raw_odom;
+  samples_.push_back({time_s, distance_m_, applied_rad_, ds});
+  return corrected_;
+}
+
+std::optional<OdometryCorrector::Window> OdometryCorrector::Average(double start_s, double end_s) const {
+  double w = 0.0, s = 0.0, d = 0.0;
+  double s_plain = 0.0, d_plain = 0.0;
+  int n = 0;
+  for (const auto& x : samples_) {
+    if (x.time_s < start_s || x.time_s > end_s) continue;
+    w += x.step_m;
+    s += x.step_m * x.distance_m;
+    d += x.step_m * x.applied_rad;
+    s_plain += x.distance_m;
+    d_plain += x.applied_rad;
+    ++n;
+  }
+  if (n == 0) return std::nullopt;
+  if (w > 0.0) return Window{s / w, d / w};
+  return Window{s_plain / n, d_plain / n};
+}
+
+void OdometryCorrector::Forget(double time_s) {
+  while (!samples_.empty() && samples_.front().time_s < time_s) samples_.pop_front();
+}
+
+double OdometryCorrector::Predict(double distance_m) {
+  const double ds = std::max(0.0, distance_m - filter_s_);
+  const double qe = options_.heading_walk_rad_per_sqrt_m * options_.heading_walk_rad_per_sqrt_m;
+  const double qr = options_.rate_walk_rad_per_m_per_sqrt_m * options_.rate_walk_rad_per_m_per_sqrt_m;
+  e_ += rate_ * ds;
+  p_ee_ += 2.0 * ds * p_er_ + ds * ds * p_rr_ + qe * ds;
+  p_er_ += ds * p_rr_;
+  p_rr_ += qr * ds;
+  filter_s_ = std::max(filter_s_, distance_m);
+  return e_;
+}
+
+bool OdometryCorrector::Update(double z_rad, double sigma_rad) {
+  if (!std::isfinite(z_rad) || !std::isfinite(sigma_rad)) return false;
+  const double nu = WrapQuarter(z_rad - e_);
+  const double r = sigma_rad * sigma_rad;
+  const double s = p_ee_ + r;
+  const double gate = std::max(options_.gate_min_rad, options_.gate_sigmas * std::sqrt(s));
+  if (std::abs(nu) > gate) {
+    ++rejects_;
+    if (++consecutive_rejects_ >= options_.max_consecutive_rejects) {
+      // Lost track: let the next measurements in again.
+      const double wide = options_.heading_prior_sigma_rad * options_.heading_prior_sigma_rad;
+      p_ee_ = std::max(p_ee_, wide);
+      consecutive_rejects_ = 0;
+    }
+    return false;
+  }
+  consecutive_rejects_ = 0;
+  const double ke = p_ee_ / s, kr = p_er_ / s;
+  e_ += ke * nu;
+  rate_ += kr * nu;
+  const double pee = p_ee_, per = p_er_;
+  p_ee_ = pee - ke * pee;
+  p_er_ = per - ke * per;
+  p_rr_ = p_rr_ - kr * per;
+  ++measurements_;
+  return true;
+}
+
+void OdometryCorrector::SetHeading(double e_rad, double sigma_rad) {
+  e_ = e_rad;
+  p_ee_ = sigma_rad * sigma_rad;
+  p_er_ = 0.0;
+}
+
+double OdometryCorrector::heading_sigma_rad() const { return std::sqrt(std::max(0.0, p_ee_)); }
+double OdometryCorrector::rate_sigma_rad_per_m() const { return std::sqrt(std::max(0.0, p_rr_)); }
+
+DriftHeadingCorrector::DriftHeadingCorrector(const HeadingCorrectionOptions& heading,
+                                             const DriftFilterOptions& drift)
+    : estimator_(heading), odometry_(drift), drift_options_(drift) {}
+
+asr::Asr DriftHeadingCorrector::Close(asr::Asr pre) {
+  last_ = estimator_.Estimate(pre);
+  const auto window = odometry_.Average(pre.start_time_s, pre.end_time_s);
+  const double s = window ? window->distance_m : odometry_.distance_m();
+  const double applied = window ? window->applied_rad : odometry_.applied_rad();
+  odometry_.Forget(pre.end_time_s);
+  odometry_.Predict(s);
+  Pose2& c = world_corrected_from_pre_;
+  if (last_.accepted) {
+    // The ASR's direction in the corrected frame before its own rotation.
+    const double d = FoldToQuarterTurn(last_.direction_rad + c.theta);
+    const double drift = reference_rad_ ? WrapQuarter(d - *reference_rad_) : 0.0;
+    if (!reference_rad_) reference_rad_ = d;
+    // Corrected heading = raw - applied + c.theta; the walls say it is off the
+    // reference by 'drift', so the raw heading error is:
+    const double z = applied - c.theta + drift;
+    const double sigma =
+        std::max(drift_options_.measurement_sigma_floor_rad,
+                 drift_options_.measurement_sigma_scale *
+                     (std::isfinite(last_.uncertainty_rad) ? last_.uncertainty_rad : kPi / 4.0));
+    if (!odometry_.Update(z, sigma)) {
+      last_.accepted = false;
+      last_.decline = Decline::kDriftOutlier;
+    }
+  }
+  if (reference_rad_) {
+    // Rotate so that corrected heading = raw - e: c.theta = applied - e.
+    const double angle = NormalizeAngle(applied - odometry_.heading_rad() - c.theta);
+    const Vec2 pivot = c * pre.entry_pivot_m;
+    c = RotationAbout(pivot, angle) * c;
+  }
+  pre.world_from_local_corrected = c * pre.world_from_local_raw;
+  pre.heading_correction_rad = c.theta;
+  pre.heading_uncertainty_rad =
+      last_.valid ? (std::isfinite(last_.uncertainty_rad) ? last_.uncertainty_rad : kPi / 4.0) : -1.0;
+  return pre;
+}
+
+void DriftHeadingCorrector::Restore(const Pose2& correction, std::optional<double> reference_rad) {
+  world_corrected_from_pre_ = correction;
+  reference_rad_ = reference_rad;
+  if (reference_rad_) reference_rad_ = FoldToQuarterTurn(*reference_rad_);
+  // No pre-correction applied yet on the resumed log: e = -c.theta keeps the
+  // stored correction until the walls say otherwise.
+  odometry_.SetHeading(odometry_.applied_rad() - correction.theta, drift_options_.measurement_sigma_floor_rad * 4.0);
+}
+
+Pose2 RawFromPrecorrected(const std::vector<Pose2>& pre, const std::vector<Pose2>& raw) {
+  const size_t n = std::min(pre.size(), raw.size());
+  if (n == 0) return {};
+  double c = 0.0, s = 0.0;
+  Vec2 cp(0.0, 0.0), cr(0.0, 0.0);
+  for (size_t i = 0; i < n; ++i) {
+    const double d = AngleDiff(raw[i].theta, pre[i].theta);
+    c += std::cos(d);
+    s += std::sin(d);
+    cp += pre[i].translation();
+    cr += raw[i].translation();
+  }
+  const double theta = (c == 0.0 && s == 0.0) ? 0.0 : std::atan2(s, c);
+  cp /= double(n);
+  cr /= double(n);
+  const Vec2 t = cr - RotateAbout(cp, Vec2(0.0, 0.0), theta);
+  return {t.x(), t.y(), theta};
+}
+
+}  // namespace cogmap::localize

@@ -1,0 +1,157 @@
+#pragma once
+#include <deque>
+#include <optional>
+
+#include "cogmap/asr/asr.h"
+#include "cogmap/core/pose2.h"
+#include "cogmap/localize/heading_corrector.h"
+
+namespace cogmap::localize {
+
+// Drift-rate estimation with odometry pre-correction (default mode; not in
+// the thesis, which corrects one rotation per ASR: docs/heading-correction.md).
+//
+// Odometry heading drift is mostly systematic: so many degrees per metre
+// driven. A Kalman filter tracks the heading error of the raw odometry
+// e(s) = raw heading - true heading (up to one constant) as a function of the
+// distance s driven, with state [e, rate]: e(s + ds) = e(s) + rate ds + a
+// random walk. Each ASR whose walls give an accepted EM estimate is one
+// measurement of e at the ASR's mean distance. Between ASRs the rate is used
+// to correct the odometry as it comes in (heading -= rate x ds, position
+// re-integrated with the corrected heading), so the next ASR's grid is built
+// from odometry that drifts only by the residual rate: its walls stay sharp.
+struct DriftFilterOptions {
+  // Prior 1-sigma of the drift rate (rad per metre), mean 0.
+  double rate_prior_sigma_rad_per_m = DegToRad(3.0);
+  // Prior 1-sigma of the heading error before the first measurement.
+  double heading_prior_sigma_rad = DegToRad(10.0);
+  // Random walk of the heading error (odometry noise): rad per sqrt(metre).
+  double heading_walk_rad_per_sqrt_m = DegToRad(0.3);
+  // Random walk of the rate (drift that changes along the run): rad/m per sqrt(m).
+  double rate_walk_rad_per_m_per_sqrt_m = DegToRad(0.01);
+  // Measurement 1-sigma of one ASR's estimate = max(floor, scale x the EM
+  // uncertainty): the EM uncertainty is an asymptotic standard error and is
+  // optimistic on sonar walls.
+  double measurement_sigma_scale = 2.0;
+  double measurement_sigma_floor_rad = DegToRad(0.5);
+  // Innovation gate: a measurement farther than max(gate_min, gate_sigmas x
+  // sqrt(innovation variance)) from the prediction is a gross error (clutter
+  // taken for walls) and is not used. After max_consecutive_rejects rejections
+  // in a row the heading variance is widened, so a filter that lost track
+  // re-locks instead of rejecting for ever.
+  double gate_sigmas = 4.0;
+  double gate_min_rad = DegToRad(3.0);
+  int max_consecutive_rejects = 3;
+  // Pre-correct odometry with the estimated rate (false: estimate only).
+  bool precorrect = true;
+};
+
+// The Kalman filter on [e, rate] and the odometry pre-correction.
+class OdometryCorrector {
+ public:
+  explicit OdometryCorrector(const DriftFilterOptions& options = {});
+
+  // The pre-corrected pose of a raw odometry pose (raw world frame; call in
+  // time order, one call per record). The first call returns its input; every
+  // later pose follows from the previous corrected pose by the raw odometry
+  // increment with its heading change reduced by rate x distance.
+  Pose2 Correct(const Pose2& raw_odom, double time_s);
+
+  // Mean distance driven and mean accumulated pre-correction D = raw heading -
+  // corrected heading (radians, unwrapped) over the records with time in
+  // [start_s, end_s], weighted by the distance of each step. nullopt when no
+  // record falls in the window.
+  struct Window {
+    double distance_m = 0.0;  // mean distance driven since the start
+    double applied_rad = 0.0; // mean D
+  };
+  std::optional<Window> Average(double start_s, double end_s) const;
+  // Forgets records older than 'time_s' (the window of the next ASR starts later).
+  void Forget(double time_s);
+
+  // Kalman filter. Predict to distance s; returns the predicted e(s).
+  double Predict(double distance_m);
+  // Measurement z of e at the distance of the last Predict, 1-sigma sigma_rad.
+  // z is first unwrapped to the quarter turn nearest the prediction (walls fix
+  // the heading modulo 90 degrees). Returns false when the innovation gate
+  // rejects it.
+  bool Update(double z_rad, double sigma_rad);
+  // Sets the heading error state (a resumed run): mean, 1-sigma; rate untouched.
+  void SetHeading(double e_rad, double sigma_rad);
+
+  double heading_rad() const { return e_; }
+  double rate_rad_per_m() const { return rate_; }
+  double heading_sigma_rad() const;
+  double rate_sigma_rad_per_m() const;
+  double distance_m() const { return distance_m_; }
+  // Raw heading - corrected heading of the last Correct (unwrapped).
+  double applied_rad() const { return applied_rad_; }
+  int measurements() const { return measurements_; }
+  int rejects() const { return rejects_; }
+
+ private:
+  struct Sample {
+    double time_s, distance_m, applied_rad, step_m;
+  };
+  DriftFilterOptions options_;
+  // Odometry.
+  std::optional<Pose2> last_raw_;
+  Pose2 corrected_;
+  double distance_m_ = 0.0;
+  double applied_rad_ = 0.0;
+  std::deque<Sample> samples_;
+  // Filter.
+  double filter_s_ = 0.0;
+  double e_ = 0.0, rate_ = 0.0;
+  double p_ee_, p_er_ = 0.0, p_rr_;
+  int measurements_ = 0;
+  int rejects_ = 0;
+  int consecutive_rejects_ = 0;
+};
+
+// Heading correction with drift-rate estimation (default mode): the EM of
+// HeadingCorrector on each ASR's walls, fused with the drift model. Feed every
+// raw odometry pose through CorrectOdometry and build the ASRs from the poses
+// it returns ("pre-corrected"), then Close each ASR (all its fields in that
+// pre-corrected frame) as it closes. Close measures the ASR's dominant wall
+// direction against the reference (the first accepted ASR, as HeadingCorrector
+// does), turns it into a measurement of the raw odometry heading error, and
+// rotates the ASR about its entry pivot so that its heading matches the
+// filter's estimate (the prediction alone when the estimate is declined or
+// gated), carried to every later ASR.
+//
+// Output fields as HeadingCorrector::Close, in the pre-corrected frame:
+// world_from_local_corrected = Correction() * world_from_local_raw (the raw
+// pose being the pre-corrected one). Re-express the raw fields in the raw
+// odometry frame afterwards (the mapper does: RawFromPrecorrected).
+class DriftHeadingCorrector {
+ public:
+  explicit DriftHeadingCorrector(const HeadingCorrectionOptions& heading = {},
+                                 const DriftFilterOptions& drift = {});
+
+  Pose2 CorrectOdometry(const Pose2& raw_odom, double time_s) { return odometry_.Correct(raw_odom, time_s); }
+  asr::Asr Close(asr::Asr precorrected);
+  // Continues a stored run: see HeadingCorrector::Restore. The drift rate
+  // starts again from its prior.
+  void Restore(const Pose2& correction, std::optional<double> reference_rad);
+
+  const Pose2& Correction() const { return world_corrected_from_pre_; }
+  std::optional<double> Reference() const { return reference_rad_; }
+  const DirectionEstimate& LastEstimate() const { return last_; }
+  const OdometryCorrector& odometry() const { return odometry_; }
+
+ private:
+  HeadingCorrector estimator_;  // its Estimate() only
+  OdometryCorrector odometry_;
+  DriftFilterOptions drift_options_;
+  Pose2 world_corrected_from_pre_;
+  std::optional<double> reference_rad_;
+  DirectionEstimate last_;
+};
+
+// The rigid transform that best maps a pre-corrected path onto the raw one
+// (same length, pose i with pose i): rotation = circular mean of the heading
+// differences, translation matching the centroids. Identity for empty paths.
+Pose2 RawFromPrecorrected(const std::vector<Pose2>& precorrected, const std::vector<Pose2>& raw);
+
+}  // namespace cogmap::localize
