@@ -109,6 +109,45 @@ std::vector<Vec2> FitEdges(const std::vector<Vec2>& points, const std::vector<in
     }
   }
   if (closed) out.back() = out.front();
+  if (options.mode == FitMode::kDefault && options.max_chamfer_cells > 0.0 && edges >= 3) {
+    auto line_of = [&](int e) -> const FittedLine* {
+      if (closed) e = (e % edges + edges) % edges;
+      return e >= 0 && e < edges && lines[e].accepted ? &lines[e] : nullptr;
+    };
+    std::vector<char> chamfer(edges, 0);
+    std::vector<Vec2> corner(edges);
+    for (int e = 0; e < edges; ++e) {
+      const FittedLine* a = line_of(e - 1);
+      const FittedLine* b = line_of(e + 1);
+      if (!a || !b || a == b) continue;
+      if ((out[e + 1] - out[e]).norm() >= options.max_chamfer_cells) continue;
+      const double cross = a->direction.x() * b->direction.y() - a->direction.y() * b->direction.x();
+      if (std::abs(cross) < min_sin) continue;
+      const Vec2 d = b->point - a->point;
+      const double s = (d.x() * b->direction.y() - d.y() * b->direction.x()) / cross;
+      const Vec2 x = a->point + s * a->direction;
+      if ((x - 0.5 * (out[e] + out[e + 1])).norm() > options.max_chamfer_cells) continue;
+      // Neighbouring chamfers would fight over a vertex: take the first.
+      if (e > 0 && chamfer[e - 1]) continue;
+      chamfer[e] = 1;
+      corner[e] = x;
+    }
+    if (closed && chamfer[0] && chamfer[edges - 1]) chamfer[edges - 1] = 0;
+    for (int e = 0; e < edges; ++e)
+      if (chamfer[e]) {
+        out[e] = out[e + 1] = corner[e];
+        ++st.chamfers_removed;
+      }
+    if (closed) {
+      if (chamfer[0]) out.back() = out.front();
+      if (chamfer[edges - 1]) out.front() = out.back();
+    }
+    std::vector<Vec2> dedup;
+    for (const auto& v : out)
+      if (dedup.empty() || (v - dedup.back()).norm() > 1e-9) dedup.push_back(v);
+    if (closed && dedup.size() >= 2 && (dedup.front() - dedup.back()).norm() > 1e-9) dedup.push_back(dedup.front());
+    out = std::move(dedup);
+  }
   return out;
 }
 

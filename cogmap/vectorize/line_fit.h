@@ -27,6 +27,12 @@ struct LineFitOptions {
   // vertex; otherwise the vertex goes to the mean of its projections.
   double min_corner_deg = 20.0;
   double max_corner_shift_cells = 4.0;
+  // Default mode, not in the paper: an edge shorter than this (cells) between
+  // two accepted edges that meet at min_corner_deg or more is a chamfer (a
+  // sonar grid rounds corners): it is dropped and its neighbours meet at their
+  // intersection, when that lies within this distance of the edge's middle.
+  // 0 turns it off.
+  double max_chamfer_cells = 6.0;
 };
 
 struct LineFitStats {
@@ -35,6 +41,7 @@ struct LineFitStats {
   int64_t rejected = 0;        // fits rejected by the gate (Pearson / RMS)
   int64_t too_few_points = 0;  // edges spanning fewer than min_points points
   int64_t corners_joined = 0;  // vertices moved to a line intersection
+  int64_t chamfers_removed = 0;  // short edges replaced by their neighbours' corner
 };
 
 // One fitted line: a point on it and a unit direction.

@@ -94,6 +94,24 @@ TEST(FitEdges, CornerClosesAtIntersection) {
   EXPECT_NEAR(out[2].x(), out[1].x(), 0.05);  // right edge upright
 }
 
+// Two long walls joined by a short diagonal (a rounded corner): the chamfer
+// goes and the walls meet at their corner.
+TEST(FitEdges, ChamferBecomesACorner) {
+  std::vector<Vec2> pts;
+  for (int i = 0; i <= 20; ++i) pts.push_back(Vec2(i, 0));       // 0..20
+  for (int i = 1; i <= 3; ++i) pts.push_back(Vec2(20 + i, i));   // 21..23 diagonal
+  for (int j = 4; j <= 24; ++j) pts.push_back(Vec2(23, j));      // 24..44
+  LineFitStats st;
+  const auto out = FitEdges(pts, {0, 20, 23, 44}, {}, &st);
+  EXPECT_EQ(st.chamfers_removed, 1);
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_NEAR(out[1].x(), 23.0, 1e-6);
+  EXPECT_NEAR(out[1].y(), 0.0, 1e-6);
+  LineFitOptions off;
+  off.max_chamfer_cells = 0.0;
+  EXPECT_EQ(FitEdges(pts, {0, 20, 23, 44}, off).size(), 4u);
+}
+
 TEST(FitEdges, RejectedEdgeKeepsItsVertices) {
   // A semicircle arc: far from straight, both gates reject it.
   std::vector<Vec2> pts;
