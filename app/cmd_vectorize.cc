@@ -218,7 +218,8 @@ int RunVectorize(const VectorizeArgs& a) {
                    {"fits_accepted", r.fit_stats.fitted},
                    {"fits_rejected", r.fit_stats.rejected},
                    {"edges_too_few_points", r.fit_stats.too_few_points},
-                   {"corners_joined", r.fit_stats.corners_joined}};
+                   {"corners_joined", r.fit_stats.corners_joined},
+                   {"chamfers_removed", r.fit_stats.chamfers_removed}};
   rep["bytes"] = {{"grid", r.bytes.grid}, {"vertices", r.bytes.vertices}, {"polylines", r.bytes.polylines}};
   rep["seconds"] = {{"grid", grid_s},
                     {"clean", r.seconds.clean},

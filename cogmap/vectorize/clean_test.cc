@@ -141,9 +141,9 @@ TEST(Clean, FastAgreesWithReferencesOnRandomGrids) {
     }
   }
   ASSERT_GT(paper_total, 100);
-  // Bresenham asymmetry: measured 2-3% of the paper's survivors on these
-  // grids (dense random clutter, far more than real walls).
-  EXPECT_GE(static_cast<double>(fast_total), 0.95 * paper_total)
+  // Bresenham asymmetry: 2 of 586 of the paper's survivors (0.34%) on these
+  // grids are missed by the fast clean.
+  EXPECT_GE(static_cast<double>(fast_total), 0.99 * paper_total)
       << "fast " << fast_total << " paper " << paper_total;
 }
 
