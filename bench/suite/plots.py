@@ -57,6 +57,9 @@ def error_vs_drift(results, path):
                     xs.append(d), ys.append(y)
             if xs:
                 axes[1][i].plot(xs, ys, "-", marker="s", color=c, label=robot)
+        if not axes[0][i].lines:
+            axes[0][i].text(0.5, 0.5, "heading errors n/a\n(no heading_error_deg_* keys;\nsee BENCHMARKS.md)",
+                            ha="center", va="center", transform=axes[0][i].transAxes, color="0.4")
         axes[0][i].set_title(world)
         axes[0][i].set_xlabel("heading drift (deg/m)")
         axes[1][i].set_xlabel("heading drift (deg/m)")
@@ -64,8 +67,9 @@ def error_vs_drift(results, path):
         axes[1][i].grid(alpha=0.3)
     axes[0][0].set_ylabel("ASR heading error, median (deg)")
     axes[1][0].set_ylabel("wall precision p95 (m)")
-    axes[0][0].legend(fontsize=7)
-    axes[1][0].legend(fontsize=7)
+    for ax in (axes[0][0], axes[1][0]):
+        if ax.lines:
+            ax.legend(fontsize=7)
     fig.suptitle("Error against odometry heading drift (median over seeds; dashed = raw odometry, solid = EM-corrected)")
     fig.tight_layout()
     fig.savefig(path, dpi=90)

@@ -96,9 +96,10 @@ class Report:
             for group in ("all", "map", "eval"):
                 if group in na:
                     return na[group]
+        family = "heading_error_deg_*" if key.startswith("heading_error_deg") else key
         for r in runs:
             if r.get("eval") is not None and key not in r.get("metrics", {}):
-                return f"`cogmap eval --json` gives no finite `{key}`"
+                return f"neither `cogmap eval --json` nor the map's report.json gives `{family}`"
         return f"no run gave `{key}`"
 
     def pair(self, runs, raw_key, key, digits=2):
