@@ -45,3 +45,11 @@ else()
   message(STATUS "cogmap: OpenCV not found (scripts/install-deps.sh --peers), "
                  "no cogmap_peer_opencv_vectorize")
 endif()
+
+# A helper of the suite: heading errors of a map folder through
+# cogmap::localize::ComputeHeadingErrors, used only while `cogmap eval` does
+# not report the heading_error_deg_* keys itself.
+add_executable(cogmap_suite_heading_eval suite/heading_eval.cc)
+target_include_directories(cogmap_suite_heading_eval PRIVATE ${PROJECT_SOURCE_DIR})
+target_link_libraries(cogmap_suite_heading_eval PRIVATE cogmap_localize cogmap_asr cogmap_core
+                      nlohmann_json::nlohmann_json)

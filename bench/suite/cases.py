@@ -203,6 +203,7 @@ def sim_job(ctx, world, robot, drift, seed, map_extra=(), variant=""):
         if not world_has_rooms(world):  # no ground-truth rooms: no room metrics
             for k in ROOM_KEYS:
                 res["metrics"].pop(k, None)
+        add_heading_errors(ctx, res, out)
         res["metrics"].update(_speed_metrics(_Step(res["steps"]["map"]), speed, res["metrics"]))
         return res
 
@@ -212,6 +213,37 @@ def sim_job(ctx, world, robot, drift, seed, map_extra=(), variant=""):
                               "robot": robot, "drift_deg_per_m": drift, "seed": seed,
                               "variant": variant, "map_extra": [str(a) for a in map_extra]},
                       run=run, cost=3.0 if "hallway" in world or "office" in world else 1.0)
+
+
+HEADING_KEYS = ["heading_error_deg_median", "heading_error_deg_max",
+                "heading_error_deg_median_raw", "heading_error_deg_max_raw"]
+
+
+def add_heading_errors(ctx, res, out):
+    """When neither eval nor the map's report gave heading errors, the suite's
+    helper computes them from OUTDIR/map.sqlite with the library's own metric
+    (cogmap::localize::ComputeHeadingErrors). Marks where they came from."""
+    if all(k in res["metrics"] for k in HEADING_KEYS):
+        res.setdefault("heading_source", "cogmap eval / report.json")
+        return
+    helper = os.path.join(ctx.build_dir, "bench", "cogmap_suite_heading_eval")
+    if not os.access(helper, os.X_OK):
+        return
+    s = ctx.run([helper, out])
+    res["steps"]["heading_eval"] = _step_summary(s)
+    if not s.ok:
+        res["na"]["heading"] = s.reason()
+        return
+    d = parse_json_output(s.stdout) or {}
+    got = False
+    for k in HEADING_KEYS:
+        if finite(d.get(k)) and k not in res["metrics"]:
+            res["metrics"][k] = float(d[k])
+            got = True
+    if got:
+        res["heading_source"] = "cogmap_suite_heading_eval"
+    elif not d.get("asrs_with_truth"):
+        res["na"]["heading"] = "no ASR of the map has a true path (the log has no ground truth)"
 
 
 class _Step:
@@ -314,6 +346,7 @@ def real_job(ctx, name, path, drift):
                         res["metrics"][k] = float(v)
             elif not s2.ok:
                 res["na"]["eval"] = s2.reason()
+        add_heading_errors(ctx, res, out)
         res["metrics"].update(_speed_metrics(_Step(res["steps"]["map"]), speed, res["metrics"]))
         return res
 
@@ -532,6 +565,7 @@ def scale_job(ctx, rooms, seed=1):
                     v = lookup(ev, k)
                     if finite(v):
                         res["metrics"][k] = float(v)
+        add_heading_errors(ctx, res, out)
         res["metrics"].update(_speed_metrics(_Step(res["steps"]["map"]), speed, res["metrics"]))
         return res
 

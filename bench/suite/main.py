@@ -69,7 +69,8 @@ def build(args):
                                   text=True, check=True).stdout
         for line in help_out.splitlines():
             name = line.split(":")[0].strip().lstrip(".").strip()
-            if name.startswith("cogmap_") and (name.endswith("_bench") or "compare" in name or "peer" in name):
+            if name.startswith("cogmap_") and (name.endswith("_bench") or "compare" in name or "peer" in name
+                                            or "suite" in name):
                 targets.append(name)
     except subprocess.CalledProcessError:
         pass

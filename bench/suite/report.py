@@ -147,6 +147,12 @@ class Report:
         out = ["## Accuracy per world, robot and drift", "",
                f"Median [min–max] over {len(self.r['config']['seeds'])} seeds. Heading errors in degrees, "
                "raw (odometry) → corrected (EM).", ""]
+        helper = [r for r in sims if r.get("heading_source") == "cogmap_suite_heading_eval"]
+        if helper:
+            out += [f"Heading errors of {len(helper)} of the {len(sims)} runs come from the suite's helper "
+                    "`bench/suite/heading_eval.cc` (the library's `cogmap::localize::ComputeHeadingErrors` "
+                    "on the run's `map.sqlite`), because `cogmap eval --json` does not report the "
+                    "`heading_error_deg_*` keys in this build.", ""]
         by_world = collections.OrderedDict()
         for s in sims:
             by_world.setdefault(s["params"]["world_name"], []).append(s)
