@@ -6,11 +6,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "app/command.h"
 #include "app/progress.h"
+#include "cogmap/asr/room_metrics.h"
+#include "cogmap/asr/store.h"
 #include "cogmap/core/error.h"
 #include "cogmap/eval/wall_metrics.h"
 #include "cogmap/grid/range_fusion.h"
@@ -21,6 +24,7 @@
 #include "cogmap/io/stages_picture.h"
 #include "cogmap/io/svg.h"
 #include "cogmap/io/world_io.h"
+#include "cogmap/localize/heading_error.h"
 #include "cogmap/sensors/robot_json.h"
 #include "cogmap/vectorize/vectorize.h"
 
@@ -343,6 +347,27 @@ int RunEval(const EvalArgs& a) {
   j["bytes_vertices"] = wf.bytes_vertices;
   j["bytes_polylines"] = wf.bytes_polylines;
   j["polylines_over_grid"] = wf.bytes_grid > 0 ? static_cast<double>(wf.bytes_polylines) / wf.bytes_grid : 0.0;
+  // A `cogmap map` folder: the ASRs add the room and heading metrics.
+  std::optional<asr::RoomMetrics> rooms;
+  std::optional<localize::HeadingErrorStats> headings;
+  const std::filesystem::path store_path = std::filesystem::is_directory(dir) ? dir / "map.sqlite" : dir.parent_path() / "map.sqlite";
+  if (std::filesystem::exists(store_path)) {
+    auto store = asr::SqliteAsrStore::Open(store_path.string(), asr::SqliteAsrStore::OpenMode::kOpenExisting);
+    std::vector<asr::Asr> asrs;
+    for (int id : store->Ids())
+      if (auto one = store->Get(id)) asrs.push_back(std::move(*one));
+    rooms = asr::EvaluateRooms(asrs, world.plan.rooms);
+    j["asr_count"] = rooms->asr_count;
+    if (!world.plan.rooms.empty()) {
+      j["room_precision"] = rooms->room_precision;
+      j["room_recall"] = rooms->room_recall;
+    } else {
+      j["room_precision"] = nullptr;  // the world has no ground-truth Room areas
+      j["room_recall"] = nullptr;
+    }
+    headings = localize::ComputeHeadingErrors(asrs);
+    for (const auto& [key, value] : localize::HeadingErrorEvalKeys(*headings)) j[key] = value;
+  }
   j["mode"] = wf.mode;
   j["log"] = wf.log_path;
   j["world"] = a.world;
@@ -361,13 +386,23 @@ int RunEval(const EvalArgs& a) {
                 wf.polylines.size(), static_cast<long long>(wf.vertex_count), static_cast<long long>(wf.bytes_grid),
                 static_cast<long long>(wf.bytes_vertices), static_cast<long long>(wf.bytes_polylines),
                 100.0 * j["polylines_over_grid"].get<double>());
+    if (rooms) {
+      std::printf("  %d ASRs; rooms: precision %.3f, recall %.3f (%d of %d rooms matched)\n", rooms->asr_count,
+                  rooms->room_precision, rooms->room_recall, rooms->matched_rooms, rooms->room_count);
+    }
+    if (j.contains("heading_error_deg_median")) {
+      std::printf("  heading error (deg, one global rotation removed): corrected median %.2f, max %.2f; "
+                  "raw median %.2f, max %.2f\n",
+                  j["heading_error_deg_median"].get<double>(), j["heading_error_deg_max"].get<double>(),
+                  j["heading_error_deg_median_raw"].get<double>(), j["heading_error_deg_max_raw"].get<double>());
+    }
   }
   return 0;
 }
 
 std::function<int()> SetupEval(CLI::App& sub) {
   auto a = std::make_shared<EvalArgs>();
-  sub.add_option("OUTDIR", a->dir, "A folder written by cogmap vectorize (or its walls.json)")->required();
+  sub.add_option("OUTDIR", a->dir, "A folder written by cogmap vectorize or cogmap map (or its walls.json); with a map.sqlite beside it, also ASR count, room precision/recall and heading errors")->required();
   sub.add_option("--world", a->world, "The world the log was driven in (ARIA 2D-Map or PNG)")->required();
   sub.add_option("--range", a->range_m,
                  "Sensor range for recall, metres (default: the effective range recorded by vectorize, "
@@ -381,7 +416,7 @@ const bool kVectorize = RegisterCommand(
     {"vectorize", "Turn a whole log's MHIMM grid into wall polylines (clean, extract, simplify, fit)", 40,
      SetupVectorize});
 const bool kEval = RegisterCommand(
-    {"eval", "Measure vectorized walls against a world's true walls (precision, recall, bytes)", 41, SetupEval});
+    {"eval", "Score a vectorize or map folder against a world: walls, rooms, headings, bytes", 41, SetupEval});
 
 }  // namespace
 }  // namespace cogmap::app
