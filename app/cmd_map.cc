@@ -195,7 +195,10 @@ int RunMap(const MapArgs& a) {
   wf.robot = a.robot.empty() ? robot.name : a.robot;
   wf.mode = a.mode;
   wf.cell_m = a.cell_m;
-  for (const auto& s : robot.sensors) wf.sensor_range_m = std::max(wf.sensor_range_m, s.max_range_m);
+  // The range within which walls get mapped (as cogmap vectorize records it):
+  // min(max range, window), so that recall counts only walls the grid could hold.
+  for (const auto& s : robot.sensors)
+    wf.sensor_range_m = std::max(wf.sensor_range_m, std::min(s.max_range_m, a.window_m));
   for (const auto& l : wf.polylines) wf.vertex_count += static_cast<int64_t>(l.size());
   for (const auto& x : all) {
     wf.bytes_grid += x.bytes.grid;
