@@ -46,7 +46,8 @@ DEFINITIONS = """\
   have none.
 - **heading error**: per ASR, |mapped heading - true heading| after removing one
   global rotation, median and max over the ASRs; *raw* = odometry, *corrected* = after
-  EM (issue 6).
+  EM (issue 6). A run mapped as a single ASR has 0 by this definition (its one error
+  is the global rotation).
 - **bytes per stage** (thesis table 4.2): the ASRs' grids, extracted vertices and
   final polylines, summed over ASRs.
 - **map s**: wall-clock seconds of `cogmap map` on the log (reading, gridding,
@@ -91,11 +92,11 @@ class Report:
         return self.na(reason)
 
     def reason_for(self, runs, key):
-        for r in runs:
-            na = r.get("na", {})
-            for group in ("all", "map", "eval"):
-                if group in na:
-                    return na[group]
+        groups = ("all", "map", "heading", "eval") if key.startswith("heading_error") else ("all", "map", "eval")
+        for group in groups:
+            for r in runs:
+                if group in r.get("na", {}):
+                    return r["na"][group]
         family = "heading_error_deg_*" if key.startswith("heading_error_deg") else key
         for r in runs:
             if r.get("eval") is not None and key not in r.get("metrics", {}):
@@ -290,6 +291,12 @@ class Report:
                "| log | added drift °/m | ASRs | grid B | polylines B | map s | log s | x real time | "
                "s / ASR | heading median ° raw → corr. | heading max ° raw → corr. |",
                "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        helper = [r["params"]["log_name"] for r in reals if r.get("heading_source") == "cogmap_suite_heading_eval"]
+        if helper:
+            out[-2:-2] = ["Heading errors of " + ", ".join(f"`{h}`" for h in helper) + " come from the "
+                          "suite's helper `bench/suite/heading_eval.cc` (`cogmap::localize::ComputeHeadingErrors` "
+                          "on the run's `map.sqlite`, against the poses the log gives as true), because "
+                          "`cogmap eval` wants a world for a real log.", ""]
         for r in reals:
             p = r["params"]
             g = [r]
