@@ -45,9 +45,12 @@ Pose2 OdometryCorrector::Correct(const Pose2& raw_odom, double time_s) {
 std::optional<OdometryCorrector::Window> OdometryCorrector::Average(double start_s, double end_s) const {
   double w = 0.0, s = 0.0, d = 0.0;
   double s_plain = 0.0, d_plain = 0.0;
+  double lo = 0.0, hi = 0.0;
   int n = 0;
   for (const auto& x : samples_) {
     if (x.time_s < start_s || x.time_s > end_s) continue;
+    lo = n == 0 ? x.distance_m : std::min(lo, x.distance_m);
+    hi = n == 0 ? x.distance_m : std::max(hi, x.distance_m);
     w += x.step_m;
     s += x.step_m * x.distance_m;
     d += x.step_m * x.applied_rad;
@@ -56,8 +59,8 @@ std::optional<OdometryCorrector::Window> OdometryCorrector::Average(double start
     ++n;
   }
   if (n == 0) return std::nullopt;
-  if (w > 0.0) return Window{s / w, d / w};
-  return Window{s_plain / n, d_plain / n};
+  if (w > 0.0) return Window{s / w, d / w, hi - lo};
+  return Window{s_plain / n, d_plain / n, hi - lo};
 }
 
 void OdometryCorrector::Forget(double time_s) {
@@ -73,7 +76,49 @@ double OdometryCorrector::Predict(double distance_m) {
   p_er_ += ds * p_rr_;
   p_rr_ += qr * ds;
   filter_s_ = std::max(filter_s_, distance_m);
+  steps_.push_back({ds, e_, rate_, p_ee_, p_er_, p_rr_, e_, rate_, p_ee_, p_er_, p_rr_});
   return e_;
+}
+
+void OdometryCorrector::RecordFiltered() {
+  if (steps_.empty()) return;
+  Step& st = steps_.back();
+  st.filt_e = e_;
+  st.filt_r = rate_;
+  st.filt_ee = p_ee_;
+  st.filt_er = p_er_;
+  st.filt_rr = p_rr_;
+}
+
+std::vector<double> OdometryCorrector::SmoothedHeadings() const {
+  const size_t n = steps_.size();
+  std::vector<double> out(n);
+  if (n == 0) return out;
+  double se = steps_.back().filt_e, sr = steps_.back().filt_r;
+  out[n - 1] = se;
+  for (size_t k = n - 1; k-- > 0;) {
+    const Step& a = steps_[k];
+    const Step& b = steps_[k + 1];
+    // G = P_filt(k) F^T P_pred(k+1)^-1 with F = [[1, ds], [0, 1]].
+    const double ds = b.ds;
+    const double pf00 = a.filt_ee, pf01 = a.filt_er, pf11 = a.filt_rr;
+    // P_filt F^T: [[pf00 + ds pf01, pf01], [pf01 + ds pf11, pf11]]
+    const double m00 = pf00 + ds * pf01, m01 = pf01, m10 = pf01 + ds * pf11, m11 = pf11;
+    const double det = b.pred_ee * b.pred_rr - b.pred_er * b.pred_er;
+    double ge = 0.0, gr = 0.0;  // first row of G applied to the difference below
+    const double de = se - b.pred_e, dr = sr - b.pred_r;
+    if (std::abs(det) > 1e-300) {
+      const double i00 = b.pred_rr / det, i01 = -b.pred_er / det, i11 = b.pred_ee / det;
+      const double g00 = m00 * i00 + m01 * i01, g01 = m00 * i01 + m01 * i11;
+      const double g10 = m10 * i00 + m11 * i01, g11 = m10 * i01 + m11 * i11;
+      ge = g00 * de + g01 * dr;
+      gr = g10 * de + g11 * dr;
+    }
+    se = a.filt_e + ge;
+    sr = a.filt_r + gr;
+    out[k] = se;
+  }
+  return out;
 }
 
 bool OdometryCorrector::Update(double z_rad, double sigma_rad) {
@@ -89,6 +134,7 @@ bool OdometryCorrector::Update(double z_rad, double sigma_rad) {
       const double wide = options_.heading_prior_sigma_rad * options_.heading_prior_sigma_rad;
       p_ee_ = std::max(p_ee_, wide);
       consecutive_rejects_ = 0;
+      RecordFiltered();
     }
     return false;
   }
@@ -101,6 +147,7 @@ bool OdometryCorrector::Update(double z_rad, double sigma_rad) {
   p_er_ = per - ke * per;
   p_rr_ = p_rr_ - kr * per;
   ++measurements_;
+  RecordFiltered();
   return true;
 }
 
@@ -108,6 +155,7 @@ void OdometryCorrector::SetHeading(double e_rad, double sigma_rad) {
   e_ = e_rad;
   p_ee_ = sigma_rad * sigma_rad;
   p_er_ = 0.0;
+  RecordFiltered();
 }
 
 double OdometryCorrector::heading_sigma_rad() const { return std::sqrt(std::max(0.0, p_ee_)); }
@@ -122,6 +170,9 @@ asr::Asr DriftHeadingCorrector::Close(asr::Asr pre) {
   const auto window = odometry_.Average(pre.start_time_s, pre.end_time_s);
   const double s = window ? window->distance_m : odometry_.distance_m();
   const double applied = window ? window->applied_rad : odometry_.applied_rad();
+  const double span = window ? window->span_m : 0.0;
+  // The rate's uncertainty while this ASR was mapped (before this update).
+  const double rate_sigma = odometry_.rate_sigma_rad_per_m();
   odometry_.Forget(pre.end_time_s);
   odometry_.Predict(s);
   Pose2& c = world_corrected_from_pre_;
@@ -133,10 +184,11 @@ asr::Asr DriftHeadingCorrector::Close(asr::Asr pre) {
     // Corrected heading = raw - applied + c.theta; the walls say it is off the
     // reference by 'drift', so the raw heading error is:
     const double z = applied - c.theta + drift;
-    const double sigma =
+    double sigma =
         std::max(drift_options_.measurement_sigma_floor_rad,
                  drift_options_.measurement_sigma_scale *
                      (std::isfinite(last_.uncertainty_rad) ? last_.uncertainty_rad : kPi / 4.0));
+    if (drift_options_.smear_inflation) sigma = std::hypot(sigma, rate_sigma * span / std::sqrt(12.0));
     if (!odometry_.Update(z, sigma)) {
       last_.accepted = false;
       last_.decline = Decline::kDriftOutlier;
@@ -148,6 +200,7 @@ asr::Asr DriftHeadingCorrector::Close(asr::Asr pre) {
     const Vec2 pivot = c * pre.entry_pivot_m;
     c = RotationAbout(pivot, angle) * c;
   }
+  closed_.push_back({pre.id, applied, pre.entry_pivot_m, reference_rad_.has_value(), c});
   pre.world_from_local_corrected = c * pre.world_from_local_raw;
   pre.heading_correction_rad = c.theta;
   pre.heading_uncertainty_rad =
@@ -157,11 +210,30 @@ asr::Asr DriftHeadingCorrector::Close(asr::Asr pre) {
 
 void DriftHeadingCorrector::Restore(const Pose2& correction, std::optional<double> reference_rad) {
   world_corrected_from_pre_ = correction;
+  start_correction_ = correction;
   reference_rad_ = reference_rad;
   if (reference_rad_) reference_rad_ = FoldToQuarterTurn(*reference_rad_);
   // No pre-correction applied yet on the resumed log: e = -c.theta keeps the
   // stored correction until the walls say otherwise.
   odometry_.SetHeading(odometry_.applied_rad() - correction.theta, drift_options_.measurement_sigma_floor_rad * 4.0);
+}
+
+std::vector<DriftHeadingCorrector::Revision> DriftHeadingCorrector::Smooth() {
+  const std::vector<double> e = odometry_.SmoothedHeadings();
+  std::vector<Revision> out;
+  if (e.size() != closed_.size()) return out;  // Predict once per Close
+  Pose2 c = start_correction_;
+  for (size_t k = 0; k < closed_.size(); ++k) {
+    Closed& x = closed_[k];
+    if (x.rotated) {
+      const double angle = NormalizeAngle(x.applied_rad - e[k] - c.theta);
+      c = RotationAbout(c * x.pivot_pre, angle) * c;
+    }
+    out.push_back({x.id, c * x.correction.inverse()});
+    x.correction = c;
+  }
+  world_corrected_from_pre_ = c;
+  return out;
 }
 
 Pose2 RawFromPrecorrected(const std::vector<Pose2>& pre, const std::vector<Pose2>& raw) {

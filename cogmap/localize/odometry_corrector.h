@@ -1,6 +1,7 @@
 #pragma once
 #include <deque>
 #include <optional>
+#include <vector>
 
 #include "cogmap/asr/asr.h"
 #include "cogmap/core/pose2.h"
@@ -34,6 +35,12 @@ struct DriftFilterOptions {
   // optimistic on sonar walls.
   double measurement_sigma_scale = 2.0;
   double measurement_sigma_floor_rad = DegToRad(0.5);
+  // The walls of an ASR mapped while the rate is still uncertain are smeared:
+  // the residual heading changes by (rate error) x (distance) across it. Its
+  // measurement sigma grows by rate_sigma x span / sqrt(12) (a uniform spread
+  // over the span), so the first, smeared ASRs count little once later ones
+  // pin the rate (the smoother then extrapolates the line back to them).
+  bool smear_inflation = false;  // off: on simulated sonar runs it did not help (docs)
   // Innovation gate: a measurement farther than max(gate_min, gate_sigmas x
   // sqrt(innovation variance)) from the prediction is a gross error (clutter
   // taken for walls) and is not used. After max_consecutive_rejects rejections
@@ -64,6 +71,7 @@ class OdometryCorrector {
   struct Window {
     double distance_m = 0.0;  // mean distance driven since the start
     double applied_rad = 0.0; // mean D
+    double span_m = 0.0;      // distance driven from the first record to the last
   };
   std::optional<Window> Average(double start_s, double end_s) const;
   // Forgets records older than 'time_s' (the window of the next ASR starts later).
@@ -78,6 +86,10 @@ class OdometryCorrector {
   bool Update(double z_rad, double sigma_rad);
   // Sets the heading error state (a resumed run): mean, 1-sigma; rate untouched.
   void SetHeading(double e_rad, double sigma_rad);
+  // Rauch-Tung-Striebel smoothing of the steps so far: the heading error e at
+  // the distance of every Predict call, in order, given all the measurements
+  // (earlier ones included: the rate learnt later corrects the first ASRs).
+  std::vector<double> SmoothedHeadings() const;
 
   double heading_rad() const { return e_; }
   double rate_rad_per_m() const { return rate_; }
@@ -100,6 +112,14 @@ class OdometryCorrector {
   double distance_m_ = 0.0;
   double applied_rad_ = 0.0;
   std::deque<Sample> samples_;
+  // One entry per Predict: the state after it (pred) and after the update (filt).
+  struct Step {
+    double ds;
+    double pred_e, pred_r, pred_ee, pred_er, pred_rr;
+    double filt_e, filt_r, filt_ee, filt_er, filt_rr;
+  };
+  std::vector<Step> steps_;
+  void RecordFiltered();
   // Filter.
   double filter_s_ = 0.0;
   double e_ = 0.0, rate_ = 0.0;
@@ -135,6 +155,18 @@ class DriftHeadingCorrector {
   // starts again from its prior.
   void Restore(const Pose2& correction, std::optional<double> reference_rad);
 
+  // Smoothing at the end of a run (or whenever): the corrections of all the
+  // ASRs closed so far, recomputed from the smoothed heading errors (RTS) so
+  // that the rate learnt later also corrects the first ASRs (closed before it
+  // was known). Returns, per ASR id in closing order, the transform to apply on
+  // the left of its world_from_local_corrected (new = delta * old); the
+  // corrector's own state moves to the smoothed chain. Walls stay as mapped.
+  struct Revision {
+    int asr_id = -1;
+    Pose2 delta;
+  };
+  std::vector<Revision> Smooth();
+
   const Pose2& Correction() const { return world_corrected_from_pre_; }
   std::optional<double> Reference() const { return reference_rad_; }
   const DirectionEstimate& LastEstimate() const { return last_; }
@@ -147,6 +179,16 @@ class DriftHeadingCorrector {
   Pose2 world_corrected_from_pre_;
   std::optional<double> reference_rad_;
   DirectionEstimate last_;
+  // What Smooth needs of each closed ASR.
+  struct Closed {
+    int id;
+    double applied_rad;   // mean pre-correction D over the ASR
+    Vec2 pivot_pre;       // entry pivot, pre-corrected frame
+    bool rotated;         // a reference existed (it was rotated)
+    Pose2 correction;     // pre -> corrected after it
+  };
+  std::vector<Closed> closed_;
+  Pose2 start_correction_;  // pre -> corrected before the first Close
 };
 
 // The rigid transform that best maps a pre-corrected path onto the raw one

@@ -23,6 +23,7 @@ TEST(DriftFilterOptions, Defaults) {
   EXPECT_EQ(o.gate_sigmas, 4.0);
   EXPECT_EQ(o.max_consecutive_rejects, 3);
   EXPECT_TRUE(o.precorrect);
+  EXPECT_FALSE(o.smear_inflation);
 }
 
 TEST(OdometryCorrector, WithoutMeasurementsReturnsTheRawPoses) {
@@ -86,6 +87,31 @@ TEST(OdometryCorrector, PreCorrectionUndoesAKnownDrift) {
   EXPECT_NEAR(last.y, 0.0, 0.05);
   EXPECT_NEAR(c.distance_m(), 20.0, 1e-9);
   EXPECT_NEAR(c.applied_rad(), raw.theta - rate * step - last.theta, 1e-9);
+}
+
+TEST(OdometryCorrector, SmoothingUsesLaterMeasurementsForEarlierSteps) {
+  OdometryCorrector c;
+  const double rate = DegToRad(1.0), offset = DegToRad(0.2);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, DegToRad(1.0));
+  std::vector<double> filtered;
+  for (int k = 0; k < 20; ++k) {
+    const double s = 4.5 * k;
+    c.Predict(s);
+    c.Update(offset + rate * s + noise(rng), DegToRad(1.0));
+    filtered.push_back(c.heading_rad());
+  }
+  const std::vector<double> smoothed = c.SmoothedHeadings();
+  ASSERT_EQ(smoothed.size(), 20u);
+  EXPECT_NEAR(smoothed.back(), c.heading_rad(), 1e-12);
+  double err_f = 0.0, err_s = 0.0;
+  for (int k = 0; k < 5; ++k) {
+    const double truth = offset + rate * 4.5 * k;
+    err_f += std::abs(filtered[k] - truth);
+    err_s += std::abs(smoothed[k] - truth);
+  }
+  EXPECT_LT(err_s, 0.5 * err_f);
+  EXPECT_LT(RadToDeg(err_s / 5.0), 0.5);
 }
 
 TEST(OdometryCorrector, AverageWeightsByDistanceInTheTimeWindow) {
@@ -224,6 +250,28 @@ TEST(DriftHeadingCorrector, NoisyWallsStillConverge) {
   EXPECT_GT(st.median_raw_deg, 15.0);
   EXPECT_LT(st.median_deg, 0.5);
   EXPECT_LT(st.max_deg, 2.0);
+}
+
+TEST(DriftHeadingCorrector, SmoothingRevisesTheStoredCorrections) {
+  DriftHeadingCorrector c;
+  WallNoise noise;
+  noise.pieces = 4;
+  noise.vertex_sigma_m = 0.08;
+  noise.clutter_edges = 10;
+  noise.seed = 9;
+  auto asrs = MapDriftingCorridor(&c, 20, DegToRad(1.0), noise);
+  const HeadingErrorStats before = ComputeHeadingErrors(asrs);
+  const auto revisions = c.Smooth();
+  ASSERT_EQ(revisions.size(), asrs.size());
+  for (size_t i = 0; i < asrs.size(); ++i) {
+    ASSERT_EQ(revisions[i].asr_id, asrs[i].id);
+    asrs[i].world_from_local_corrected = revisions[i].delta * asrs[i].world_from_local_corrected;
+  }
+  const HeadingErrorStats after = ComputeHeadingErrors(asrs);
+  EXPECT_LT(after.max_deg, before.max_deg);
+  EXPECT_LT(after.median_deg, 0.5);
+  // A second Smooth changes nothing more.
+  for (const auto& r : c.Smooth()) EXPECT_NEAR(r.delta.theta, 0.0, 1e-12);
 }
 
 TEST(DriftHeadingCorrector, NoDriftMeansNoCorrection) {
