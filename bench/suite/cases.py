@@ -483,6 +483,23 @@ def opencv_job(ctx, name, log_path, world, mode):
                       params={"name": name, "mode": mode}, run=run, cost=2.0)
 
 
+def text_job(ctx, binary):
+    """A comparison program that prints its own table (no JSON): its output is
+    kept as it is, for the report to quote."""
+
+    def run(job):
+        res = {"params": job.params, "na": {}}
+        s = ctx.run([binary], cwd=os.path.dirname(binary))
+        res["steps"] = {"run": _step_summary(s)}
+        if not s.ok:
+            res["na"]["all"] = s.reason()
+        res["stdout"] = s.stdout[-8000:]
+        return res
+
+    return runner.Job(name=f"text/{os.path.basename(binary)}", kind="peer_text",
+                      params={"binary": os.path.basename(binary)}, run=run, cost=2.0)
+
+
 def opencv_binaries(build_dir):
     """The vectorization issue's OpenCV comparison program, when built."""
     found = []

@@ -234,7 +234,10 @@ def main(argv=None, smoke_default=False):
                     peers["sources"][name] = ("real", f"real/{name}/0")
                     pjobs.append(cases.mrpt_job(ctx, name, path))
             for b in cases.opencv_binaries(args.build_dir):
-                pjobs.append(cases.micro_job(ctx, b, args.micro_min_time))
+                if cases.is_google_benchmark(b):
+                    pjobs.append(cases.micro_job(ctx, b, args.micro_min_time))
+                else:
+                    pjobs.append(cases.text_job(ctx, b))
         log(f"phase 2: {len(pjobs)} peer jobs", args.quiet)
         res2 = runner.run_jobs(pjobs, args.jobs, progress)
         for j in pjobs:

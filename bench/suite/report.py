@@ -483,7 +483,8 @@ class Report:
                 out += [self.na("no OpenCV comparison program in build/bench/"), ""]
             return out
         for c in cv:
-            out.append(f"`{c['params']['binary']}` (from the vectorization issue), as it reports:")
+            out.append(f"`{c['params']['binary']}` (the vectorization issue's comparison on synthetic room "
+                       "layouts), as it prints it:")
             out.append("")
             if "na" in c and c["na"].get("all"):
                 out.append(self.na(c["na"]["all"]))
