@@ -69,6 +69,13 @@ void OdometryCorrector::Forget(double time_s) {
 
 double OdometryCorrector::Predict(double distance_m) {
   const double ds = std::max(0.0, distance_m - filter_s_);
+  if (steps_.empty()) {
+    init_e_ = e_;
+    init_r_ = rate_;
+    init_ee_ = p_ee_;
+    init_er_ = p_er_;
+    init_rr_ = p_rr_;
+  }
   const double qe = options_.heading_walk_rad_per_sqrt_m * options_.heading_walk_rad_per_sqrt_m;
   const double qr = options_.rate_walk_rad_per_m_per_sqrt_m * options_.rate_walk_rad_per_m_per_sqrt_m;
   e_ += rate_ * ds;
@@ -76,7 +83,7 @@ double OdometryCorrector::Predict(double distance_m) {
   p_er_ += ds * p_rr_;
   p_rr_ += qr * ds;
   filter_s_ = std::max(filter_s_, distance_m);
-  steps_.push_back({ds, e_, rate_, p_ee_, p_er_, p_rr_, e_, rate_, p_ee_, p_er_, p_rr_});
+  steps_.push_back({ds, false, 0.0, 0.0, e_, rate_, p_ee_, p_er_, p_rr_, e_, rate_, p_ee_, p_er_, p_rr_});
   return e_;
 }
 
@@ -90,7 +97,63 @@ void OdometryCorrector::RecordFiltered() {
   st.filt_rr = p_rr_;
 }
 
-std::vector<double> OdometryCorrector::SmoothedHeadings() const {
+std::vector<double> OdometryCorrector::SmoothedHeadings() const { return Rts(steps_); }
+
+std::vector<double> OdometryCorrector::RobustSmoothedHeadings(int iterations, double huber_k) const {
+  std::vector<Step> steps = steps_;
+  const size_t n = steps.size();
+  std::vector<double> weight(n, 1.0);
+  double scale2 = 1.0;  // variance factor of the measurements
+  std::vector<double> smoothed = Rts(steps);
+  const double qe = options_.heading_walk_rad_per_sqrt_m * options_.heading_walk_rad_per_sqrt_m;
+  const double qr = options_.rate_walk_rad_per_m_per_sqrt_m * options_.rate_walk_rad_per_m_per_sqrt_m;
+  for (int it = 0; it < iterations; ++it) {
+    // Forward with the current variance factor and weights; the normalised
+    // squared innovations (one-step predictions do not see their own
+    // measurement) say whether the factor is right: their median is 0.455
+    // (chi-square, 1 degree of freedom) when it is.
+    double e = init_e_, rate = init_r_, pee = init_ee_, per = init_er_, prr = init_rr_;
+    std::vector<double> t;
+    for (size_t k = 0; k < n; ++k) {
+      Step& st = steps[k];
+      const double ds = st.ds;
+      e += rate * ds;
+      pee += 2.0 * ds * per + ds * ds * prr + qe * ds;
+      per += ds * prr;
+      prr += qr * ds;
+      st.pred_e = e, st.pred_r = rate, st.pred_ee = pee, st.pred_er = per, st.pred_rr = prr;
+      if (st.measured && st.sigma > 0.0) {
+        const double rvar = scale2 * st.sigma * st.sigma / weight[k];
+        const double sv = pee + rvar;
+        const double nu = st.z - e;
+        // Only once the rate is pinned (two measurements) is the prediction informative.
+        if (k > 0 && t.size() + 1 < 1000 && pee < rvar * 4.0) t.push_back(nu * nu / sv);
+        const double ke = pee / sv, kr = per / sv;
+        e += ke * nu;
+        rate += kr * nu;
+        const double a = pee, b = per;
+        pee = a - ke * a;
+        per = b - ke * b;
+        prr = prr - kr * b;
+      }
+      st.filt_e = e, st.filt_r = rate, st.filt_ee = pee, st.filt_er = per, st.filt_rr = prr;
+    }
+    smoothed = Rts(steps);
+    if (t.size() >= 3) {
+      std::nth_element(t.begin(), t.begin() + t.size() / 2, t.end());
+      scale2 = std::clamp(scale2 * t[t.size() / 2] / 0.455, 0.01, 100.0);
+    }
+    // Huber weights from the residuals to the smoothed headings.
+    for (size_t k = 0; k < n; ++k) {
+      if (!steps[k].measured || steps[k].sigma <= 0.0) continue;
+      const double r = std::abs(steps[k].z - smoothed[k]) / (steps[k].sigma * std::sqrt(scale2));
+      weight[k] = r <= huber_k ? 1.0 : huber_k / r;
+    }
+  }
+  return smoothed;
+}
+
+std::vector<double> OdometryCorrector::Rts(const std::vector<Step>& steps_) {
   const size_t n = steps_.size();
   std::vector<double> out(n);
   if (n == 0) return out;
@@ -139,6 +202,11 @@ bool OdometryCorrector::Update(double z_rad, double sigma_rad) {
     return false;
   }
   consecutive_rejects_ = 0;
+  if (!steps_.empty()) {
+    steps_.back().measured = true;
+    steps_.back().z = e_ + nu;
+    steps_.back().sigma = sigma_rad;
+  }
   const double ke = p_ee_ / s, kr = p_er_ / s;
   e_ += ke * nu;
   rate_ += kr * nu;
@@ -219,7 +287,8 @@ void DriftHeadingCorrector::Restore(const Pose2& correction, std::optional<doubl
 }
 
 std::vector<DriftHeadingCorrector::Revision> DriftHeadingCorrector::Smooth() {
-  const std::vector<double> e = odometry_.SmoothedHeadings();
+  const std::vector<double> e = drift_options_.robust_smoothing ? odometry_.RobustSmoothedHeadings()
+                                                                : odometry_.SmoothedHeadings();
   std::vector<Revision> out;
   if (e.size() != closed_.size()) return out;  // Predict once per Close
   Pose2 c = start_correction_;

@@ -49,6 +49,9 @@ struct DriftFilterOptions {
   double gate_sigmas = 4.0;
   double gate_min_rad = DegToRad(3.0);
   int max_consecutive_rejects = 3;
+  // DriftHeadingCorrector::Smooth: RobustSmoothedHeadings (true) or the plain
+  // RTS smoother.
+  bool robust_smoothing = false;  // off: no gain on the simulated sonar runs (docs)
   // Pre-correct odometry with the estimated rate (false: estimate only).
   bool precorrect = true;
 };
@@ -90,6 +93,13 @@ class OdometryCorrector {
   // the distance of every Predict call, in order, given all the measurements
   // (earlier ones included: the rate learnt later corrects the first ASRs).
   std::vector<double> SmoothedHeadings() const;
+  // The same, robust (batch, not in the thesis): the forward filter is re-run
+  // over the stored measurements that passed the gate, with their variances
+  // rescaled by one factor estimated from the residuals (the EM uncertainty is
+  // a poor absolute scale: too large on whole rooms, too small on short
+  // stretches of sonar wall) and down-weighted beyond 'huber_k' robust sigmas
+  // (Huber), iterated 'iterations' times.
+  std::vector<double> RobustSmoothedHeadings(int iterations = 5, double huber_k = 2.0) const;
 
   double heading_rad() const { return e_; }
   double rate_rad_per_m() const { return rate_; }
@@ -115,11 +125,15 @@ class OdometryCorrector {
   // One entry per Predict: the state after it (pred) and after the update (filt).
   struct Step {
     double ds;
+    bool measured = false;      // an update was applied at this step
+    double z = 0.0, sigma = 0.0;  // the measurement (unwrapped) and its 1-sigma
     double pred_e, pred_r, pred_ee, pred_er, pred_rr;
     double filt_e, filt_r, filt_ee, filt_er, filt_rr;
   };
   std::vector<Step> steps_;
+  double init_e_ = 0.0, init_r_ = 0.0, init_ee_ = 0.0, init_er_ = 0.0, init_rr_ = 0.0;
   void RecordFiltered();
+  static std::vector<double> Rts(const std::vector<Step>& steps);
   // Filter.
   double filter_s_ = 0.0;
   double e_ = 0.0, rate_ = 0.0;

@@ -24,6 +24,7 @@ TEST(DriftFilterOptions, Defaults) {
   EXPECT_EQ(o.max_consecutive_rejects, 3);
   EXPECT_TRUE(o.precorrect);
   EXPECT_FALSE(o.smear_inflation);
+  EXPECT_FALSE(o.robust_smoothing);
 }
 
 TEST(OdometryCorrector, WithoutMeasurementsReturnsTheRawPoses) {
@@ -112,6 +113,26 @@ TEST(OdometryCorrector, SmoothingUsesLaterMeasurementsForEarlierSteps) {
   }
   EXPECT_LT(err_s, 0.5 * err_f);
   EXPECT_LT(RadToDeg(err_s / 5.0), 0.5);
+}
+
+TEST(OdometryCorrector, RobustSmoothingResistsAnOutlierThatPassedTheGate) {
+  DriftFilterOptions o;
+  o.gate_sigmas = 100.0;  // let the outlier in
+  OdometryCorrector c(o);
+  const double rate = DegToRad(1.0);
+  std::mt19937 rng(4);
+  std::normal_distribution<double> noise(0.0, DegToRad(0.3));
+  for (int k = 0; k < 20; ++k) {
+    const double s = 4.5 * k;
+    c.Predict(s);
+    const double outlier = k == 10 ? DegToRad(12.0) : 0.0;
+    ASSERT_TRUE(c.Update(rate * s + noise(rng) + outlier, DegToRad(1.0)));
+  }
+  const double truth = rate * 45.0;
+  const double plain = std::abs(c.SmoothedHeadings()[10] - truth);
+  const double robust = std::abs(c.RobustSmoothedHeadings()[10] - truth);
+  EXPECT_GT(RadToDeg(plain), 1.0);
+  EXPECT_LT(robust, 0.5 * plain);
 }
 
 TEST(OdometryCorrector, AverageWeightsByDistanceInTheTimeWindow) {
