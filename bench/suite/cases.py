@@ -359,9 +359,8 @@ def real_job(ctx, name, path, drift):
 
 def is_google_benchmark(binary):
     try:
-        p = subprocess.run([binary, "--benchmark_list_tests=true"], capture_output=True, text=True,
-                           timeout=60)
-        return p.returncode == 0 and bool(p.stdout.strip())
+        p = subprocess.run([binary, "--help"], capture_output=True, text=True, timeout=60)
+        return "--benchmark_filter" in (p.stdout + p.stderr)
     except (OSError, subprocess.TimeoutExpired):
         return False
 
