@@ -152,6 +152,7 @@ def main(argv=None, smoke_default=False):
 
     results = {"machine": machine.describe(SOURCE_DIR), "config": config, "commands": commands,
                "started_utc": started}
+    results["machine"]["load_average_at_start"] = round(os.getloadavg()[0], 2)
 
     # Phase 1: simulated runs and real logs.
     jobs = []
@@ -268,6 +269,7 @@ def main(argv=None, smoke_default=False):
     results["figures"] = figs
     results["figure_notes"] = notes
     results["suite_wall_s"] = time.monotonic() - t_start
+    results["machine"]["load_average_at_end"] = round(os.getloadavg()[0], 2)
 
     # Keep results.json small: the per-ASR lists of each map's report are in
     # its map folder; the suite keeps only the per-ASR seconds (asr_seconds).

@@ -124,7 +124,10 @@ class Report:
             + (f" at {m['cpu_mhz']:.0f} MHz" if m.get("cpu_mhz") else "")
             + f", {m.get('mem_total_gib')} GiB RAM, {m.get('os')}",
             f"- **run**: {self.r['started_utc']} UTC, {self.r['suite_wall_s'] / 60:.1f} min wall clock "
-            f"on {cfg['jobs']} parallel jobs, build type {cfg.get('build_type', '?')}",
+            f"on {cfg['jobs']} parallel jobs, build type {cfg.get('build_type', '?')}"
+            + (f"; 1-minute load average {m['load_average_at_start']} at the start and "
+               f"{m.get('load_average_at_end', '?')} at the end (times are wall clock: on a busy "
+               "machine they grow, and their spreads with them)" if "load_average_at_start" in m else ""),
             f"- **grid of runs**: worlds {', '.join(cfg['worlds'])} x robots {', '.join(cfg['robots'])} "
             f"x drift {', '.join(f'{d:g}' for d in cfg['drifts'])} deg/m x seeds "
             f"{', '.join(str(s) for s in cfg['seeds'])} = {len(self.r.get('sim', []))} simulated runs, "
