@@ -194,8 +194,12 @@ bool OdometryCorrector::Update(double z_rad, double sigma_rad) {
     ++rejects_;
     if (++consecutive_rejects_ >= options_.max_consecutive_rejects) {
       // Lost track: let the next measurements in again.
+      // The rate may be what is wrong: widen it too (a third of its prior).
       const double wide = options_.heading_prior_sigma_rad * options_.heading_prior_sigma_rad;
+      const double wide_rate = options_.rate_prior_sigma_rad_per_m * options_.rate_prior_sigma_rad_per_m / 9.0;
       p_ee_ = std::max(p_ee_, wide);
+      p_rr_ = std::max(p_rr_, wide_rate);
+      p_er_ = 0.0;
       consecutive_rejects_ = 0;
       RecordFiltered();
     }
@@ -219,6 +223,49 @@ bool OdometryCorrector::Update(double z_rad, double sigma_rad) {
   return true;
 }
 
+void OdometryCorrector::Record(double z_rad, double sigma_rad) {
+  if (steps_.empty()) return;
+  steps_.back().measured = true;
+  steps_.back().z = z_rad;
+  steps_.back().sigma = sigma_rad;
+}
+
+void OdometryCorrector::Drop(size_t step) {
+  if (step < steps_.size()) steps_[step].measured = false;
+}
+
+void OdometryCorrector::Refilter() {
+  const double qe = options_.heading_walk_rad_per_sqrt_m * options_.heading_walk_rad_per_sqrt_m;
+  const double qr = options_.rate_walk_rad_per_m_per_sqrt_m * options_.rate_walk_rad_per_m_per_sqrt_m;
+  if (steps_.empty()) return;
+  double e = init_e_, rate = init_r_, pee = init_ee_, per = init_er_, prr = init_rr_;
+  measurements_ = 0;
+  for (Step& st : steps_) {
+    const double ds = st.ds;
+    e += rate * ds;
+    pee += 2.0 * ds * per + ds * ds * prr + qe * ds;
+    per += ds * prr;
+    prr += qr * ds;
+    st.pred_e = e, st.pred_r = rate, st.pred_ee = pee, st.pred_er = per, st.pred_rr = prr;
+    if (st.measured && st.sigma > 0.0) {
+      const double sv = pee + st.sigma * st.sigma;
+      st.z = e + WrapQuarter(st.z - e);
+      const double nu = st.z - e;
+      const double ke = pee / sv, kr = per / sv;
+      e += ke * nu;
+      rate += kr * nu;
+      const double a = pee, b = per;
+      pee = a - ke * a;
+      per = b - ke * b;
+      prr = prr - kr * b;
+      ++measurements_;
+    }
+    st.filt_e = e, st.filt_r = rate, st.filt_ee = pee, st.filt_er = per, st.filt_rr = prr;
+  }
+  e_ = e, rate_ = rate, p_ee_ = pee, p_er_ = per, p_rr_ = prr;
+  consecutive_rejects_ = 0;
+}
+
 void OdometryCorrector::SetHeading(double e_rad, double sigma_rad) {
   e_ = e_rad;
   p_ee_ = sigma_rad * sigma_rad;
@@ -231,7 +278,41 @@ double OdometryCorrector::rate_sigma_rad_per_m() const { return std::sqrt(std::m
 
 DriftHeadingCorrector::DriftHeadingCorrector(const HeadingCorrectionOptions& heading,
                                              const DriftFilterOptions& drift)
-    : estimator_(heading), odometry_(drift), drift_options_(drift) {}
+    : estimator_(heading), heading_options_(heading), odometry_(drift), drift_options_(drift) {
+  warming_ = drift.warmup_measurements > 0;
+}
+
+void DriftHeadingCorrector::EndWarmup() {
+  warming_ = false;
+  const size_t n = warm_.size();
+  if (n >= 2) {
+    // Theil-Sen: the median of the pairwise slopes, then the median intercept.
+    std::vector<double> slopes;
+    for (size_t i = 0; i < n; ++i)
+      for (size_t j = i + 1; j < n; ++j) {
+        const double ds = warm_[j].distance_m - warm_[i].distance_m;
+        if (ds > 1e-6) slopes.push_back((warm_[j].z_rad - warm_[i].z_rad) / ds);
+      }
+    if (!slopes.empty()) {
+      std::nth_element(slopes.begin(), slopes.begin() + slopes.size() / 2, slopes.end());
+      const double slope = slopes[slopes.size() / 2];
+      std::vector<double> r;
+      for (const auto& w : warm_) r.push_back(w.z_rad - slope * w.distance_m);
+      std::vector<double> sorted = r;
+      std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.end());
+      const double intercept = sorted[n / 2];
+      std::vector<double> dev;
+      for (double v : r) dev.push_back(std::abs(v - intercept));
+      std::vector<double> ds = dev;
+      std::nth_element(ds.begin(), ds.begin() + n / 2, ds.end());
+      const double band = std::max(drift_options_.warmup_min_band_rad, 3.0 * 1.4826 * ds[n / 2]);
+      for (size_t i = 0; i < n; ++i)
+        if (dev[i] > band) odometry_.Drop(warm_[i].step);
+    }
+  }
+  odometry_.Refilter();
+  warm_.clear();
+}
 
 asr::Asr DriftHeadingCorrector::Close(asr::Asr pre) {
   last_ = estimator_.Estimate(pre);
@@ -243,7 +324,9 @@ asr::Asr DriftHeadingCorrector::Close(asr::Asr pre) {
   const double rate_sigma = odometry_.rate_sigma_rad_per_m();
   odometry_.Forget(pre.end_time_s);
   odometry_.Predict(s);
+  distance_since_accepted_m_ += span;
   Pose2& c = world_corrected_from_pre_;
+  double warm_angle = 0.0;  // warm-up: this ASR's own rotation (-drift)
   if (last_.accepted) {
     // The ASR's direction in the corrected frame before its own rotation.
     const double d = FoldToQuarterTurn(last_.direction_rad + c.theta);
@@ -257,14 +340,30 @@ asr::Asr DriftHeadingCorrector::Close(asr::Asr pre) {
                  drift_options_.measurement_sigma_scale *
                      (std::isfinite(last_.uncertainty_rad) ? last_.uncertainty_rad : kPi / 4.0));
     if (drift_options_.smear_inflation) sigma = std::hypot(sigma, rate_sigma * span / std::sqrt(12.0));
-    if (!odometry_.Update(z, sigma)) {
+    if (warming_) {
+      // HeadingCorrector's drift gate, then this ASR is rotated on its own.
+      if (heading_options_.drift_gate &&
+          std::abs(drift) > heading_options_.max_drift_base_rad +
+                                heading_options_.max_drift_rad_per_m * distance_since_accepted_m_) {
+        last_.accepted = false;
+        last_.decline = Decline::kDriftOutlier;
+      } else {
+        odometry_.Record(z, sigma);
+        warm_.push_back({odometry_.steps() - 1, s, z});
+        warm_angle = -drift;
+        distance_since_accepted_m_ = 0.0;
+      }
+    } else if (!odometry_.Update(z, sigma)) {
       last_.accepted = false;
       last_.decline = Decline::kDriftOutlier;
     }
   }
+  if (warming_ && static_cast<int>(warm_.size()) >= drift_options_.warmup_measurements) EndWarmup();
   if (reference_rad_) {
-    // Rotate so that corrected heading = raw - e: c.theta = applied - e.
-    const double angle = NormalizeAngle(applied - odometry_.heading_rad() - c.theta);
+    // Rotate so that corrected heading = raw - e: c.theta = applied - e
+    // (warm-up: by this ASR's own drift).
+    const double angle =
+        warming_ ? warm_angle : NormalizeAngle(applied - odometry_.heading_rad() - c.theta);
     const Vec2 pivot = c * pre.entry_pivot_m;
     c = RotationAbout(pivot, angle) * c;
   }
@@ -287,6 +386,7 @@ void DriftHeadingCorrector::Restore(const Pose2& correction, std::optional<doubl
 }
 
 std::vector<DriftHeadingCorrector::Revision> DriftHeadingCorrector::Smooth() {
+  if (warming_) EndWarmup();  // a short run: the filter over what there is
   const std::vector<double> e = drift_options_.robust_smoothing ? odometry_.RobustSmoothedHeadings()
                                                                 : odometry_.SmoothedHeadings();
   std::vector<Revision> out;

@@ -49,6 +49,16 @@ struct DriftFilterOptions {
   double gate_sigmas = 4.0;
   double gate_min_rad = DegToRad(3.0);
   int max_consecutive_rejects = 3;
+  // Warm-up: until this many ASRs have accepted estimates, the filter is not
+  // trusted (one confident but wrong estimate would set a wrong rate, and the
+  // pre-correction would then smear the next ASRs and slip a quarter turn):
+  // each ASR is corrected on its own as HeadingCorrector does (with its drift
+  // gate), and its measurement is kept. Then a Theil-Sen line through them (the
+  // median of pairwise slopes) picks the inliers (within max(3 robust sigmas,
+  // warmup_min_band_rad) of it), the filter is run over those, and
+  // pre-correction starts.
+  int warmup_measurements = 4;
+  double warmup_min_band_rad = DegToRad(3.0);
   // DriftHeadingCorrector::Smooth: RobustSmoothedHeadings (true) or the plain
   // RTS smoother.
   bool robust_smoothing = false;  // off: no gain on the simulated sonar runs (docs)
@@ -89,6 +99,14 @@ class OdometryCorrector {
   bool Update(double z_rad, double sigma_rad);
   // Sets the heading error state (a resumed run): mean, 1-sigma; rate untouched.
   void SetHeading(double e_rad, double sigma_rad);
+  // Stores a measurement at the last Predict without updating the filter
+  // (warm-up); Refilter uses it unless Drop(step) is called for it.
+  void Record(double z_rad, double sigma_rad);
+  void Drop(size_t step);
+  // Runs the filter again from its initial state over all the kept
+  // measurements (no gate) and continues from the result.
+  void Refilter();
+  size_t steps() const { return steps_.size(); }
   // Rauch-Tung-Striebel smoothing of the steps so far: the heading error e at
   // the distance of every Predict call, in order, given all the measurements
   // (earlier ones included: the rate learnt later corrects the first ASRs).
@@ -188,6 +206,7 @@ class DriftHeadingCorrector {
 
  private:
   HeadingCorrector estimator_;  // its Estimate() only
+  HeadingCorrectionOptions heading_options_;
   OdometryCorrector odometry_;
   DriftFilterOptions drift_options_;
   Pose2 world_corrected_from_pre_;
@@ -203,6 +222,15 @@ class DriftHeadingCorrector {
   };
   std::vector<Closed> closed_;
   Pose2 start_correction_;  // pre -> corrected before the first Close
+  // Warm-up (DriftFilterOptions::warmup_measurements).
+  bool warming_ = true;
+  struct WarmMeasurement {
+    size_t step;
+    double distance_m, z_rad;
+  };
+  std::vector<WarmMeasurement> warm_;
+  double distance_since_accepted_m_ = 0.0;
+  void EndWarmup();
 };
 
 // The rigid transform that best maps a pre-corrected path onto the raw one

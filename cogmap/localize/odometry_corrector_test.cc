@@ -23,6 +23,7 @@ TEST(DriftFilterOptions, Defaults) {
   EXPECT_EQ(o.gate_sigmas, 4.0);
   EXPECT_EQ(o.max_consecutive_rejects, 3);
   EXPECT_TRUE(o.precorrect);
+  EXPECT_EQ(o.warmup_measurements, 4);
   EXPECT_FALSE(o.smear_inflation);
   EXPECT_FALSE(o.robust_smoothing);
 }
@@ -202,7 +203,8 @@ TEST(RawFromPrecorrected, RecoversARigidTransform) {
 // with the odometry the corrector hands it. Returns the ASRs as the mapper
 // stores them (raw fields re-expressed in the raw frame).
 std::vector<asr::Asr> MapDriftingCorridor(DriftHeadingCorrector* c, int rooms, double rate,
-                                          const WallNoise& noise = {}) {
+                                          const WallNoise& noise = {}, int bad_room = -1,
+                                          double bad_rad = 0.0) {
   std::mt19937 rng(noise.seed);
   const double room_m = 5.0, step_m = 0.05;
   const int steps = static_cast<int>(std::lround(room_m / step_m));
@@ -234,7 +236,9 @@ std::vector<asr::Asr> MapDriftingCorridor(DriftHeadingCorrector* c, int rooms, d
       raw = raw * Pose2{step_m, 0.0, rate * step_m};
       t += 0.1;
     }
-    const auto walls_true = NoisyRoom({k * room_m, 0.0}, 4.0, 4.0, noise, rng);
+    auto walls_true = NoisyRoom({k * room_m, 0.0}, 4.0, 4.0, noise, rng);
+    // A room whose walls give a wrong but confident direction (clutter on shelves).
+    if (k == bad_room) walls_true = Transform(RotationAbout({k * room_m, 0.0}, bad_rad), walls_true);
     a.walls_local = Transform(a.world_from_local_raw.inverse() * pre_centre * true_centre.inverse(), walls_true);
     a.world_from_local_corrected = a.world_from_local_raw;
     asr::Asr closed = c->Close(a);
@@ -293,6 +297,33 @@ TEST(DriftHeadingCorrector, SmoothingRevisesTheStoredCorrections) {
   EXPECT_LT(after.median_deg, 0.5);
   // A second Smooth changes nothing more.
   for (const auto& r : c.Smooth()) EXPECT_NEAR(r.delta.theta, 0.0, 1e-12);
+}
+
+TEST(DriftHeadingCorrector, WarmupDropsAConfidentGrossEstimate) {
+  DriftHeadingCorrector c;
+  auto asrs = MapDriftingCorridor(&c, 14, DegToRad(1.0), {}, 1, DegToRad(20.0));
+  // The rate was fitted without the bad room (declined by the drift gate or
+  // dropped by the Theil-Sen band).
+  EXPECT_NEAR(RadToDeg(c.odometry().rate_rad_per_m()), 1.0, 0.02);
+  const HeadingErrorStats streaming = ComputeHeadingErrors(asrs);
+  for (const auto& r : c.Smooth())
+    for (auto& a : asrs)
+      if (a.id == r.asr_id) a.world_from_local_corrected = r.delta * a.world_from_local_corrected;
+  const HeadingErrorStats smoothed = ComputeHeadingErrors(asrs);
+  EXPECT_LT(smoothed.max_deg, 0.5);
+  EXPECT_LT(smoothed.max_deg, streaming.max_deg);
+}
+
+TEST(DriftHeadingCorrector, ShortRunSmoothsWhatItHas) {
+  DriftHeadingCorrector c;
+  auto asrs = MapDriftingCorridor(&c, 3, DegToRad(1.0));  // still warming up
+  const HeadingErrorStats before = ComputeHeadingErrors(asrs);
+  for (const auto& r : c.Smooth())
+    for (auto& a : asrs)
+      if (a.id == r.asr_id) a.world_from_local_corrected = r.delta * a.world_from_local_corrected;
+  const HeadingErrorStats after = ComputeHeadingErrors(asrs);
+  EXPECT_LT(before.max_deg, 0.5);
+  EXPECT_LT(after.max_deg, 0.5);
 }
 
 TEST(DriftHeadingCorrector, NoDriftMeansNoCorrection) {
