@@ -18,6 +18,26 @@ double CircularMean(const std::vector<double>& a) {
   return (c == 0.0 && s == 0.0) ? 0.0 : std::atan2(s, c);
 }
 
+// Cumulative distance along the poses as a fraction of the total (index
+// fraction when they do not move).
+std::vector<double> DistanceFractions(const std::vector<Pose2>& poses) {
+  const size_t n = poses.size();
+  std::vector<double> f(n, 0.0);
+  for (size_t i = 1; i < n; ++i) f[i] = f[i - 1] + (poses[i].translation() - poses[i - 1].translation()).norm();
+  const double total = n ? f.back() : 0.0;
+  for (size_t i = 0; i < n; ++i) f[i] = total > 1e-9 ? f[i] / total : (n > 1 ? double(i) / double(n - 1) : 0.5);
+  return f;
+}
+
+// Index of the value of the sorted 'f' nearest to 'x'.
+size_t Nearest(const std::vector<double>& f, double x) {
+  const auto it = std::lower_bound(f.begin(), f.end(), x);
+  if (it == f.begin()) return 0;
+  if (it == f.end()) return f.size() - 1;
+  const size_t j = static_cast<size_t>(it - f.begin());
+  return (x - f[j - 1] <= f[j] - x) ? j - 1 : j;
+}
+
 double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
@@ -34,17 +54,25 @@ HeadingErrorStats ComputeHeadingErrors(const std::vector<asr::Asr>& asrs) {
     if (n == 0 || nt == 0) continue;
     const Pose2 correction = CorrectionOf(a);
     std::vector<double> er, ec;
-    er.reserve(n);
-    ec.reserve(n);
-    for (size_t i = 0; i < n; ++i) {
-      // Same length: index pairs. Otherwise the same fraction of the way
-      // (both paths are sampled by distance travelled).
-      const size_t j = n == nt ? i
-                       : n == 1 ? nt / 2
-                                : static_cast<size_t>(std::lround(double(i) * double(nt - 1) / double(n - 1)));
-      const double truth = a.true_path[j].theta;
-      er.push_back(AngleDiff(a.path[i].theta, truth));
-      ec.push_back(AngleDiff((correction * a.path[i]).theta, truth));
+    auto add = [&](const Pose2& p, const Pose2& t) {
+      er.push_back(AngleDiff(p.theta, t.theta));
+      ec.push_back(AngleDiff((correction * p).theta, t.theta));
+    };
+    if (n == nt) {
+      for (size_t i = 0; i < n; ++i) add(a.path[i], a.true_path[i]);
+    } else {
+      // Different sampling (e.g. truth only on laser records): each pose of the
+      // sparser sequence pairs with the pose of the denser one at the nearest
+      // fraction of the distance driven through the ASR.
+      const bool path_sparse = n < nt;
+      const std::vector<Pose2>& sparse = path_sparse ? a.path : a.true_path;
+      const std::vector<Pose2>& dense = path_sparse ? a.true_path : a.path;
+      const std::vector<double> fs = DistanceFractions(sparse), fd = DistanceFractions(dense);
+      for (size_t i = 0; i < sparse.size(); ++i) {
+        const size_t j = Nearest(fd, fs[i]);
+        if (path_sparse) add(sparse[i], dense[j]);
+        else add(dense[j], sparse[i]);
+      }
     }
     AsrHeadingError e;
     e.asr_id = a.id;

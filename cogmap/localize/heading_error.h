@@ -9,8 +9,9 @@ namespace cogmap::localize {
 
 // Heading error of one ASR: the circular mean, over the poses of its path, of
 // (estimated heading - true heading). path[i] pairs with true_path[i] when both
-// have the same length, else with the true pose the same fraction of the way
-// along (the mapper samples both paths by distance travelled).
+// have the same length; else each pose of the shorter one pairs with the pose of
+// the longer one at the nearest fraction of the distance driven through the ASR
+// (truth may be sparser than odometry, e.g. CARMEN logs: laser records only).
 struct AsrHeadingError {
   int asr_id = -1;
   int poses = 0;

@@ -65,6 +65,19 @@ TEST(HeadingError, PairsPathsOfDifferentLengthByFraction) {
   EXPECT_NEAR(st.max_raw_deg, 1.0, 1e-9);
 }
 
+TEST(HeadingError, SparseTruthPairsByDistanceNotByIndex) {
+  // Odometry every 0.1 m along x with heading = x (rad); truth at x = 0, 0.2,
+  // 0.3 and 2.0 only, with the same headings: no error, although index
+  // fractions would pair truth 1 (at 0.2 m) with odometry at 0.67 m.
+  asr::Asr a;
+  for (int i = 0; i <= 20; ++i) a.path.push_back({0.1 * i, 0, 0.1 * i});
+  for (double x : {0.0, 0.2, 0.3, 2.0}) a.true_path.push_back({x, 0, x});
+  asr::Asr b = a;
+  const HeadingErrorStats st = ComputeHeadingErrors({a, b});
+  EXPECT_NEAR(st.max_raw_deg, 0.0, 1e-9);
+  EXPECT_NEAR(RadToDeg(st.global_rotation_raw_rad), 0.0, 1e-9);
+}
+
 TEST(HeadingError, NoTruthGivesNoKeys) {
   asr::Asr a;
   a.path = {{0, 0, 0}};
