@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <string>
 
+#include "app/cli_util.h"
 #include "app/command.h"
 #include "app/progress.h"
 #include "cogmap/core/error.h"
@@ -31,18 +32,6 @@ struct GridArgs {
   bool truth = false;
   bool stats = false;
 };
-
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
-std::string Join(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-  return s;
-}
 
 int RunGrid(const GridArgs& a) {
   const auto start = std::chrono::steady_clock::now();

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "app/cli_util.h"
 #include "app/command.h"
 #include "app/progress.h"
 #include "cogmap/asr/mapper.h"
@@ -43,12 +44,6 @@ struct MapArgs {
   std::string world;
   std::string output;
 };
-
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 long MaxRssKb() {
   rusage u{};

@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "app/cli_util.h"
 #include "app/command.h"
 #include "app/progress.h"
 #include "cogmap/core/angles.h"
@@ -21,16 +22,6 @@
 
 namespace cogmap::app {
 namespace {
-
-std::string Join(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-  return s;
-}
-
-double Seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
 
 io::WorldReadResult LoadWorld(const std::string& path, double m_per_pixel) {
   io::BitmapWorldOptions bitmap;
