@@ -282,24 +282,32 @@ int RunEval(const EvalArgs& a) {
   const std::filesystem::path dir(a.dir);
   const std::string walls_path = std::filesystem::is_directory(dir) ? (dir / "walls.json").string() : a.dir;
   const io::WallsFile wf = io::ReadWallsJson(walls_path);
-  const io::WorldReadResult world = io::ReadWorld(a.world);
-  if (world.plan.walls.empty()) throw InputError(a.world, 0, "the world has no walls (LINES)");
+  // Without a world (a real log with a reference trajectory, such as the
+  // corrected CARMEN logs) only the heading errors and sizes can be scored.
+  const bool have_world = !a.world.empty();
+  io::WorldReadResult world;
+  if (have_world) {
+    world = io::ReadWorld(a.world);
+    if (world.plan.walls.empty()) throw InputError(a.world, 0, "the world has no walls (LINES)");
+  }
   if (!wf.has_truth)
     throw InputError(wf.log_path, 0, "the log has no ground-truth poses: eval needs a run with truth "
-                                     "(e.g. from cogmap simulate)");
-  auto log = io::OpenLog(wf.log_path, wf.log_format);
+                                     "(e.g. from cogmap simulate, or a corrected CARMEN log)");
   std::vector<Vec2> true_path;
-  sensors::LogRecord rec;
-  while (log->Next(&rec))
-    if (rec.truth) true_path.push_back(rec.truth->translation());
+  if (have_world) {
+    auto log = io::OpenLog(wf.log_path, wf.log_format);
+    sensors::LogRecord rec;
+    while (log->Next(&rec))
+      if (rec.truth) true_path.push_back(rec.truth->translation());
+  }
 
   const auto map_walls = Transform(wf.world_from_map, wf.polylines);
   eval::WallMetricsOptions mo;
   mo.sensor_range_m = a.range_m > 0.0 ? a.range_m : (wf.sensor_range_m > 0.0 ? wf.sensor_range_m : 3.0);
-  const auto prec = eval::WallPrecision(map_walls, world.plan.walls, mo);
-  const auto rec_st = eval::WallRecall(map_walls, world.plan.walls, true_path, mo);
+  const auto prec = have_world ? eval::WallPrecision(map_walls, world.plan.walls, mo) : eval::PrecisionStats{};
+  const auto rec_st = have_world ? eval::WallRecall(map_walls, world.plan.walls, true_path, mo) : eval::RecallStats{};
 
-  if (!a.png.empty()) {
+  if (!a.png.empty() && have_world) {
     Vec2 lo = world.plan.min, hi = world.plan.max;
     for (const auto& w : world.plan.walls) lo = lo.cwiseMin(w.a).cwiseMin(w.b), hi = hi.cwiseMax(w.a).cwiseMax(w.b);
     for (const auto& l : map_walls)
@@ -321,7 +329,11 @@ int RunEval(const EvalArgs& a) {
     j["wall_precision_p95_m"] = nullptr;
     j["wall_precision_max_m"] = nullptr;
   }
-  j["wall_recall"] = rec_st.recall();
+  if (have_world) {
+    j["wall_recall"] = rec_st.recall();
+  } else {
+    j["wall_recall"] = nullptr;  // no world: nothing to compare the walls with
+  }
   j["seeable_wall_length_m"] = rec_st.seeable_length_m;
   j["found_wall_length_m"] = rec_st.found_length_m;
   j["sensor_range_m"] = mo.sensor_range_m;
@@ -343,7 +355,7 @@ int RunEval(const EvalArgs& a) {
       if (auto one = store->Get(id)) asrs.push_back(std::move(*one));
     rooms = asr::EvaluateRooms(asrs, world.plan.rooms);
     j["asr_count"] = rooms->asr_count;
-    if (!world.plan.rooms.empty()) {
+    if (have_world && !world.plan.rooms.empty()) {
       j["room_precision"] = rooms->room_precision;
       j["room_recall"] = rooms->room_recall;
     } else {
@@ -355,24 +367,27 @@ int RunEval(const EvalArgs& a) {
   }
   j["mode"] = wf.mode;
   j["log"] = wf.log_path;
-  j["world"] = a.world;
+  if (have_world) j["world"] = a.world; else j["world"] = nullptr;
   if (a.json) {
     std::cout << j.dump(2) << "\n";
   } else {
-    std::printf("%s vs %s (%s mode)\n", walls_path.c_str(), a.world.c_str(), wf.mode.c_str());
-    if (prec.samples > 0)
+    std::printf("%s vs %s (%s mode)\n", walls_path.c_str(), have_world ? a.world.c_str() : "(no world: headings only)",
+                wf.mode.c_str());
+    if (!have_world)
+      ;
+    else if (prec.samples > 0)
       std::printf("  wall precision: mean %.3f m, p95 %.3f m, max %.3f m (%lld samples)\n", prec.mean_m, prec.p95_m,
                   prec.max_m, static_cast<long long>(prec.samples));
     else
       std::printf("  wall precision: n/a (the map has no walls)\n");
-    std::printf("  wall recall: %.3f (%.1f of %.1f m seeable within %.1f m of the true path)\n", rec_st.recall(),
+    if (have_world) std::printf("  wall recall: %.3f (%.1f of %.1f m seeable within %.1f m of the true path)\n", rec_st.recall(),
                 rec_st.found_length_m, rec_st.seeable_length_m, mo.sensor_range_m);
     std::printf("  %zu polylines, %lld vertices; bytes grid %lld, vertices %lld, polylines %lld (%.2f%% of grid)\n",
                 wf.polylines.size(), static_cast<long long>(wf.vertex_count), static_cast<long long>(wf.bytes_grid),
                 static_cast<long long>(wf.bytes_vertices), static_cast<long long>(wf.bytes_polylines),
                 100.0 * j["polylines_over_grid"].get<double>());
     if (rooms) {
-      std::printf("  %d ASRs; rooms: precision %.3f, recall %.3f (%d of %d rooms matched)\n", rooms->asr_count,
+      if (have_world) std::printf("  %d ASRs; rooms: precision %.3f, recall %.3f (%d of %d rooms matched)\n", rooms->asr_count,
                   rooms->room_precision, rooms->room_recall, rooms->matched_rooms, rooms->room_count);
     }
     if (j.contains("heading_error_deg_median")) {
@@ -388,7 +403,9 @@ int RunEval(const EvalArgs& a) {
 std::function<int()> SetupEval(CLI::App& sub) {
   auto a = std::make_shared<EvalArgs>();
   sub.add_option("OUTDIR", a->dir, "A folder written by cogmap vectorize or cogmap map (or its walls.json); with a map.sqlite beside it, also ASR count, room precision/recall and heading errors")->required();
-  sub.add_option("--world", a->world, "The world the log was driven in (ARIA 2D-Map or PNG)")->required();
+  sub.add_option("--world", a->world,
+                 "The world the log was driven in (ARIA 2D-Map or PNG); without it only the heading errors "
+                 "(against the log's reference poses) and the sizes are reported");
   sub.add_option("--range", a->range_m,
                  "Sensor range for recall, metres (default: the effective range recorded by vectorize, "
                  "min(max range, window))");
