@@ -61,15 +61,21 @@ void CognitiveMapper::Feed(const sensors::LogRecord& record) {
   c.grid->InsertSweep(c.local_from_world * record.odom, robot_, record.ranges);
   c.asr.seconds.grid += Since(t0);
   stats_.peak_grid_cells = std::max<int64_t>(stats_.peak_grid_cells, c.grid->limits().cell_count());
+  // The path is sampled every path_step_m of odometry. When the log has
+  // ground truth, samples are taken only at records that carry it, and the
+  // true pose of the same record goes into true_path: path[i] and
+  // true_path[i] are then the same instant (what the heading error compares).
+  // Records without truth in such a log (CARMEN's ODOM between FLASERs) add
+  // nothing to either path.
+  if (record.truth) seen_truth_ = true;
   auto& path = c.asr.path;
-  if (path.empty() || (path.back().translation() - record.odom.translation()).norm() >= options_.path_step_m - 1e-9) {
+  const bool moved =
+      path.empty() || (path.back().translation() - record.odom.translation()).norm() >= options_.path_step_m - 1e-9;
+  if (moved && (record.truth || !seen_truth_)) {
     path.push_back(record.odom);
     c.path_times.push_back(record.time_s);
-  }
-  if (record.truth) {
-    auto& tp = c.asr.true_path;
-    if (tp.empty() || (tp.back().translation() - record.truth->translation()).norm() >= options_.path_step_m - 1e-9) {
-      tp.push_back(*record.truth);
+    if (record.truth) {
+      c.asr.true_path.push_back(*record.truth);
       c.true_path_times.push_back(record.time_s);
     }
   }

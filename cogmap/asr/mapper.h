@@ -106,6 +106,7 @@ class CognitiveMapper {
   Corrector corrector_;
   BoundaryDetector detector_;
   std::unique_ptr<Current> current_;
+  bool seen_truth_ = false;  // the log has ground truth: sample paths only at records with it
   std::deque<Buffered> buffer_;
   long seq_ = 0;
   int next_id_ = 0;
