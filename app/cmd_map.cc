@@ -38,6 +38,7 @@ struct MapArgs {
   std::string mode = "default";
   std::string boundary = "doorway";
   double asr_length_m = 4.5;
+  double max_asr_m = 15.0;
   bool no_correct = false;
   bool resume = false;
   bool raw = false;
@@ -90,6 +91,9 @@ int RunMap(const MapArgs& a) {
   options.vectorize = a.mode == "paper" ? vectorize::VectorizeOptions::Paper() : vectorize::VectorizeOptions{};
   options.boundary.mode = a.boundary == "fixed" ? asr::BoundaryMode::kFixedLength : asr::BoundaryMode::kDoorway;
   options.boundary.asr_length_m = a.asr_length_m;
+  // Default mode also bounds how far an ASR runs without a doorway (a hall, a
+  // wide corridor); paper mode leaves such a space whole, as the papers do.
+  if (a.mode != "paper") options.boundary.max_asr_m = a.max_asr_m;
 
   nlohmann::json per_asr = nlohmann::json::array();
   asr::StageBytes bytes_run;
@@ -282,6 +286,10 @@ std::function<int()> SetupMap(CLI::App& sub) {
       ->capture_default_str();
   sub.add_option("--asr-length", a->asr_length_m,
                  "Corridor / fixed-length ASR length, metres (4.5 in §3.1.2, 4 in §4.2)")
+      ->capture_default_str();
+  sub.add_option("--max-asr", a->max_asr_m,
+                 "Default mode, doorway boundaries: cut a space after this many metres of driving without a "
+                 "doorway or corridor cut (0 = never, as in paper mode)")
       ->capture_default_str();
   sub.add_flag("--no-correct", a->no_correct, "Skip the heading correction (ASRs placed by odometry)");
   sub.add_flag("--raw", a->raw, "Draw the master map at the raw odometry poses (the store keeps both)");

@@ -144,6 +144,12 @@ std::optional<BoundaryCut> BoundaryDetector::Step(double time_s, const Pose2& po
     return std::nullopt;
   }
 
+  if (options_.max_asr_m > 0.0 && state_ == BoundaryState::kInRoom &&
+      asr_travel_m() >= options_.max_asr_m - kEps) {
+    asr_start_travel_m_ = travel_m_;
+    return MakeCut(CutKind::kMaxLength, pose, time_s, 0.0);
+  }
+
   const bool both = left_.on && right_.on;
   const double width_now = (both && left_.has_point && right_.has_point)
                                ? (left_.last_point - right_.last_point).norm()

@@ -46,6 +46,13 @@ struct BoundaryOptions {
   // Corridor entry: the room before the corridor is only cut at the corridor's
   // mouth when it has at least this much travel (else the corridor continues it).
   double min_asr_m = 1.0;
+  // Default mode: a space the robot has driven this far in without a doorway
+  // or corridor cut is cut here anyway (a hall or a corridor wider than twice
+  // close_m, where L and R never come on together), so that no ASR's grid
+  // grows without bound and its walls are mapped over a bounded stretch of
+  // odometry drift. 0 = never (the papers). 15 m leaves rooms of the size of
+  // the thesis's whole (nine_rooms: about 12 m of driving per room) uncut.
+  double max_asr_m = 0.0;
 };
 
 // Indices into robot.sensors of the side sensors.
@@ -71,6 +78,7 @@ enum class CutKind {
   kCorridor,       // asr_length_m of corridor since the last cut
   kCorridorExit,   // L and R released at the end of a corridor
   kFixedLength,    // fixed-length mode
+  kMaxLength,      // doorway mode: max_asr_m of travel without another cut
 };
 
 // The robot left one ASR for the next. The cut happened at 'pose' / 'time_s',

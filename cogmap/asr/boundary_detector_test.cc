@@ -239,3 +239,29 @@ TEST(BoundaryDetector, RecordsThroughADoorwayCutOnce) {
 
 }  // namespace
 }  // namespace cogmap::asr
+
+namespace cogmap::asr {
+namespace {
+
+// A wide hall: the sides never come on together, so only max_asr_m cuts it.
+TEST(BoundaryDetector, MaxLengthCutsAWideSpace) {
+  BoundaryOptions o;
+  o.max_asr_m = 5.0;
+  BoundaryDetector d(sensors::BuiltinRobot("pioneer16"), o);
+  std::vector<BoundaryCut> cuts;
+  const SideObservation none{true, false, Vec2(0, 0)};
+  for (int i = 0; i <= 120; ++i) {  // 12 m in 0.1 m steps
+    if (auto c = d.PushSides(i * 0.2, Pose2{i * 0.1, 0.0, 0.0}, none, none)) cuts.push_back(*c);
+  }
+  ASSERT_EQ(cuts.size(), 2u);
+  EXPECT_EQ(cuts[0].kind, CutKind::kMaxLength);
+  EXPECT_NEAR(cuts[0].pose.x, 5.0, 1e-9);
+  EXPECT_NEAR(cuts[1].pose.x, 10.0, 1e-9);
+}
+
+TEST(BoundaryDetector, MaxLengthIsOffInThePapersDefaults) {
+  EXPECT_EQ(BoundaryOptions{}.max_asr_m, 0.0);
+}
+
+}  // namespace
+}  // namespace cogmap::asr
