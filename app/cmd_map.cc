@@ -158,15 +158,28 @@ int RunMap(const MapArgs& a) {
   double t_first = 0.0, t_last = 0.0;
   long records = 0;
   std::optional<Pose2> first_odom, first_truth;
-  while (log->Next(&rec)) {
-    if (records == 0) t_first = rec.time_s;
-    if (!first_odom) first_odom = rec.odom;
-    if (!first_truth && rec.truth) first_truth = *rec.truth * rec.odom.inverse();  // world_from_map
-    t_last = rec.time_s;
-    mapper.Push(rec);
-    if (++records % 256 == 0) bar.Update(log->progress(), std::to_string(closed) + " ASRs");
+  try {
+    while (log->Next(&rec)) {
+      if (records == 0) t_first = rec.time_s;
+      if (!first_odom) first_odom = rec.odom;
+      if (!first_truth && rec.truth) first_truth = *rec.truth * rec.odom.inverse();  // world_from_map
+      t_last = rec.time_s;
+      mapper.Push(rec);
+      if (++records % 256 == 0) bar.Update(log->progress(), std::to_string(closed) + " ASRs");
+    }
+    mapper.Finish();
+  } catch (...) {
+    // Every ASR closed before the bad line is in the store already (one
+    // transaction each). A new store that holds none would only look like a
+    // finished empty map: remove it.
+    bar.Finish();
+    if (!a.resume && closed == 0) {
+      store.reset();
+      std::error_code ec;
+      for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(store_path + suffix, ec);
+    }
+    throw;
   }
-  mapper.Finish();
   bar.Finish();
   const double mapping_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const long rss_mapping_kb = MaxRssKb();
