@@ -7,6 +7,7 @@
 
 #include "cogmap/localize/em.h"
 #include "cogmap/localize/heading_corrector.h"
+#include "cogmap/localize/odometry_corrector.h"
 
 namespace {
 
@@ -65,6 +66,50 @@ void BM_CloseAsr(benchmark::State& state) {
 }
 BENCHMARK(BM_CloseAsr)->Args({20, 0})->Args({200, 0})->Args({20, 1})->Args({200, 1})
     ->Unit(benchmark::kMicrosecond);
+
+// Drift filter: the pre-correction of one odometry record (every record of a
+// log goes through it).
+void BM_CorrectOdometry(benchmark::State& state) {
+  OdometryCorrector c;
+  Pose2 raw;
+  double t = 0.0;
+  long n = 0;
+  for (auto _ : state) {
+    raw = raw * Pose2{0.02, 0.0, 0.001};
+    benchmark::DoNotOptimize(c.Correct(raw, t));
+    t += 0.1;
+    if (++n % 1024 == 0) c.Forget(t);  // as each ASR's Close does
+  }
+  state.SetLabel("per record");
+}
+BENCHMARK(BM_CorrectOdometry)->Unit(benchmark::kNanosecond);
+
+// Drift filter: Close of one ASR (EM + filter update + rotation), 200 records
+// per ASR window, and the end-of-run smoothing of 100 ASRs.
+void BM_DriftClose(benchmark::State& state) {
+  asr::Asr a;
+  a.walls_local = {{{-2, -2}, {2, -2}, {2, 2}, {-2, 2}, {-2, -2}}};
+  for (auto _ : state) {
+    state.PauseTiming();
+    DriftHeadingCorrector c;
+    Pose2 raw;
+    double t = 0.0;
+    state.ResumeTiming();
+    for (int k = 0; k < 100; ++k) {
+      a.start_time_s = t;
+      for (int i = 0; i < 200; ++i, t += 0.1) {
+        raw = raw * Pose2{0.02, 0.0, 0.0002};
+        c.CorrectOdometry(raw, t);
+      }
+      a.end_time_s = t;
+      a.id = k;
+      benchmark::DoNotOptimize(c.Close(a));
+    }
+    benchmark::DoNotOptimize(c.Smooth());
+  }
+  state.SetLabel("100 ASRs x 200 records, then Smooth");
+}
+BENCHMARK(BM_DriftClose)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
