@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "cogmap/localize/heading_error.h"
@@ -237,8 +238,15 @@ std::vector<asr::Asr> MapDriftingCorridor(DriftHeadingCorrector* c, int rooms, d
       t += 0.1;
     }
     auto walls_true = NoisyRoom({k * room_m, 0.0}, 4.0, 4.0, noise, rng);
-    // A room whose walls give a wrong but confident direction (clutter on shelves).
-    if (k == bad_room) walls_true = Transform(RotationAbout({k * room_m, 0.0}, bad_rad), walls_true);
+    // A room whose walls give a wrong but confident direction (clutter on
+    // shelves); bad_rad = NaN: a round room (a 36-gon) instead.
+    if (k == bad_room && std::isnan(bad_rad)) {
+      Polyline round = testing::RegularPolygon(36, 2.0, 0.1);
+      for (auto& v : round) v += Vec2(k * room_m, 0.0);
+      walls_true = {round};
+    } else if (k == bad_room) {
+      walls_true = Transform(RotationAbout({k * room_m, 0.0}, bad_rad), walls_true);
+    }
     a.walls_local = Transform(a.world_from_local_raw.inverse() * pre_centre * true_centre.inverse(), walls_true);
     a.world_from_local_corrected = a.world_from_local_raw;
     asr::Asr closed = c->Close(a);
@@ -312,6 +320,17 @@ TEST(DriftHeadingCorrector, WarmupDropsAConfidentGrossEstimate) {
   const HeadingErrorStats smoothed = ComputeHeadingErrors(asrs);
   EXPECT_LT(smoothed.max_deg, 0.5);
   EXPECT_LT(smoothed.max_deg, streaming.max_deg);
+}
+
+TEST(DriftHeadingCorrector, RoundRoomIsDeclinedAndFollowsTheModel) {
+  DriftHeadingCorrector c;
+  const auto asrs = MapDriftingCorridor(&c, 14, DegToRad(1.0), {}, 9, std::nan(""));
+  const HeadingErrorStats st = ComputeHeadingErrors(asrs);
+  ASSERT_EQ(st.per_asr.size(), 14u);
+  // The round room gives no direction the gates accept; its heading comes from
+  // the drift model, as good as its neighbours'.
+  EXPECT_LT(std::abs(RadToDeg(st.per_asr[9].corrected_rad)), 0.5);
+  EXPECT_LT(st.max_deg, 0.5);
 }
 
 TEST(DriftHeadingCorrector, ShortRunSmoothsWhatItHas) {
