@@ -3,10 +3,12 @@
 // PNG, ROS map_server PGM + YAML, GeoJSON and an ARIA 2D-Map, with report.json.
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -23,7 +25,10 @@
 #include "cogmap/io/map_files.h"
 #include "cogmap/io/polyline_io.h"
 #include "cogmap/io/world_io.h"
+#include "cogmap/localize/correction_figures.h"
 #include "cogmap/localize/heading_corrector.h"
+#include "cogmap/localize/heading_error.h"
+#include "cogmap/localize/odometry_corrector.h"
 #include "cogmap/sensors/robot_json.h"
 
 namespace cogmap::app {
@@ -40,6 +45,9 @@ struct MapArgs {
   double asr_length_m = 4.5;
   double max_asr_m = 15.0;
   bool no_correct = false;
+  bool no_drift_filter = false;
+  bool no_smooth = false;
+  double add_drift_deg_per_m = 0.0;
   bool resume = false;
   bool raw = false;
   std::string world;
@@ -51,6 +59,33 @@ long MaxRssKb() {
   getrusage(RUSAGE_SELF, &u);
   return u.ru_maxrss;
 }
+
+// Adds a systematic heading drift to a log's odometry (the truth stays): each
+// odometry increment turns by an extra rate x its length, and the positions
+// follow the drifted heading (the bench's way to drift a real log).
+class DriftAdder {
+ public:
+  explicit DriftAdder(double rad_per_m) : rate_(rad_per_m) {}
+  Pose2 Add(const Pose2& odom) {
+    if (!last_) {
+      last_ = odom;
+      out_ = odom;
+      return out_;
+    }
+    Pose2 inc = last_->inverse() * odom;
+    const double ds = std::hypot(inc.x, inc.y);
+    const double extra = rate_ * ds;
+    const Vec2 t = RotateAbout(inc.translation(), Vec2(0.0, 0.0), 0.5 * extra);
+    out_ = out_ * Pose2{t.x(), t.y(), inc.theta + extra};
+    last_ = odom;
+    return out_;
+  }
+
+ private:
+  double rate_;
+  std::optional<Pose2> last_;
+  Pose2 out_;
+};
 
 std::optional<Pose2> ParsePose(const std::optional<std::string>& text) {
   if (!text) return std::nullopt;
@@ -67,6 +102,8 @@ int RunMap(const MapArgs& a) {
   if (!(a.window_m > 0.0)) throw InputError("--window " + Num(a.window_m) + ": must be positive");
   if (!(a.asr_length_m > 0.0)) throw InputError("--asr-length " + Num(a.asr_length_m) + ": must be positive");
   if (a.mode != "paper" && a.mode != "default") throw InputError("--mode " + a.mode + ": expected paper or default");
+  if (!std::isfinite(a.add_drift_deg_per_m) || std::abs(a.add_drift_deg_per_m) > 90.0)
+    throw InputError("--add-drift-deg-per-m " + Num(a.add_drift_deg_per_m) + ": must be in [-90, 90]");
   if (a.boundary != "doorway" && a.boundary != "fixed")
     throw InputError("--boundary " + a.boundary + ": expected doorway or fixed");
 
@@ -124,6 +161,10 @@ int RunMap(const MapArgs& a) {
   localize::HeadingCorrectionOptions hc_options;
   hc_options.mode = a.mode == "paper" ? localize::HeadingMode::kPaper : localize::HeadingMode::kDefault;
   localize::HeadingCorrector corrector(hc_options);
+  // Default mode: drift-rate estimation with odometry pre-correction
+  // (docs/heading-correction.md); paper mode corrects one rotation per ASR.
+  const bool drift_filter = !a.no_correct && !a.no_drift_filter && a.mode == "default";
+  localize::DriftHeadingCorrector drift_corrector(hc_options);
   Pose2 carried;  // raw -> corrected at the end of the stored run (identity on a new run)
   if (a.resume) {
     const int last = store->MaxId();
@@ -140,10 +181,15 @@ int RunMap(const MapArgs& a) {
       }
     }
     corrector.Restore(carried, reference);
+    drift_corrector.Restore(carried, reference);
     r.last_raw_pose = ParsePose(store->GetMeta(asr::kMetaLastRawPose));
     mapper.Resume(r);
   }
-  if (!a.no_correct) {
+  if (drift_filter) {
+    mapper.SetOdometryFilter(
+        [&drift_corrector](const Pose2& raw, double t) { return drift_corrector.CorrectOdometry(raw, t); });
+    mapper.SetCorrector([&drift_corrector](asr::Asr pre) { return drift_corrector.Close(std::move(pre)); });
+  } else if (!a.no_correct) {
     mapper.SetCorrector([&corrector](asr::Asr raw) { return corrector.Close(std::move(raw)); });
   } else if (carried.theta != 0.0 || carried.x != 0.0 || carried.y != 0.0) {
     mapper.SetCorrector([carried](asr::Asr raw) {
@@ -158,8 +204,10 @@ int RunMap(const MapArgs& a) {
   double t_first = 0.0, t_last = 0.0;
   long records = 0;
   std::optional<Pose2> first_odom, first_truth;
+  DriftAdder drift_adder(DegToRad(a.add_drift_deg_per_m));
   try {
     while (log->Next(&rec)) {
+      if (a.add_drift_deg_per_m != 0.0) rec.odom = drift_adder.Add(rec.odom);
       if (records == 0) t_first = rec.time_s;
       if (!first_odom) first_odom = rec.odom;
       if (!first_truth && rec.truth) first_truth = *rec.truth * rec.odom.inverse();  // world_from_map
@@ -181,6 +229,24 @@ int RunMap(const MapArgs& a) {
     throw;
   }
   bar.Finish();
+  // Default mode: the drift rate learnt along the run revises the corrections
+  // of this run's ASRs (RTS smoothing), the first ones above all.
+  int smoothed = 0;
+  if (drift_filter && !a.no_smooth) {
+    std::map<int, double> revised_deg;
+    for (const auto& r : drift_corrector.Smooth()) {
+      auto x = store->Get(r.asr_id);
+      if (!x) continue;
+      x->world_from_local_corrected = r.delta * x->world_from_local_corrected;
+      x->heading_correction_rad = localize::CorrectionOf(*x).theta;
+      store->Put(*x);
+      revised_deg[r.asr_id] = RadToDeg(x->heading_correction_rad);
+      ++smoothed;
+    }
+    for (auto& j : per_asr)
+      if (auto it = revised_deg.find(j["id"].get<int>()); it != revised_deg.end())
+        j["heading_correction_deg"] = it->second;
+  }
   const double mapping_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const long rss_mapping_kb = MaxRssKb();
 
@@ -189,6 +255,32 @@ int RunMap(const MapArgs& a) {
   for (int id : store->Ids()) all.push_back(*store->Get(id));
   const io::MasterMap master = io::BuildMasterMap(all, !a.raw);
   const auto files = io::WriteMasterMapFiles(a.output, master);
+
+  // Before / after correction side by side, and the heading error per ASR.
+  {
+    const io::MasterMap raw_map = io::BuildMasterMap(all, false);
+    const io::MasterMap cor_map = a.raw ? io::BuildMasterMap(all, true) : master;
+    auto style_for = [](const io::MasterMap& m) {
+      io::MasterMapStyle st;
+      const double extent = std::max(m.max.x() - m.min.x(), m.max.y() - m.min.y()) + 2.0 * st.margin_m;
+      st.px_per_m = std::clamp(1000.0 / std::max(extent, 1e-6), 2.0, 40.0);
+      return st;
+    };
+    // With pre-correction each ASR's walls were mapped on corrected odometry:
+    // the left picture places them by odometry (the true raw map: --no-correct).
+    const std::string lt = drift_filter ? "BEFORE: ASRS AT THEIR ODOMETRY POSES" : "BEFORE: ODOMETRY";
+    const std::string rt =
+        a.no_correct ? "AFTER: NOT CORRECTED (--NO-CORRECT)" : "AFTER: HEADING CORRECTION (" + a.mode + ")";
+    io::WriteFileAtomically((fs::path(a.output) / "map_compare.svg").string(),
+                            localize::SideBySideSvg(io::FormatMapSvg(raw_map, style_for(raw_map)), lt,
+                                                    io::FormatMapSvg(cor_map, style_for(cor_map)), rt));
+    io::WritePng((fs::path(a.output) / "map_compare.png").string(),
+                 localize::SideBySide(io::RenderMap(raw_map, style_for(raw_map)), lt,
+                                      io::RenderMap(cor_map, style_for(cor_map)), rt));
+  }
+  const localize::HeadingErrorStats heading = localize::ComputeHeadingErrors(all);
+  if (heading.asrs > 0)
+    io::WritePng((fs::path(a.output) / "heading_error.png").string(), localize::PlotHeadingErrors(heading));
 
   // walls.json for `cogmap eval` (the master map's walls; map frame = the raw
   // odometry frame of the first run, placed in the truth's world when known).
@@ -239,6 +331,9 @@ int RunMap(const MapArgs& a) {
       {"cell_m", a.cell_m},
       {"window_m", a.window_m},
       {"corrected", !a.no_correct},
+      {"drift_filter", drift_filter},
+      {"smoothed_asrs", smoothed},
+      {"added_drift_deg_per_m", a.add_drift_deg_per_m},
       {"resumed", a.resume},
       {"records", records},
       {"asr_count", static_cast<int>(all.size())},
@@ -258,6 +353,13 @@ int RunMap(const MapArgs& a) {
       {"max_rss_kb_mapping", rss_mapping_kb},
       {"store", store_path},
   };
+  if (drift_filter) {
+    report["drift_rate_deg_per_m"] = RadToDeg(drift_corrector.odometry().rate_rad_per_m());
+    report["drift_rate_sigma_deg_per_m"] = RadToDeg(drift_corrector.odometry().rate_sigma_rad_per_m());
+    report["drift_filter_measurements"] = drift_corrector.odometry().measurements();
+    report["drift_filter_rejects"] = drift_corrector.odometry().rejects();
+  }
+  for (const auto& [k, v] : localize::HeadingErrorEvalKeys(heading)) report[k] = v;
   if (truth_plan) {
     const asr::RoomMetrics m = asr::EvaluateRooms(all, truth_plan->rooms);
     report["world"] = fs::absolute(a.world).string();
@@ -276,8 +378,15 @@ int RunMap(const MapArgs& a) {
   if (truth_plan)
     std::printf("rooms: precision %.3f recall %.3f\n", report["room_precision"].get<double>(),
                 report["room_recall"].get<double>());
-  std::printf("outputs in %s: map.sqlite map.svg map.png map.pgm map.yaml map.geojson map.map walls.json report.json\n",
-              a.output.c_str());
+  if (heading.asrs > 0)
+    std::printf("heading error per ASR (deg): corrected median %.2f max %.2f, odometry median %.2f max %.2f\n",
+                heading.median_deg, heading.max_deg, heading.median_raw_deg, heading.max_raw_deg);
+  if (drift_filter)
+    std::printf("estimated heading drift: %.3f +- %.3f deg/m\n", RadToDeg(drift_corrector.odometry().rate_rad_per_m()),
+                RadToDeg(drift_corrector.odometry().rate_sigma_rad_per_m()));
+  std::printf("outputs in %s: map.sqlite map.svg map.png map.pgm map.yaml map.geojson map.map map_compare.svg "
+              "map_compare.png%s walls.json report.json\n",
+              a.output.c_str(), heading.asrs > 0 ? " heading_error.png" : "");
   return 0;
 }
 
@@ -305,6 +414,14 @@ std::function<int()> SetupMap(CLI::App& sub) {
                  "doorway or corridor cut (0 = never, as in paper mode)")
       ->capture_default_str();
   sub.add_flag("--no-correct", a->no_correct, "Skip the heading correction (ASRs placed by odometry)");
+  sub.add_flag("--no-smooth", a->no_smooth,
+               "Default mode: keep the corrections as computed while mapping (no revision at the end of the run)");
+  sub.add_flag("--no-drift-filter", a->no_drift_filter,
+               "Default mode without the drift-rate filter: one EM rotation per ASR, odometry used as it comes");
+  sub.add_option("--add-drift-deg-per-m", a->add_drift_deg_per_m,
+                 "Add a systematic heading drift to the log's odometry, degrees per metre driven (CCW positive; "
+                 "the log's ground truth stays): to test the correction on a real log")
+      ->capture_default_str();
   sub.add_flag("--raw", a->raw, "Draw the master map at the raw odometry poses (the store keeps both)");
   sub.add_flag("--resume", a->resume,
                "Continue into OUTDIR/map.sqlite: new ASRs append with the next ids; the log's first pose is "

@@ -1,6 +1,7 @@
 #include "cogmap/asr/mapper.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 namespace cogmap::asr {
@@ -17,6 +18,25 @@ std::string PoseText(const Pose2& p) {
 }
 
 }  // namespace
+
+Pose2 BestRigidFit(const std::vector<Pose2>& from, const std::vector<Pose2>& to) {
+  const size_t n = std::min(from.size(), to.size());
+  if (n == 0) return {};
+  double c = 0.0, s = 0.0;
+  Vec2 cf(0.0, 0.0), ct(0.0, 0.0);
+  for (size_t i = 0; i < n; ++i) {
+    const double d = AngleDiff(to[i].theta, from[i].theta);
+    c += std::cos(d);
+    s += std::sin(d);
+    cf += from[i].translation();
+    ct += to[i].translation();
+  }
+  const double theta = (c == 0.0 && s == 0.0) ? 0.0 : std::atan2(s, c);
+  cf /= double(n);
+  ct /= double(n);
+  const Vec2 t = ct - RotateAbout(cf, Vec2(0.0, 0.0), theta);
+  return {t.x(), t.y(), theta};
+}
 
 CognitiveMapper::CognitiveMapper(const sensors::RobotDescription& robot, const MapperOptions& options,
                                  AsrStore* store, Callback on_close)
@@ -55,7 +75,7 @@ void CognitiveMapper::Start(const Pose2& entry_pose, double time_s, const std::o
   current_->grid = std::make_unique<grid::HimmFusion>(true, options_.mhimm, bounds);
 }
 
-void CognitiveMapper::Feed(const sensors::LogRecord& record) {
+void CognitiveMapper::Feed(const sensors::LogRecord& record, const Pose2& raw_odom) {
   Current& c = *current_;
   const auto t0 = Clock::now();
   c.grid->InsertSweep(c.local_from_world * record.odom, robot_, record.ranges);
@@ -74,6 +94,7 @@ void CognitiveMapper::Feed(const sensors::LogRecord& record) {
   if (moved && (record.truth || !seen_truth_)) {
     path.push_back(record.odom);
     c.path_times.push_back(record.time_s);
+    c.raw_path.push_back(raw_odom);
     if (record.truth) {
       c.asr.true_path.push_back(*record.truth);
       c.true_path_times.push_back(record.time_s);
@@ -95,6 +116,7 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
   };
   truncate(&a.path, &c.path_times);
   truncate(&a.true_path, &c.true_path_times);
+  c.raw_path.resize(a.path.size());
   if (exit) a.exits.push_back(*exit);
   a.end_time_s = std::max(a.start_time_s, end_time_s);
 
@@ -110,6 +132,15 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
   c.grid.reset();  // the room's grid is gone from here on
 
   Asr out = corrector_ ? corrector_(std::move(a)) : std::move(a);
+  if (odometry_filter_) {
+    // Back to the raw odometry frame (see SetOdometryFilter).
+    const Pose2 raw_from_pre = BestRigidFit(out.path, c.raw_path);
+    out.world_from_local_raw = raw_from_pre * out.world_from_local_raw;
+    out.entry_pivot_m = raw_from_pre * out.entry_pivot_m;
+    for (auto& e : out.exits) e.center_m = raw_from_pre * e.center_m;
+    out.path = std::move(c.raw_path);
+    out.heading_correction_rad = (out.world_from_local_corrected * out.world_from_local_raw.inverse()).theta;
+  }
   current_.reset();
   if (store_) {
     store_->Put(out, {{kMetaLastRawPose, PoseText(last_raw_pose_)},
@@ -128,6 +159,8 @@ void CognitiveMapper::Push(const sensors::LogRecord& input) {
   sensors::LogRecord record = input;
   record.odom = *world_from_odom_ * input.odom;
   last_raw_pose_ = record.odom;
+  const Pose2 raw_odom = record.odom;
+  if (odometry_filter_) record.odom = odometry_filter_(raw_odom, record.time_s);
   ++stats_.records;
   stats_.readings += static_cast<long>(record.ranges.size());
   finished_ = false;
@@ -139,8 +172,8 @@ void CognitiveMapper::Push(const sensors::LogRecord& input) {
     }
     Start(record.odom, record.time_s, entry);
   }
-  Feed(record);
-  buffer_.push_back({seq_++, record});
+  Feed(record, raw_odom);
+  buffer_.push_back({seq_++, record, raw_odom});
   while (buffer_.size() > std::max<size_t>(1, options_.max_replay_records)) buffer_.pop_front();
 
   const auto cut = detector_.Push(record);
@@ -150,7 +183,7 @@ void CognitiveMapper::Push(const sensors::LogRecord& input) {
     Start(cut->pose, cut->time_s, exit);
     // Readings after the cut belong to the new ASR as well: replay them.
     while (!buffer_.empty() && buffer_.front().record.time_s < cut->time_s) buffer_.pop_front();
-    for (const auto& b : buffer_) Feed(b.record);
+    for (const auto& b : buffer_) Feed(b.record, b.raw_odom);
   }
   if (detector_.state() == BoundaryState::kInRoom) buffer_.clear();
   stats_.turn_backs = detector_.turn_backs();

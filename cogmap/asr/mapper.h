@@ -35,6 +35,11 @@ struct MapperResume {
   std::optional<Pose2> last_raw_pose;
 };
 
+// The rigid transform that best maps 'from' onto 'to' (same length, pose i
+// with pose i): rotation = circular mean of the heading differences,
+// translation matching the centroids. Identity for empty paths.
+Pose2 BestRigidFit(const std::vector<Pose2>& from, const std::vector<Pose2>& to);
+
 // Run-state keys written with every ASR (so --resume can continue).
 constexpr const char* kMetaLastRawPose = "last_raw_pose";  // "x y theta"
 constexpr const char* kMetaNextId = "next_asr_id";
@@ -69,6 +74,17 @@ class CognitiveMapper {
   ~CognitiveMapper();
 
   void SetCorrector(Corrector corrector) { corrector_ = std::move(corrector); }
+  // Odometry pre-correction (localize::DriftHeadingCorrector::CorrectOdometry,
+  // default mode): maps each raw odometry pose (raw world frame) and its time to
+  // the pose that the grids, the boundary detector and the corrector use. When
+  // set, each ASR is built and handed to the corrector in that pre-corrected
+  // frame; afterwards its raw fields (world_from_local_raw, entry pivot, exits,
+  // path) are re-expressed in the raw odometry frame by the rigid transform that
+  // best maps its pre-corrected path onto the raw one (BestRigidFit), so the
+  // store keeps the odometry as it was and heading_correction_rad is
+  // corrected - raw. Before the first Push.
+  using OdometryFilter = std::function<Pose2(const Pose2& raw_odom, double time_s)>;
+  void SetOdometryFilter(OdometryFilter filter) { odometry_filter_ = std::move(filter); }
   // Before the first Push.
   void Resume(const MapperResume& resume);
 
@@ -88,15 +104,17 @@ class CognitiveMapper {
     Asr asr;
     std::unique_ptr<grid::HimmFusion> grid;
     std::vector<double> path_times;
+    std::vector<Pose2> raw_path;  // the raw odometry at the poses of asr.path
     std::vector<double> true_path_times;
     Pose2 local_from_world;
   };
   struct Buffered {
     long seq;
-    sensors::LogRecord record;  // odometry already in the raw world frame
+    sensors::LogRecord record;  // odometry in the raw world frame (pre-corrected when filtered)
+    Pose2 raw_odom;             // raw world frame
   };
   void Start(const Pose2& entry_pose, double time_s, const std::optional<Exit>& entry_exit);
-  void Feed(const sensors::LogRecord& record);
+  void Feed(const sensors::LogRecord& record, const Pose2& raw_odom);
   void Close(const std::optional<Exit>& exit, double end_time_s);
 
   sensors::RobotDescription robot_;
@@ -104,6 +122,7 @@ class CognitiveMapper {
   AsrStore* store_;
   Callback on_close_;
   Corrector corrector_;
+  OdometryFilter odometry_filter_;
   BoundaryDetector detector_;
   std::unique_ptr<Current> current_;
   bool seen_truth_ = false;  // the log has ground truth: sample paths only at records with it

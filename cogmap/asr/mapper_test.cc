@@ -259,5 +259,47 @@ TEST(CognitiveMapper, CorrectorSeesEveryAsrBeforeTheStore) {
   EXPECT_DOUBLE_EQ(run.store.Get(1)->heading_correction_rad, 0.1);
 }
 
+TEST(CognitiveMapper, OdometryFilterKeepsTheRawOdometryInTheStore) {
+  // The "pre-corrected" odometry is the raw one moved by a fixed rigid F: the
+  // ASR is mapped in F's frame, then its raw fields go back to the raw frame.
+  const Pose2 f{0.5, -0.3, 0.2};
+  Outcome run;
+  CognitiveMapper m(sensors::BuiltinRobot("pioneer16"), {}, &run.store,
+                    [&run](const Asr& a) { run.closed.push_back(a); });
+  m.SetOdometryFilter([f](const Pose2& raw, double) { return f * raw; });
+  Drive(&m, Straight({1.0, 2.0}, {4.0, 2.0}));
+  m.Finish();
+  ASSERT_EQ(run.closed.size(), 1u);
+  const Asr& a = run.closed[0];
+  ASSERT_FALSE(a.path.empty());
+  for (const auto& p : a.path) {  // the raw odometry, as driven
+    EXPECT_NEAR(p.y, 2.0, 1e-9);
+    EXPECT_NEAR(p.theta, 0.0, 1e-9);
+  }
+  EXPECT_NEAR(a.path.front().x, 1.0, 1e-9);
+  EXPECT_NEAR(a.entry_pivot_m.x(), 1.0, 1e-9);
+  EXPECT_NEAR(a.entry_pivot_m.y(), 2.0, 1e-9);
+  // raw -> corrected (no corrector: the pre-corrected placement) is F.
+  const Pose2 c = a.world_from_local_corrected * a.world_from_local_raw.inverse();
+  EXPECT_NEAR(c.x, f.x, 1e-9);
+  EXPECT_NEAR(c.y, f.y, 1e-9);
+  EXPECT_NEAR(c.theta, f.theta, 1e-9);
+  EXPECT_NEAR(a.heading_correction_rad, f.theta, 1e-9);
+  EXPECT_EQ(run.store.Get(0)->path.size(), a.path.size());
+  EXPECT_EQ(a.true_path.size(), a.path.size());
+}
+
+TEST(BestRigidFit, RecoversARigidTransform) {
+  const Pose2 t{1.5, -2.0, 0.4};
+  const std::vector<Pose2> from = {{0, 0, 0}, {1, 0, 0.1}, {2, 0.5, 0.3}};
+  std::vector<Pose2> to;
+  for (const auto& p : from) to.push_back(t * p);
+  const Pose2 r = BestRigidFit(from, to);
+  EXPECT_NEAR(r.x, t.x, 1e-12);
+  EXPECT_NEAR(r.y, t.y, 1e-12);
+  EXPECT_NEAR(r.theta, t.theta, 1e-12);
+  EXPECT_EQ(BestRigidFit({}, {}).theta, 0.0);
+}
+
 }  // namespace
 }  // namespace cogmap::asr
