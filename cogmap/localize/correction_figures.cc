@@ -67,25 +67,22 @@ SvgDoc ParseSvg(const std::string& svg) {
 
 }  // namespace
 
-io::RgbImage PlotHeadingErrors(const HeadingErrorStats& stats, int width, int height) {
-  io::RgbImage img(std::max(width, 200), std::max(height, 150));
-  const int left = 70, right = 20, top = 46, bottom = 50;
-  const int x0 = left, x1 = img.width() - right, y0 = top, y1 = img.height() - bottom;
-  img.DrawText(left, 8, "HEADING ERROR PER ASR, DEGREES (ONE GLOBAL ROTATION REMOVED)", kBlack, 2);
-  if (stats.per_asr.empty()) {
-    img.DrawText(left, (y0 + y1) / 2, "NO GROUND TRUTH IN THE LOG", kBlack, 2);
-    return img;
+namespace {
+
+// One panel of the heading error plot: the chosen series over the ASRs, in
+// the rectangle [x0, x1] x [y0, y1] (pixels), with grid, ticks and axes.
+void DrawPanel(io::RgbImage& img, const std::vector<AsrHeadingError>& e, bool raw, bool corrected, int x0,
+               int x1, int y0, int y1, const std::string& title) {
+  double ymax = 0.5;
+  for (const auto& a : e) {
+    if (raw) ymax = std::max(ymax, std::abs(RadToDeg(a.raw_rad)));
+    if (corrected) ymax = std::max(ymax, std::abs(RadToDeg(a.corrected_rad)));
   }
-  const auto& e = stats.per_asr;
-  double ymax = 1.0;
-  for (const auto& a : e)
-    ymax = std::max({ymax, std::abs(RadToDeg(a.raw_rad)), std::abs(RadToDeg(a.corrected_rad))});
-  const double step = NiceStep(2.0 * ymax, 8);
-  ymax = std::ceil(ymax / step) * step;
+  const double step = NiceStep(2.0 * ymax, 6);
+  ymax = std::ceil(ymax / step - 1e-9) * step;
   const size_t n = e.size();
   auto X = [&](size_t i) { return n == 1 ? 0.5 * (x0 + x1) : x0 + (x1 - x0) * double(i) / double(n - 1); };
   auto Y = [&](double deg) { return y0 + (y1 - y0) * (ymax - deg) / (2.0 * ymax); };
-  // Grid and y ticks.
   const int digits = step < 1.0 ? 1 : 0;
   for (double v = -ymax; v <= ymax + 1e-9; v += step) {
     const double y = Y(v);
@@ -93,19 +90,17 @@ io::RgbImage PlotHeadingErrors(const HeadingErrorStats& stats, int width, int he
     const std::string label = Fixed(v, digits);
     img.DrawText(x0 - 8 - 6 * static_cast<int>(label.size()), static_cast<int>(y) - 3, label, kBlack);
   }
-  // x ticks: ASR ids, about 10 of them.
   const size_t xstep = std::max<size_t>(1, static_cast<size_t>(NiceStep(double(n), 10)));
   for (size_t i = 0; i < n; i += xstep) {
     img.DrawLine(X(i), y1, X(i), y1 + 5, kBlack);
     const std::string label = std::to_string(e[i].asr_id);
     img.DrawText(static_cast<int>(X(i)) - 3 * static_cast<int>(label.size()), y1 + 9, label, kBlack);
   }
-  img.DrawText((x0 + x1) / 2 - 60, y1 + 24, "ASR (VISITING ORDER)", kBlack, 1);
-  // Axes.
   img.DrawLine(x0, y0, x0, y1, kBlack);
   img.DrawLine(x0, y1, x1, y1, kBlack);
-  // The two series.
+  img.DrawText(x0 + 6, y0 + 4, title, kBlack);
   for (int series = 0; series < 2; ++series) {
+    if ((series == 0 && !raw) || (series == 1 && !corrected)) continue;
     const io::Rgb c = series == 0 ? kRaw : kCorrected;
     for (size_t i = 0; i < n; ++i) {
       const double v = RadToDeg(series == 0 ? e[i].raw_rad : e[i].corrected_rad);
@@ -116,6 +111,24 @@ io::RgbImage PlotHeadingErrors(const HeadingErrorStats& stats, int width, int he
       img.DrawDisc(X(i), Y(v), 2.5, c);
     }
   }
+}
+
+}  // namespace
+
+io::RgbImage PlotHeadingErrors(const HeadingErrorStats& stats, int width, int height) {
+  io::RgbImage img(std::max(width, 200), std::max(height, 200));
+  const int left = 70, right = 20, top = 46, gap = 44, bottom = 40;
+  img.DrawText(left, 8, "HEADING ERROR PER ASR, DEGREES (ONE GLOBAL ROTATION REMOVED)", kBlack, 2);
+  if (stats.per_asr.empty()) {
+    img.DrawText(left, img.height() / 2, "NO GROUND TRUTH IN THE LOG", kBlack, 2);
+    return img;
+  }
+  // Top: both series; bottom: the corrected one on its own scale.
+  const int x0 = left, x1 = img.width() - right;
+  const int h = (img.height() - top - gap - bottom) / 2;
+  DrawPanel(img, stats.per_asr, true, true, x0, x1, top, top + h, "ODOMETRY AND CORRECTED");
+  DrawPanel(img, stats.per_asr, false, true, x0, x1, top + h + gap, top + 2 * h + gap, "CORRECTED, ITS OWN SCALE");
+  img.DrawText((x0 + x1) / 2 - 60, img.height() - 14, "ASR (VISITING ORDER)", kBlack, 1);
   // Legend.
   const int ly = 30;
   img.DrawLine(left, ly + 3, left + 24, ly + 3, kRaw, 3);

@@ -11,9 +11,9 @@ namespace cogmap::localize {
 // Heading error per ASR (degrees, one global rotation removed as in
 // ComputeHeadingErrors): odometry (red) and corrected (blue) as polylines
 // over the ASRs in visiting order, with axes, ticks, a zero line, a title and
-// a legend (median / max of each). An empty plot with a note when 'stats' has
-// no ASR.
-io::RgbImage PlotHeadingErrors(const HeadingErrorStats& stats, int width = 900, int height = 480);
+// a legend (median / max of each); a second panel below shows the corrected
+// series on its own scale. An empty plot with a note when 'stats' has no ASR.
+io::RgbImage PlotHeadingErrors(const HeadingErrorStats& stats, int width = 900, int height = 640);
 
 // Two pictures side by side on white, each with a title above it (the master
 // map before and after correction).
