@@ -135,7 +135,7 @@ const bool kConvertRegistered = RegisterCommand(
        sub.add_option("LOG", *path, "Log file (.gz accepted), or the pioneer folder")->required();
        sub.add_option("--format", *format, FormatHelp())->check(CLI::IsMember(io::LogFormatNames()));
        sub.add_option("--robot", *robot,
-                      "Robot to write in the header: a built-in name (pioneer16, pioneer8, p2at16, laser) or a "
+                      "Robot to write in the header: a built-in name (pioneer16, pioneer8, pioneer8-course, p2at16, laser) or a "
                       "robot JSON file; default: the robot the log implies");
        sub.add_option("-o,--output", *out, "Native log to write (written atomically)")->required();
        return [=] { return RunConvert(*path, *format, *robot, *out); };

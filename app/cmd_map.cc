@@ -392,12 +392,11 @@ int RunMap(const MapArgs& a) {
 
 std::function<int()> SetupMap(CLI::App& sub) {
   auto a = std::make_shared<MapArgs>();
-  std::string formats;
-  for (const auto& f : io::LogFormatNames()) formats += (formats.empty() ? "" : ", ") + f;
   sub.add_option("LOG", a->log, "The log to map (native, CARMEN, Pioneer pair, EV3)")->required();
-  sub.add_option("--format", a->format, "Log format: " + formats)->capture_default_str();
+  sub.add_option("--format", a->format, "Log format: " + Join(io::LogFormatNames()))->capture_default_str();
   sub.add_option("--robot", a->robot,
-                 "Robot: pioneer16, pioneer8, p2at16, laser, or a robot JSON file (default: the log's, else pioneer16)");
+                 "Robot: a built-in name (" + Join(sensors::BuiltinRobotNames()) +
+                     ") or a robot JSON file (default: the log's, else pioneer16)");
   sub.add_option("--cell", a->cell_m, "Cell size of each room's grid, metres")->capture_default_str();
   sub.add_option("--window", a->window_m, "MHIMM window w, metres")->capture_default_str();
   sub.add_option("--mode", a->mode,
