@@ -6,7 +6,8 @@
 #   2. draws the world with the true and the odometry paths;
 #   3. builds the cognitive map (ASRs, exits, EM heading correction) with all
 #      its outputs: map.sqlite, map.svg, map.png, map.pgm/.yaml, map.geojson,
-#      map.map (ARIA 2D-Map), report.json;
+#      map.map (ARIA 2D-Map), map_compare.svg/.png (before | after the heading
+#      correction), heading_error.png, report.json;
 #   4. scores it against the floor plan (cogmap eval);
 #   5. also vectorizes the whole run as one space (stages.png) and draws the
 #      grid of the real Pioneer sonar log.
