@@ -45,7 +45,7 @@ TEST(OpenLog, UnknownFormatName) {
 }
 
 TEST(OpenLog, MissingFile) {
-  EXPECT_THAT(ErrorReading(::testing::TempDir() + "/nope.log", "auto"), HasSubstr("nope.log: cannot open"));
+  EXPECT_THAT(ErrorReading(::cogmap::testing_util::TestTempPath("nope.log"), "auto"), HasSubstr("nope.log: cannot open"));
 }
 
 TEST(OpenLog, EmptyFile) {
@@ -76,6 +76,7 @@ TEST(OpenLog, FixtureFilesSniff) {
 #include "cogmap/io/log_lines.h"
 #include "cogmap/io/ev3_log.h"
 #include "cogmap/io/native_log.h"
+#include "cogmap/core/test_temp.h"
 
 namespace cogmap::io {
 namespace {

@@ -10,11 +10,12 @@
 
 #include "cogmap/core/error.h"
 #include "cogmap/io/log_reader.h"
+#include "cogmap/core/test_temp.h"
 
 namespace cogmap::io::testing_util {
 
 inline std::string WriteTemp(const std::string& name, const std::string& content) {
-  const std::string path = ::testing::TempDir() + "/" + name;
+  const std::string path = ::cogmap::testing_util::TestTempPath(name);
   std::ofstream(path, std::ios::binary) << content;
   return path;
 }

@@ -4,6 +4,7 @@
 
 #include "cogmap/core/angles.h"
 #include "cogmap/io/log_test_util.h"
+#include "cogmap/core/test_temp.h"
 
 namespace cogmap::io {
 namespace {
@@ -13,7 +14,7 @@ using namespace testing_util;
 
 // A pioneer pair in its own folder under the test temp dir.
 std::string MakePair(const std::string& name, const std::string& meas, const std::string& poses) {
-  const std::string dir = ::testing::TempDir() + "/" + name;
+  const std::string dir = ::cogmap::testing_util::TestTempPath(name);
   std::filesystem::create_directories(dir);
   WriteTemp(name + "/measurement.txt", meas);
   WriteTemp(name + "/poses.txt", poses);
@@ -53,7 +54,7 @@ TEST(PioneerLog, AcceptsFolderOrEitherFile) {
 }
 
 TEST(PioneerLog, MissingPartnerFileIsAnError) {
-  const std::string dir = ::testing::TempDir() + "/pair_alone";
+  const std::string dir = ::cogmap::testing_util::TestTempPath("pair_alone");
   std::filesystem::create_directories(dir);
   WriteTemp("pair_alone/measurement.txt", kMeas);
   EXPECT_THAT(ErrorReading(dir + "/measurement.txt", "pioneer"), HasSubstr("poses.txt: missing"));

@@ -8,12 +8,13 @@
 #include "cogmap/io/stages_picture.h"
 #include "cogmap/io/svg.h"
 #include "cogmap/vectorize/synthetic_grid.h"
+#include "cogmap/core/test_temp.h"
 
 namespace cogmap::io {
 namespace {
 
 std::string TempPath(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / "cogmap_vector_files_test";
+  const auto dir = std::filesystem::path(::cogmap::testing_util::TestTempPath("vector_files"));
   std::filesystem::create_directories(dir);
   return (dir / name).string();
 }

@@ -7,6 +7,7 @@
 
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
+#include "cogmap/core/test_temp.h"
 
 namespace cogmap::io {
 namespace {
@@ -82,7 +83,7 @@ TEST(WorldIo, RoundTrip) {
   p.doorways = {{"door1", {{5, 1}, {5, 2}}}};
   p.home = Pose2{1, 1, DegToRad(-90)};
   p.route = {{"wp01", {1, 2, DegToRad(45)}}, {"wp02", {3, 2, 0}}};
-  const std::string path = ::testing::TempDir() + "/round_trip.map";
+  const std::string path = ::cogmap::testing_util::TestTempPath("round_trip.map");
   WriteAriaMap(path, p);
   const FloorPlan q = ReadAriaMap(path).plan;
   ASSERT_EQ(q.walls.size(), 2u);
@@ -138,7 +139,7 @@ TEST(WorldIo, ReadsRoomSegmentationBitmap) {
 }
 
 TEST(WorldIo, CorruptPngIsAnError) {
-  const std::string path = ::testing::TempDir() + "/corrupt.png";
+  const std::string path = ::cogmap::testing_util::TestTempPath("corrupt.png");
   {
     FILE* f = std::fopen(path.c_str(), "wb");
     std::fputs("\x89PNG\r\n\x1a\nnot really", f);

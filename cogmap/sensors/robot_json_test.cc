@@ -7,6 +7,7 @@
 
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
+#include "cogmap/core/test_temp.h"
 
 namespace cogmap::sensors {
 namespace {
@@ -113,7 +114,7 @@ TEST(RobotJson, NoSensorsIsAnError) {
 }
 
 TEST(RobotJson, LoadReportsBadJsonWithPath) {
-  const std::string path = testing::TempDir() + "/bad_robot.json";
+  const std::string path = ::cogmap::testing_util::TestTempPath("bad_robot.json");
   std::ofstream(path) << "{\"name\": ";
   try {
     LoadRobotJson(path);
@@ -125,7 +126,7 @@ TEST(RobotJson, LoadReportsBadJsonWithPath) {
 
 TEST(RobotJson, ResolveTakesBuiltinNameOrFile) {
   EXPECT_EQ(ResolveRobot("pioneer8").sensors.size(), 8u);
-  const std::string path = testing::TempDir() + "/one_robot.json";
+  const std::string path = ::cogmap::testing_util::TestTempPath("one_robot.json");
   std::ofstream(path) << OneSonar().dump();
   EXPECT_EQ(ResolveRobot(path).name, "one");
   EXPECT_THROW(ResolveRobot("no-such-robot"), InputError);
