@@ -33,6 +33,17 @@ struct StageSeconds {
   double total() const { return grid + clean + extract + simplify + fit; }
 };
 
+// The dominant orientation of an ASR's occupied grid cells (a projection
+// profile, vectorize::DominantOrientation), in the local frame, folded into
+// [-45, 45) degrees. Computed when the ASR closes, while its grid exists; the
+// default heading correction refines the EM direction with it. Not stored.
+struct GridOrientation {
+  bool valid = false;
+  double angle_rad = 0.0;
+  double contrast = 0.0;  // peak / median profile score (about 1: no orientation)
+  int cells = 0;
+};
+
 // An Absolute Space Representation: one room or stretch of corridor (SPEC 4).
 struct Asr {
   int id = -1;
@@ -51,6 +62,7 @@ struct Asr {
   StageSeconds seconds;
   double heading_correction_rad = 0.0;    // rotation applied (corrected - raw)
   double heading_uncertainty_rad = -1.0;  // < 0: not estimated
+  GridOrientation grid_orientation;       // transient, see GridOrientation
 
   std::vector<Polyline> WallsWorldRaw() const { return Transform(world_from_local_raw, walls_local); }
   std::vector<Polyline> WallsWorldCorrected() const {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "cogmap/vectorize/orientation.h"
+
 namespace cogmap::asr {
 
 namespace {
@@ -129,6 +131,16 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
   a.seconds.extract = v.seconds.extract;
   a.seconds.simplify = v.seconds.simplify;
   a.seconds.fit = v.seconds.fit;
+  {
+    // The orientation of the occupied cells, for the heading correction.
+    const auto& g = c.grid->values();
+    std::vector<Vec2> cells;
+    for (int y = 0; y < g.limits().height(); ++y)
+      for (int x = 0; x < g.limits().width(); ++x)
+        if (options_.vectorize.clean.classes.IsOccupied(g.at(x, y))) cells.push_back(Vec2(x + 0.5, y + 0.5));
+    const vectorize::Orientation o = vectorize::DominantOrientation(cells);
+    a.grid_orientation = {o.valid, o.angle_rad, o.contrast, o.points};
+  }
   c.grid.reset();  // the room's grid is gone from here on
 
   Asr out = corrector_ ? corrector_(std::move(a)) : std::move(a);

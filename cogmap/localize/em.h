@@ -104,6 +104,8 @@ struct DirectionEstimate {
   double total_length_m = 0.0;
   int edges = 0;
   int iterations = 0;
+  bool grid_refined = false;     // direction and uncertainty from the ASR's grid cells
+  double em_direction_rad = 0.0; // the EM's own direction (before any refinement)
 };
 
 // Default mode on the s data.

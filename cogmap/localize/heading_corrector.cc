@@ -18,7 +18,20 @@ DirectionEstimate HeadingCorrector::Estimate(const asr::Asr& raw) const {
   if (options_.mode == HeadingMode::kPaper) {
     return EstimateDirectionPaper(s, MotorDirections(raw, options_.min_motor_chord_m), options_.paper);
   }
-  return EstimateDirectionRobust(s, options_.robust);
+  DirectionEstimate e = EstimateDirectionRobust(s, options_.robust);
+  e.em_direction_rad = e.direction_rad;
+  const asr::GridOrientation& g = raw.grid_orientation;
+  if (options_.grid_refine && e.accepted && g.valid && g.contrast >= options_.min_grid_contrast) {
+    const double grid = FoldToQuarterTurn(g.angle_rad + raw.world_from_local_raw.theta);
+    const double sigma = std::isfinite(e.uncertainty_rad) ? e.uncertainty_rad : kPi / 4.0;
+    const double window = std::max(options_.refine_window_sigmas * sigma, options_.refine_window_min_rad);
+    if (std::abs(FoldToQuarterTurn(grid - e.direction_rad)) <= window) {
+      e.direction_rad = grid;
+      e.uncertainty_rad = options_.grid_sigma_rad;
+      e.grid_refined = true;
+    }
+  }
+  return e;
 }
 
 asr::Asr HeadingCorrector::Close(asr::Asr raw) {

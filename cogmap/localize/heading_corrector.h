@@ -26,6 +26,19 @@ struct HeadingCorrectionOptions {
   bool drift_gate = true;
   double max_drift_base_rad = DegToRad(10.0);
   double max_drift_rad_per_m = DegToRad(3.0);
+  // Grid refinement (default mode only; not in the thesis): the polylines of a
+  // sonar room wobble (edges of a metre or two at 10-20 degrees off their
+  // wall), so the EM direction is off by a few degrees; the projection profile
+  // of the room's occupied cells (Asr::grid_orientation) weighs every wall cell
+  // and is off by about one (measured, docs/heading-correction.md). When the EM
+  // accepts and the two agree within max(refine_window_sigmas x EM sigma,
+  // refine_window_min_rad), the direction is the grid's, with 1-sigma
+  // grid_sigma_rad. The EM still decides whether there is a direction at all.
+  bool grid_refine = true;
+  double refine_window_sigmas = 3.0;
+  double refine_window_min_rad = DegToRad(4.0);
+  double min_grid_contrast = 1.2;
+  double grid_sigma_rad = DegToRad(1.0);
 };
 
 // Heading correction of a sequence of ASRs by EM over wall directions (SPEC 5,

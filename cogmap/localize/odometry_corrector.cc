@@ -97,9 +97,9 @@ void OdometryCorrector::RecordFiltered() {
   st.filt_rr = p_rr_;
 }
 
-std::vector<double> OdometryCorrector::SmoothedHeadings() const { return Rts(steps_); }
+std::vector<double> OdometryCorrector::SmoothedHeadings(double* start_e) const { return Rts(steps_, start_e); }
 
-std::vector<double> OdometryCorrector::RobustSmoothedHeadings(int iterations, double huber_k) const {
+std::vector<double> OdometryCorrector::RobustSmoothedHeadings(int iterations, double huber_k, double* start_e) const {
   std::vector<Step> steps = steps_;
   const size_t n = steps.size();
   std::vector<double> weight(n, 1.0);
@@ -138,7 +138,7 @@ std::vector<double> OdometryCorrector::RobustSmoothedHeadings(int iterations, do
       }
       st.filt_e = e, st.filt_r = rate, st.filt_ee = pee, st.filt_er = per, st.filt_rr = prr;
     }
-    smoothed = Rts(steps);
+    smoothed = Rts(steps, start_e);
     if (t.size() >= 3) {
       std::nth_element(t.begin(), t.begin() + t.size() / 2, t.end());
       scale2 = std::clamp(scale2 * t[t.size() / 2] / 0.455, 0.01, 100.0);
@@ -153,15 +153,21 @@ std::vector<double> OdometryCorrector::RobustSmoothedHeadings(int iterations, do
   return smoothed;
 }
 
-std::vector<double> OdometryCorrector::Rts(const std::vector<Step>& steps_) {
-  const size_t n = steps_.size();
+std::vector<double> OdometryCorrector::Rts(const std::vector<Step>& steps, double* start_e) const {
+  const size_t n = steps.size();
   std::vector<double> out(n);
+  if (start_e) *start_e = init_e_;
   if (n == 0) return out;
-  double se = steps_.back().filt_e, sr = steps_.back().filt_r;
+  // The initial state (distance 0) as a step before the first: its filtered
+  // state is the prior.
+  Step start{};
+  start.filt_e = init_e_, start.filt_r = init_r_;
+  start.filt_ee = init_ee_, start.filt_er = init_er_, start.filt_rr = init_rr_;
+  double se = steps.back().filt_e, sr = steps.back().filt_r;
   out[n - 1] = se;
-  for (size_t k = n - 1; k-- > 0;) {
-    const Step& a = steps_[k];
-    const Step& b = steps_[k + 1];
+  for (size_t k = n; k-- > 0;) {
+    const Step& a = k == 0 ? start : steps[k - 1];
+    const Step& b = steps[k];
     // G = P_filt(k) F^T P_pred(k+1)^-1 with F = [[1, ds], [0, 1]].
     const double ds = b.ds;
     const double pf00 = a.filt_ee, pf01 = a.filt_er, pf11 = a.filt_rr;
@@ -179,7 +185,8 @@ std::vector<double> OdometryCorrector::Rts(const std::vector<Step>& steps_) {
     }
     se = a.filt_e + ge;
     sr = a.filt_r + gr;
-    out[k] = se;
+    if (k > 0) out[k - 1] = se;
+    else if (start_e) *start_e = se;
   }
   return out;
 }
@@ -230,6 +237,13 @@ void OdometryCorrector::Record(double z_rad, double sigma_rad) {
   steps_.back().sigma = sigma_rad;
 }
 
+void OdometryCorrector::Record(size_t step, double z_rad, double sigma_rad) {
+  if (step >= steps_.size()) return;
+  steps_[step].measured = true;
+  steps_[step].z = z_rad;
+  steps_[step].sigma = sigma_rad;
+}
+
 void OdometryCorrector::Drop(size_t step) {
   if (step < steps_.size()) steps_[step].measured = false;
 }
@@ -249,8 +263,7 @@ void OdometryCorrector::Refilter() {
     st.pred_e = e, st.pred_r = rate, st.pred_ee = pee, st.pred_er = per, st.pred_rr = prr;
     if (st.measured && st.sigma > 0.0) {
       const double sv = pee + st.sigma * st.sigma;
-      st.z = e + WrapQuarter(st.z - e);
-      const double nu = st.z - e;
+      const double nu = st.z - e;  // z is unwrapped already (Update, EndWarmup)
       const double ke = pee / sv, kr = per / sv;
       e += ke * nu;
       rate += kr * nu;
@@ -306,8 +319,16 @@ void DriftHeadingCorrector::EndWarmup() {
       std::vector<double> ds = dev;
       std::nth_element(ds.begin(), ds.begin() + n / 2, ds.end());
       const double band = std::max(drift_options_.warmup_min_band_rad, 3.0 * 1.4826 * ds[n / 2]);
-      for (size_t i = 0; i < n; ++i)
-        if (dev[i] > band) odometry_.Drop(warm_[i].step);
+      for (size_t i = 0; i < n; ++i) {
+        if (dev[i] > band) {
+          odometry_.Drop(warm_[i].step);
+        } else {
+          // Unwrapped to the quarter turn of the line (the filter's prior
+          // prediction is too vague to tell a 46 degree step from -44).
+          const double line = intercept + slope * warm_[i].distance_m;
+          odometry_.Record(warm_[i].step, line + WrapQuarter(warm_[i].z_rad - line), warm_[i].sigma_rad);
+        }
+      }
     }
   }
   odometry_.Refilter();
@@ -349,7 +370,7 @@ asr::Asr DriftHeadingCorrector::Close(asr::Asr pre) {
         last_.decline = Decline::kDriftOutlier;
       } else {
         odometry_.Record(z, sigma);
-        warm_.push_back({odometry_.steps() - 1, s, z});
+        warm_.push_back({odometry_.steps() - 1, s, z, sigma});
         warm_angle = -drift;
         distance_since_accepted_m_ = 0.0;
       }
@@ -378,6 +399,7 @@ asr::Asr DriftHeadingCorrector::Close(asr::Asr pre) {
 void DriftHeadingCorrector::Restore(const Pose2& correction, std::optional<double> reference_rad) {
   world_corrected_from_pre_ = correction;
   start_correction_ = correction;
+  restored_ = true;
   reference_rad_ = reference_rad;
   if (reference_rad_) reference_rad_ = FoldToQuarterTurn(*reference_rad_);
   // No pre-correction applied yet on the resumed log: e = -c.theta keeps the
@@ -387,14 +409,25 @@ void DriftHeadingCorrector::Restore(const Pose2& correction, std::optional<doubl
 
 std::vector<DriftHeadingCorrector::Revision> DriftHeadingCorrector::Smooth() {
   if (warming_) EndWarmup();  // a short run: the filter over what there is
-  const std::vector<double> e = drift_options_.robust_smoothing ? odometry_.RobustSmoothedHeadings()
-                                                                : odometry_.SmoothedHeadings();
+  double start_e = 0.0;
+  std::vector<double> e = drift_options_.robust_smoothing
+                              ? odometry_.RobustSmoothedHeadings(5, 2.0, &start_e)
+                              : odometry_.SmoothedHeadings(&start_e);
   std::vector<Revision> out;
   if (e.size() != closed_.size()) return out;  // Predict once per Close
+  // The filter's heading errors are relative to the reference walls (the first
+  // accepted ASR), which carry that ASR's own drift. On a run mapped from its
+  // start the raw odometry has no heading error at distance 0: the smoothed
+  // error there is that offset, and removing it ties the corrected map to the
+  // odometry's starting frame instead of to the drifted reference. The ASRs
+  // closed before the reference existed are then rotated too.
+  const bool anchor = !restored_ && odometry_.measurements() > 0;
+  if (anchor)
+    for (double& v : e) v -= start_e;
   Pose2 c = start_correction_;
   for (size_t k = 0; k < closed_.size(); ++k) {
     Closed& x = closed_[k];
-    if (x.rotated) {
+    if (x.rotated || anchor) {
       const double angle = NormalizeAngle(x.applied_rad - e[k] - c.theta);
       c = RotationAbout(c * x.pivot_pre, angle) * c;
     }

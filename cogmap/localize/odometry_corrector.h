@@ -102,22 +102,28 @@ class OdometryCorrector {
   // Stores a measurement at the last Predict without updating the filter
   // (warm-up); Refilter uses it unless Drop(step) is called for it.
   void Record(double z_rad, double sigma_rad);
+  // The same for an earlier step (its measurement replaced).
+  void Record(size_t step, double z_rad, double sigma_rad);
   void Drop(size_t step);
   // Runs the filter again from its initial state over all the kept
-  // measurements (no gate) and continues from the result.
+  // measurements (no gate, no quarter-turn unwrapping: they must be unwrapped
+  // already) and continues from the result.
   void Refilter();
   size_t steps() const { return steps_.size(); }
   // Rauch-Tung-Striebel smoothing of the steps so far: the heading error e at
   // the distance of every Predict call, in order, given all the measurements
   // (earlier ones included: the rate learnt later corrects the first ASRs).
-  std::vector<double> SmoothedHeadings() const;
+  // 'start_e' (optional) receives the smoothed heading error at distance 0, the
+  // start of the run.
+  std::vector<double> SmoothedHeadings(double* start_e = nullptr) const;
   // The same, robust (batch, not in the thesis): the forward filter is re-run
   // over the stored measurements that passed the gate, with their variances
   // rescaled by one factor estimated from the residuals (the EM uncertainty is
   // a poor absolute scale: too large on whole rooms, too small on short
   // stretches of sonar wall) and down-weighted beyond 'huber_k' robust sigmas
   // (Huber), iterated 'iterations' times.
-  std::vector<double> RobustSmoothedHeadings(int iterations = 5, double huber_k = 2.0) const;
+  std::vector<double> RobustSmoothedHeadings(int iterations = 5, double huber_k = 2.0,
+                                             double* start_e = nullptr) const;
 
   double heading_rad() const { return e_; }
   double rate_rad_per_m() const { return rate_; }
@@ -151,7 +157,7 @@ class OdometryCorrector {
   std::vector<Step> steps_;
   double init_e_ = 0.0, init_r_ = 0.0, init_ee_ = 0.0, init_er_ = 0.0, init_rr_ = 0.0;
   void RecordFiltered();
-  static std::vector<double> Rts(const std::vector<Step>& steps);
+  std::vector<double> Rts(const std::vector<Step>& steps, double* start_e = nullptr) const;
   // Filter.
   double filter_s_ = 0.0;
   double e_ = 0.0, rate_ = 0.0;
@@ -222,11 +228,12 @@ class DriftHeadingCorrector {
   };
   std::vector<Closed> closed_;
   Pose2 start_correction_;  // pre -> corrected before the first Close
+  bool restored_ = false;   // Restore was called (the run did not start here)
   // Warm-up (DriftFilterOptions::warmup_measurements).
   bool warming_ = true;
   struct WarmMeasurement {
     size_t step;
-    double distance_m, z_rad;
+    double distance_m, z_rad, sigma_rad;
   };
   std::vector<WarmMeasurement> warm_;
   double distance_since_accepted_m_ = 0.0;
