@@ -71,6 +71,7 @@ const char* DeclineName(Decline d) {
     case Decline::kNotManhattan: return "not_manhattan";
     case Decline::kTooUncertain: return "too_uncertain";
     case Decline::kDriftOutlier: return "drift_outlier";
+    case Decline::kGridDisagrees: return "grid_disagrees";
   }
   return "unknown";
 }

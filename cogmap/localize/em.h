@@ -88,6 +88,8 @@ enum class Decline {
   kTooUncertain,   // uncertainty above max_uncertainty_rad
   kDriftOutlier,   // HeadingCorrector: the implied drift is more than odometry can
                    // have drifted since the last accepted ASR (default mode)
+  kGridDisagrees,  // HeadingCorrector: the ASR's grid cells have a clear orientation
+                   // that the EM direction misses (default mode, grid refinement)
 };
 const char* DeclineName(Decline d);
 

@@ -21,7 +21,8 @@ DirectionEstimate HeadingCorrector::Estimate(const asr::Asr& raw) const {
   DirectionEstimate e = EstimateDirectionRobust(s, options_.robust);
   e.em_direction_rad = e.direction_rad;
   const asr::GridOrientation& g = raw.grid_orientation;
-  if (options_.grid_refine && e.accepted && g.valid && g.contrast >= options_.min_grid_contrast) {
+  const bool uncertain = options_.grid_refine_uncertain && !e.accepted && e.decline == Decline::kTooUncertain;
+  if (options_.grid_refine && (e.accepted || uncertain) && g.valid && g.contrast >= options_.min_grid_contrast) {
     const double grid = FoldToQuarterTurn(g.angle_rad + raw.world_from_local_raw.theta);
     const double sigma = std::isfinite(e.uncertainty_rad) ? e.uncertainty_rad : kPi / 4.0;
     const double window = std::max(options_.refine_window_sigmas * sigma, options_.refine_window_min_rad);
@@ -29,6 +30,11 @@ DirectionEstimate HeadingCorrector::Estimate(const asr::Asr& raw) const {
       e.direction_rad = grid;
       e.uncertainty_rad = options_.grid_sigma_rad;
       e.grid_refined = true;
+      e.accepted = true;
+      e.decline = Decline::kNone;
+    } else if (e.accepted && options_.grid_disagreement_declines) {
+      e.accepted = false;
+      e.decline = Decline::kGridDisagrees;
     }
   }
   return e;

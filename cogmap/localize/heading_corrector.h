@@ -31,10 +31,16 @@ struct HeadingCorrectionOptions {
   // wall), so the EM direction is off by a few degrees; the projection profile
   // of the room's occupied cells (Asr::grid_orientation) weighs every wall cell
   // and is off by about one (measured, docs/heading-correction.md). When the EM
-  // accepts and the two agree within max(refine_window_sigmas x EM sigma,
-  // refine_window_min_rad), the direction is the grid's, with 1-sigma
-  // grid_sigma_rad. The EM still decides whether there is a direction at all.
+  // accepts (or declines only as too uncertain, grid_refine_uncertain) and the
+  // two agree within max(refine_window_sigmas x EM sigma, refine_window_min_rad),
+  // the ASR is accepted with the grid's direction and 1-sigma grid_sigma_rad.
+  // When the grid has a clear orientation (contrast >= min_grid_contrast) that
+  // an accepted EM direction misses, the two evidences contradict each other
+  // and the ASR is declined (grid_disagreement_declines). Without a clear grid
+  // orientation the EM decides alone.
   bool grid_refine = true;
+  bool grid_refine_uncertain = true;
+  bool grid_disagreement_declines = true;
   double refine_window_sigmas = 3.0;
   double refine_window_min_rad = DegToRad(4.0);
   double min_grid_contrast = 1.2;

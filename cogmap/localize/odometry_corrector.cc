@@ -309,9 +309,17 @@ void DriftHeadingCorrector::EndWarmup() {
     if (!slopes.empty()) {
       std::nth_element(slopes.begin(), slopes.begin() + slopes.size() / 2, slopes.end());
       const double slope = slopes[slopes.size() / 2];
+      // Residuals modulo a quarter turn: when declined ASRs leave a gap over
+      // which the heading drifted more than 45 degrees, the accumulated z of
+      // the later ones is a quarter turn off the earlier ones; the line (from
+      // the slopes of the close pairs) puts them back.
       std::vector<double> r;
       for (const auto& w : warm_) r.push_back(w.z_rad - slope * w.distance_m);
       std::vector<double> sorted = r;
+      std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.end());
+      const double r0 = sorted[n / 2];
+      for (double& v : r) v = r0 + WrapQuarter(v - r0);
+      sorted = r;
       std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.end());
       const double intercept = sorted[n / 2];
       std::vector<double> dev;
@@ -325,8 +333,7 @@ void DriftHeadingCorrector::EndWarmup() {
         } else {
           // Unwrapped to the quarter turn of the line (the filter's prior
           // prediction is too vague to tell a 46 degree step from -44).
-          const double line = intercept + slope * warm_[i].distance_m;
-          odometry_.Record(warm_[i].step, line + WrapQuarter(warm_[i].z_rad - line), warm_[i].sigma_rad);
+          odometry_.Record(warm_[i].step, r[i] + slope * warm_[i].distance_m, warm_[i].sigma_rad);
         }
       }
     }

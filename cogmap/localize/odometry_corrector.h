@@ -27,7 +27,10 @@ struct DriftFilterOptions {
   // Prior 1-sigma of the heading error before the first measurement.
   double heading_prior_sigma_rad = DegToRad(10.0);
   // Random walk of the heading error (odometry noise): rad per sqrt(metre).
-  double heading_walk_rad_per_sqrt_m = DegToRad(0.3);
+  // 0.6, not the simulator's 0.17: the true heading error of simulated sonar
+  // runs wanders by several degrees over tens of metres (hundreds of radians of
+  // turning), and a stiffer model bends the ASRs between measurements.
+  double heading_walk_rad_per_sqrt_m = DegToRad(0.6);
   // Random walk of the rate (drift that changes along the run): rad/m per sqrt(m).
   double rate_walk_rad_per_m_per_sqrt_m = DegToRad(0.01);
   // Measurement 1-sigma of one ASR's estimate = max(floor, scale x the EM
@@ -58,7 +61,7 @@ struct DriftFilterOptions {
   // warmup_min_band_rad) of it), the filter is run over those, and
   // pre-correction starts.
   int warmup_measurements = 4;
-  double warmup_min_band_rad = DegToRad(3.0);
+  double warmup_min_band_rad = DegToRad(5.0);
   // DriftHeadingCorrector::Smooth: RobustSmoothedHeadings (true) or the plain
   // RTS smoother.
   bool robust_smoothing = false;  // off: no gain on the simulated sonar runs (docs)

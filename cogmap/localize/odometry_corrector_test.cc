@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -18,7 +19,8 @@ TEST(DriftFilterOptions, Defaults) {
   const DriftFilterOptions o;
   EXPECT_EQ(o.rate_prior_sigma_rad_per_m, DegToRad(3.0));
   EXPECT_EQ(o.heading_prior_sigma_rad, DegToRad(10.0));
-  EXPECT_EQ(o.heading_walk_rad_per_sqrt_m, DegToRad(0.3));
+  EXPECT_EQ(o.heading_walk_rad_per_sqrt_m, DegToRad(0.6));
+  EXPECT_EQ(o.warmup_min_band_rad, DegToRad(5.0));
   EXPECT_EQ(o.measurement_sigma_scale, 2.0);
   EXPECT_EQ(o.measurement_sigma_floor_rad, DegToRad(0.5));
   EXPECT_EQ(o.gate_sigmas, 4.0);
@@ -92,8 +94,16 @@ TEST(OdometryCorrector, PreCorrectionUndoesAKnownDrift) {
   EXPECT_NEAR(c.applied_rad(), raw.theta - rate * step - last.theta, 1e-9);
 }
 
+// The synthetic heading errors below lie on a straight line, so the model is
+// made as stiff as that line (the default walk allows for real wander).
+DriftFilterOptions StiffModel() {
+  DriftFilterOptions o;
+  o.heading_walk_rad_per_sqrt_m = DegToRad(0.3);
+  return o;
+}
+
 TEST(OdometryCorrector, SmoothingUsesLaterMeasurementsForEarlierSteps) {
-  OdometryCorrector c;
+  OdometryCorrector c(StiffModel());
   const double rate = DegToRad(1.0), offset = DegToRad(0.2);
   std::mt19937 rng(11);
   std::normal_distribution<double> noise(0.0, DegToRad(1.0));
@@ -118,7 +128,7 @@ TEST(OdometryCorrector, SmoothingUsesLaterMeasurementsForEarlierSteps) {
 }
 
 TEST(OdometryCorrector, RobustSmoothingResistsAnOutlierThatPassedTheGate) {
-  DriftFilterOptions o;
+  DriftFilterOptions o = StiffModel();
   o.gate_sigmas = 100.0;  // let the outlier in
   OdometryCorrector c(o);
   const double rate = DegToRad(1.0);
@@ -205,7 +215,7 @@ TEST(RawFromPrecorrected, RecoversARigidTransform) {
 // stores them (raw fields re-expressed in the raw frame).
 std::vector<asr::Asr> MapDriftingCorridor(DriftHeadingCorrector* c, int rooms, double rate,
                                           const WallNoise& noise = {}, int bad_room = -1,
-                                          double bad_rad = 0.0) {
+                                          double bad_rad = 0.0, const std::vector<int>& round_rooms = {}) {
   std::mt19937 rng(noise.seed);
   const double room_m = 5.0, step_m = 0.05;
   const int steps = static_cast<int>(std::lround(room_m / step_m));
@@ -240,7 +250,9 @@ std::vector<asr::Asr> MapDriftingCorridor(DriftHeadingCorrector* c, int rooms, d
     auto walls_true = NoisyRoom({k * room_m, 0.0}, 4.0, 4.0, noise, rng);
     // A room whose walls give a wrong but confident direction (clutter on
     // shelves); bad_rad = NaN: a round room (a 36-gon) instead.
-    if (k == bad_room && std::isnan(bad_rad)) {
+    const bool round = (k == bad_room && std::isnan(bad_rad)) ||
+                       std::find(round_rooms.begin(), round_rooms.end(), k) != round_rooms.end();
+    if (round) {
       Polyline round = testing::RegularPolygon(36, 2.0, 0.1);
       for (auto& v : round) v += Vec2(k * room_m, 0.0);
       walls_true = {round};
@@ -305,6 +317,37 @@ TEST(DriftHeadingCorrector, SmoothingRevisesTheStoredCorrections) {
   EXPECT_LT(after.median_deg, 0.5);
   // A second Smooth changes nothing more.
   for (const auto& r : c.Smooth()) EXPECT_NEAR(r.delta.theta, 0.0, 1e-12);
+}
+
+TEST(DriftHeadingCorrector, SmoothingTiesTheMapToTheStartingFrame) {
+  // The reference is the first room's walls, mapped 2.5 m into the run: 2.5
+  // degrees of drift. Online, every ASR carries that offset; after smoothing
+  // the map is in the frame the odometry started in (no global rotation left).
+  DriftHeadingCorrector c;
+  auto asrs = MapDriftingCorridor(&c, 12, DegToRad(1.0));
+  const HeadingErrorStats before = ComputeHeadingErrors(asrs);
+  EXPECT_NEAR(RadToDeg(before.global_rotation_rad), 2.5, 0.3);
+  const auto revisions = c.Smooth();
+  for (size_t i = 0; i < asrs.size(); ++i)
+    asrs[i].world_from_local_corrected = revisions[i].delta * asrs[i].world_from_local_corrected;
+  const HeadingErrorStats after = ComputeHeadingErrors(asrs);
+  EXPECT_NEAR(RadToDeg(after.global_rotation_rad), 0.0, 0.1);
+  EXPECT_LT(after.max_deg, 0.5);
+}
+
+TEST(DriftHeadingCorrector, WarmupUnwrapsAGapOfMoreThanAQuarterTurnOver45) {
+  // 2 degrees per metre, rooms 1-4 round (declined): the heading drifts 50
+  // degrees between the first two measurements, which the walls alone read as
+  // -40. The warm-up line through the later rooms puts it back.
+  DriftHeadingCorrector c;
+  auto asrs = MapDriftingCorridor(&c, 12, DegToRad(2.0), {}, -1, 0.0, {1, 2, 3, 4});
+  EXPECT_NEAR(RadToDeg(c.odometry().rate_rad_per_m()), 2.0, 0.05);
+  const auto revisions = c.Smooth();
+  for (size_t i = 0; i < asrs.size(); ++i)
+    asrs[i].world_from_local_corrected = revisions[i].delta * asrs[i].world_from_local_corrected;
+  const HeadingErrorStats st = ComputeHeadingErrors(asrs);
+  EXPECT_GT(st.max_raw_deg, 40.0);
+  EXPECT_LT(st.max_deg, 1.0);
 }
 
 TEST(DriftHeadingCorrector, WarmupDropsAConfidentGrossEstimate) {
