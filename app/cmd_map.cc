@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -135,8 +136,25 @@ int RunMap(const MapArgs& a) {
   nlohmann::json per_asr = nlohmann::json::array();
   asr::StageBytes bytes_run;
   int closed = 0;
+  // The heading estimate of the ASR that has just closed (set once the
+  // corrector is chosen below; null without correction).
+  std::function<const localize::DirectionEstimate*()> last_estimate = [] { return nullptr; };
   asr::CognitiveMapper mapper(robot, options, store.get(), [&](const asr::Asr& x) {
     ++closed;
+    nlohmann::json heading = nullptr;
+    if (const localize::DirectionEstimate* e = last_estimate()) {
+      heading = {{"accepted", e->accepted},
+                 {"decline", localize::DeclineName(e->decline)},
+                 {"direction_deg", RadToDeg(e->direction_rad)},
+                 {"uncertainty_deg", std::isfinite(e->uncertainty_rad) ? nlohmann::json(RadToDeg(e->uncertainty_rad))
+                                                                       : nlohmann::json(nullptr)},
+                 {"em_direction_deg", RadToDeg(e->em_direction_rad)},
+                 {"grid_refined", e->grid_refined},
+                 {"grid_direction_deg", x.grid_orientation.valid ? nlohmann::json(RadToDeg(x.grid_orientation.angle_rad))
+                                                                 : nlohmann::json(nullptr)},
+                 {"grid_contrast", x.grid_orientation.contrast},
+                 {"grid_cells", x.grid_orientation.cells}};
+    }
     bytes_run.grid += x.bytes.grid;
     bytes_run.vertices += x.bytes.vertices;
     bytes_run.polylines += x.bytes.polylines;
@@ -153,7 +171,8 @@ int RunMap(const MapArgs& a) {
                        {"walls", x.walls_local.size()},
                        {"bytes_grid", x.bytes.grid},
                        {"bytes_polylines", x.bytes.polylines},
-                       {"heading_correction_deg", RadToDeg(x.heading_correction_rad)}});
+                       {"heading_correction_deg", RadToDeg(x.heading_correction_rad)},
+                       {"heading_estimate", heading}});
   });
 
   // Heading correction (SPEC 5). On --resume the corrector continues from the
@@ -189,8 +208,10 @@ int RunMap(const MapArgs& a) {
     mapper.SetOdometryFilter(
         [&drift_corrector](const Pose2& raw, double t) { return drift_corrector.CorrectOdometry(raw, t); });
     mapper.SetCorrector([&drift_corrector](asr::Asr pre) { return drift_corrector.Close(std::move(pre)); });
+    last_estimate = [&drift_corrector] { return &drift_corrector.LastEstimate(); };
   } else if (!a.no_correct) {
     mapper.SetCorrector([&corrector](asr::Asr raw) { return corrector.Close(std::move(raw)); });
+    last_estimate = [&corrector] { return &corrector.LastEstimate(); };
   } else if (carried.theta != 0.0 || carried.x != 0.0 || carried.y != 0.0) {
     mapper.SetCorrector([carried](asr::Asr raw) {
       raw.world_from_local_corrected = carried * raw.world_from_local_raw;
@@ -279,6 +300,14 @@ int RunMap(const MapArgs& a) {
                                       io::RenderMap(cor_map, style_for(cor_map)), rt));
   }
   const localize::HeadingErrorStats heading = localize::ComputeHeadingErrors(all);
+  // Per ASR of this run: its heading error against the truth (one global
+  // rotation removed), when the log has ground truth.
+  for (const auto& e : heading.per_asr)
+    for (auto& j : per_asr)
+      if (j["id"].get<int>() == e.asr_id) {
+        j["heading_error_deg"] = RadToDeg(e.corrected_rad);
+        j["heading_error_raw_deg"] = RadToDeg(e.raw_rad);
+      }
   if (heading.asrs > 0)
     io::WritePng((fs::path(a.output) / "heading_error.png").string(), localize::PlotHeadingErrors(heading));
 

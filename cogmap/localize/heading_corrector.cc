@@ -1,5 +1,6 @@
 #include "cogmap/localize/heading_corrector.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace cogmap::localize {
@@ -28,7 +29,8 @@ DirectionEstimate HeadingCorrector::Estimate(const asr::Asr& raw) const {
     const double window = std::max(options_.refine_window_sigmas * sigma, options_.refine_window_min_rad);
     if (std::abs(FoldToQuarterTurn(grid - e.direction_rad)) <= window) {
       e.direction_rad = grid;
-      e.uncertainty_rad = options_.grid_sigma_rad;
+      e.uncertainty_rad =
+          options_.grid_sigma_rad * std::sqrt(std::max(1.0, options_.grid_reference_cells / std::max(1, g.cells)));
       e.grid_refined = true;
       e.accepted = true;
       e.decline = Decline::kNone;

@@ -33,7 +33,9 @@ struct HeadingCorrectionOptions {
   // and is off by about one (measured, docs/heading-correction.md). When the EM
   // accepts (or declines only as too uncertain, grid_refine_uncertain) and the
   // two agree within max(refine_window_sigmas x EM sigma, refine_window_min_rad),
-  // the ASR is accepted with the grid's direction and 1-sigma grid_sigma_rad.
+  // the ASR is accepted with the grid's direction and 1-sigma grid_sigma_rad
+  // (x sqrt(grid_reference_cells / cells) for an ASR with fewer occupied cells
+  // than a room of nine_rooms, on which the 1 degree was measured).
   // When the grid has a clear orientation (contrast >= min_grid_contrast) that
   // an accepted EM direction misses, the two evidences contradict each other
   // and the ASR is declined (grid_disagreement_declines). Without a clear grid
@@ -45,6 +47,7 @@ struct HeadingCorrectionOptions {
   double refine_window_min_rad = DegToRad(4.0);
   double min_grid_contrast = 1.2;
   double grid_sigma_rad = DegToRad(1.0);
+  double grid_reference_cells = 600.0;
 };
 
 // Heading correction of a sequence of ASRs by EM over wall directions (SPEC 5,

@@ -295,6 +295,23 @@ DriftHeadingCorrector::DriftHeadingCorrector(const HeadingCorrectionOptions& hea
   warming_ = drift.warmup_measurements > 0;
 }
 
+double DriftHeadingCorrector::WarmupRate() const {
+  // Least-squares slope of the warm-up measurements, within 3 prior sigmas.
+  const size_t n = warm_.size();
+  if (n < 2) return 0.0;
+  double ms = 0.0, mz = 0.0;
+  for (const auto& w : warm_) ms += w.distance_m, mz += w.z_rad;
+  ms /= double(n), mz /= double(n);
+  double sxx = 0.0, sxz = 0.0;
+  for (const auto& w : warm_) {
+    sxx += (w.distance_m - ms) * (w.distance_m - ms);
+    sxz += (w.distance_m - ms) * (w.z_rad - mz);
+  }
+  if (sxx < 1e-9) return 0.0;
+  const double limit = 3.0 * drift_options_.rate_prior_sigma_rad_per_m;
+  return std::clamp(sxz / sxx, -limit, limit);
+}
+
 void DriftHeadingCorrector::EndWarmup() {
   warming_ = false;
   const size_t n = warm_.size();
@@ -369,16 +386,29 @@ asr::Asr DriftHeadingCorrector::Close(asr::Asr pre) {
                      (std::isfinite(last_.uncertainty_rad) ? last_.uncertainty_rad : kPi / 4.0));
     if (drift_options_.smear_inflation) sigma = std::hypot(sigma, rate_sigma * span / std::sqrt(12.0));
     if (warming_) {
+      // Walls fix the heading modulo a quarter turn. The drift above is the
+      // branch nearest the last accepted ASR (no drift in between); once two
+      // warm-up measurements give a provisional rate, the branch nearest the
+      // heading that rate predicts is taken instead, so that a gap of declined
+      // rooms over which the heading drifted more than 45 degrees is not read
+      // as drift the other way.
+      double pred = z;
+      if (!warm_.empty()) {
+        const WarmMeasurement& last = warm_.back();
+        pred = last.z_rad + WarmupRate() * (s - last.distance_m);
+      }
+      const double z_unwrapped = pred + WrapQuarter(z - pred);
+      const double innovation = warm_.empty() ? drift : z_unwrapped - pred;
       // HeadingCorrector's drift gate, then this ASR is rotated on its own.
       if (heading_options_.drift_gate &&
-          std::abs(drift) > heading_options_.max_drift_base_rad +
-                                heading_options_.max_drift_rad_per_m * distance_since_accepted_m_) {
+          std::abs(innovation) > heading_options_.max_drift_base_rad +
+                                     heading_options_.max_drift_rad_per_m * distance_since_accepted_m_) {
         last_.accepted = false;
         last_.decline = Decline::kDriftOutlier;
       } else {
-        odometry_.Record(z, sigma);
-        warm_.push_back({odometry_.steps() - 1, s, z, sigma});
-        warm_angle = -drift;
+        odometry_.Record(z_unwrapped, sigma);
+        warm_.push_back({odometry_.steps() - 1, s, z_unwrapped, sigma});
+        warm_angle = -(drift + (z_unwrapped - z));
         distance_since_accepted_m_ = 0.0;
       }
     } else if (!odometry_.Update(z, sigma)) {

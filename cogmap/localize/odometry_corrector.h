@@ -241,6 +241,7 @@ class DriftHeadingCorrector {
   std::vector<WarmMeasurement> warm_;
   double distance_since_accepted_m_ = 0.0;
   void EndWarmup();
+  double WarmupRate() const;  // provisional rate from the warm-up measurements
 };
 
 // The rigid transform that best maps a pre-corrected path onto the raw one
