@@ -179,6 +179,13 @@ int RunMap(const MapArgs& a) {
   // stored run: its last correction and reference direction (docs/store.md).
   localize::HeadingCorrectionOptions hc_options;
   hc_options.mode = a.mode == "paper" ? localize::HeadingMode::kPaper : localize::HeadingMode::kDefault;
+  // The grid refinement is for sonar, whose polylines wobble; a laser's
+  // polylines give the EM a better direction than the room's occupied cells,
+  // which lean towards where the laser first saw the walls when the odometry
+  // drifts through the room (docs/heading-correction.md).
+  hc_options.grid_refine = !std::all_of(robot.sensors.begin(), robot.sensors.end(), [](const auto& s) {
+    return s.kind == sensors::SensorKind::kLaser;
+  });
   localize::HeadingCorrector corrector(hc_options);
   // Default mode: drift-rate estimation with odometry pre-correction
   // (docs/heading-correction.md); paper mode corrects one rotation per ASR.
