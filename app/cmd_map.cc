@@ -394,6 +394,8 @@ int RunMap(const MapArgs& a) {
     report["drift_rate_sigma_deg_per_m"] = RadToDeg(drift_corrector.odometry().rate_sigma_rad_per_m());
     report["drift_filter_measurements"] = drift_corrector.odometry().measurements();
     report["drift_filter_rejects"] = drift_corrector.odometry().rejects();
+    report["drift_filter_walk_deg_per_sqrt_m"] = RadToDeg(drift_corrector.odometry().heading_walk_rad_per_sqrt_m());
+    report["drift_filter_sigma_scale"] = drift_corrector.odometry().sigma_scale();
   }
   for (const auto& [k, v] : localize::HeadingErrorEvalKeys(heading)) report[k] = v;
   if (truth_plan) {

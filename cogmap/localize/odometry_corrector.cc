@@ -194,7 +194,7 @@ std::vector<double> OdometryCorrector::Rts(const std::vector<Step>& steps, doubl
 bool OdometryCorrector::Update(double z_rad, double sigma_rad) {
   if (!std::isfinite(z_rad) || !std::isfinite(sigma_rad)) return false;
   const double nu = WrapQuarter(z_rad - e_);
-  const double r = sigma_rad * sigma_rad;
+  const double r = sigma_scale_ * sigma_scale_ * sigma_rad * sigma_rad;
   const double s = p_ee_ + r;
   const double gate = std::max(options_.gate_min_rad, options_.gate_sigmas * std::sqrt(s));
   if (std::abs(nu) > gate) {
@@ -248,11 +248,12 @@ void OdometryCorrector::Drop(size_t step) {
   if (step < steps_.size()) steps_[step].measured = false;
 }
 
-void OdometryCorrector::Refilter() {
+double OdometryCorrector::Refilter() {
   const double qe = options_.heading_walk_rad_per_sqrt_m * options_.heading_walk_rad_per_sqrt_m;
   const double qr = options_.rate_walk_rad_per_m_per_sqrt_m * options_.rate_walk_rad_per_m_per_sqrt_m;
-  if (steps_.empty()) return;
+  if (steps_.empty()) return 0.0;
   double e = init_e_, rate = init_r_, pee = init_ee_, per = init_er_, prr = init_rr_;
+  double log_likelihood = 0.0;
   measurements_ = 0;
   for (Step& st : steps_) {
     const double ds = st.ds;
@@ -262,8 +263,9 @@ void OdometryCorrector::Refilter() {
     prr += qr * ds;
     st.pred_e = e, st.pred_r = rate, st.pred_ee = pee, st.pred_er = per, st.pred_rr = prr;
     if (st.measured && st.sigma > 0.0) {
-      const double sv = pee + st.sigma * st.sigma;
+      const double sv = pee + sigma_scale_ * sigma_scale_ * st.sigma * st.sigma;
       const double nu = st.z - e;  // z is unwrapped already (Update, EndWarmup)
+      log_likelihood -= 0.5 * (nu * nu / sv + std::log(2.0 * kPi * sv));
       const double ke = pee / sv, kr = per / sv;
       e += ke * nu;
       rate += kr * nu;
@@ -277,6 +279,24 @@ void OdometryCorrector::Refilter() {
   }
   e_ = e, rate_ = rate, p_ee_ = pee, p_er_ = per, p_rr_ = prr;
   consecutive_rejects_ = 0;
+  return log_likelihood;
+}
+
+OdometryCorrector::NoiseFit OdometryCorrector::FitNoise(const std::vector<double>& walks_rad_per_sqrt_m,
+                                                        const std::vector<double>& sigma_scales) {
+  NoiseFit best{options_.heading_walk_rad_per_sqrt_m, sigma_scale_, -1e300};
+  if (walks_rad_per_sqrt_m.empty() || sigma_scales.empty()) return best;
+  for (double scale : sigma_scales)
+    for (double walk : walks_rad_per_sqrt_m) {
+      options_.heading_walk_rad_per_sqrt_m = walk;
+      sigma_scale_ = scale;
+      const double ll = Refilter();
+      if (ll > best.log_likelihood) best = {walk, scale, ll};
+    }
+  options_.heading_walk_rad_per_sqrt_m = best.walk_rad_per_sqrt_m;
+  sigma_scale_ = best.sigma_scale;
+  Refilter();
+  return best;
 }
 
 void OdometryCorrector::SetHeading(double e_rad, double sigma_rad) {
@@ -446,6 +466,10 @@ void DriftHeadingCorrector::Restore(const Pose2& correction, std::optional<doubl
 
 std::vector<DriftHeadingCorrector::Revision> DriftHeadingCorrector::Smooth() {
   if (warming_) EndWarmup();  // a short run: the filter over what there is
+  // The heading walk and measurement noise that best explain the run's
+  // measurements (maximum likelihood of the innovations), before smoothing.
+  if (odometry_.measurements() >= drift_options_.min_measurements_to_fit_noise)
+    odometry_.FitNoise(drift_options_.walk_candidates_rad_per_sqrt_m, drift_options_.sigma_scale_candidates);
   double start_e = 0.0;
   std::vector<double> e = drift_options_.robust_smoothing
                               ? odometry_.RobustSmoothedHeadings(5, 2.0, &start_e)

@@ -31,6 +31,18 @@ struct DriftFilterOptions {
   // runs wanders by several degrees over tens of metres (hundreds of radians of
   // turning), and a stiffer model bends the ASRs between measurements.
   double heading_walk_rad_per_sqrt_m = DegToRad(0.6);
+  // At the end of a run (DriftHeadingCorrector::Smooth), before smoothing,
+  // the heading walk and a factor on every measurement sigma are chosen again,
+  // jointly, among these candidates by maximum likelihood of the filter's
+  // innovations (OdometryCorrector::FitNoise), when the run has at least
+  // min_measurements_to_fit_noise measurements. How much the odometry wanders
+  // and how good the walls are differ by robot and sensor: a fixed walk of 0.6
+  // suits simulated sonar, 0.3 the CARMEN logs with added drift (docs).
+  // Empty candidates: keep the values above.
+  std::vector<double> walk_candidates_rad_per_sqrt_m = {DegToRad(0.15), DegToRad(0.3), DegToRad(0.45),
+                                                        DegToRad(0.6),  DegToRad(0.9), DegToRad(1.2)};
+  std::vector<double> sigma_scale_candidates = {0.35, 0.5, 0.7, 1.0, 1.4, 2.0};
+  int min_measurements_to_fit_noise = 6;
   // Random walk of the rate (drift that changes along the run): rad/m per sqrt(m).
   double rate_walk_rad_per_m_per_sqrt_m = DegToRad(0.01);
   // Measurement 1-sigma of one ASR's estimate = max(floor, scale x the EM
@@ -110,8 +122,19 @@ class OdometryCorrector {
   void Drop(size_t step);
   // Runs the filter again from its initial state over all the kept
   // measurements (no gate, no quarter-turn unwrapping: they must be unwrapped
-  // already) and continues from the result.
-  void Refilter();
+  // already) and continues from the result. Returns the log-likelihood of the
+  // measurements (sum over the innovations of log N(nu; 0, S)).
+  double Refilter();
+  // Refilters with each pair (heading walk, factor on every measurement
+  // sigma) and keeps the most likely (returned; in force from then on).
+  struct NoiseFit {
+    double walk_rad_per_sqrt_m = 0.0;
+    double sigma_scale = 1.0;
+    double log_likelihood = 0.0;
+  };
+  NoiseFit FitNoise(const std::vector<double>& walks_rad_per_sqrt_m, const std::vector<double>& sigma_scales);
+  double heading_walk_rad_per_sqrt_m() const { return options_.heading_walk_rad_per_sqrt_m; }
+  double sigma_scale() const { return sigma_scale_; }
   size_t steps() const { return steps_.size(); }
   // Rauch-Tung-Striebel smoothing of the steps so far: the heading error e at
   // the distance of every Predict call, in order, given all the measurements
@@ -166,6 +189,7 @@ class OdometryCorrector {
   double e_ = 0.0, rate_ = 0.0;
   double p_ee_, p_er_ = 0.0, p_rr_;
   int measurements_ = 0;
+  double sigma_scale_ = 1.0;  // factor on every measurement sigma in Refilter (FitNoise)
   int rejects_ = 0;
   int consecutive_rejects_ = 0;
 };

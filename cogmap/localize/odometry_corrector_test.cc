@@ -147,6 +147,36 @@ TEST(OdometryCorrector, RobustSmoothingResistsAnOutlierThatPassedTheGate) {
   EXPECT_LT(robust, 0.5 * plain);
 }
 
+// Measurements of a heading error that is a line (plus white noise of 'noise'
+// rad), or that also random-walks by 'walk' rad per sqrt(metre).
+OdometryCorrector::NoiseFit FitOn(double walk, double noise, uint32_t seed) {
+  OdometryCorrector c(StiffModel());
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  double e = 0.0;
+  for (int k = 0; k < 60; ++k) {
+    const double s = 4.0 * k;
+    if (k > 0) e += DegToRad(1.0) * 4.0 + walk * std::sqrt(4.0) * n01(rng);
+    c.Predict(s);
+    c.Update(e + noise * n01(rng), DegToRad(1.0));
+  }
+  const DriftFilterOptions o;
+  return c.FitNoise(o.walk_candidates_rad_per_sqrt_m, o.sigma_scale_candidates);
+}
+
+TEST(OdometryCorrector, FitNoiseTellsAWanderingHeadingFromNoisyWalls) {
+  // A straight line measured with 1 degree of noise: little walk, scale ~1.
+  const auto line = FitOn(0.0, DegToRad(1.0), 3);
+  EXPECT_LE(line.walk_rad_per_sqrt_m, DegToRad(0.3));
+  EXPECT_GE(line.sigma_scale, 0.7);
+  EXPECT_LE(line.sigma_scale, 1.4);
+  // A heading that wanders by 1 degree per sqrt(m), measured almost exactly.
+  const auto wander = FitOn(DegToRad(1.0), DegToRad(0.1), 3);
+  EXPECT_GE(wander.walk_rad_per_sqrt_m, DegToRad(0.9));
+  EXPECT_LE(wander.sigma_scale, 0.5);
+  EXPECT_GT(wander.log_likelihood, -1e300);
+}
+
 TEST(OdometryCorrector, AverageWeightsByDistanceInTheTimeWindow) {
   OdometryCorrector c;
   c.Correct({0, 0, 0}, 0.0);
