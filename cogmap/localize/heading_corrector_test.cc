@@ -211,6 +211,73 @@ TEST(HeadingCorrector, DefaultModeIgnoresClutterThatBiasesPaperMode) {
   RecordProperty("default_median_deg", std::to_string(robust.median_deg));
 }
 
+// A room whose walls give the EM 12.5 degrees, and a grid orientation as given
+// (10 degrees: the grid agrees within the window and is taken).
+asr::Asr RoomWithGrid(double grid_deg, double contrast, int cells = 700) {
+  asr::Asr a = AsrWithWorldWalls({Rectangle({0, 0}, 5, 4, DegToRad(12.5))});
+  a.grid_orientation = {true, DegToRad(grid_deg), contrast, cells};
+  return a;
+}
+
+TEST(GridRefinement, AgreeingGridGivesTheDirectionAndItsSigma) {
+  const HeadingCorrector c;
+  const DirectionEstimate e = c.Estimate(RoomWithGrid(10.0, 1.6));
+  EXPECT_TRUE(e.accepted);
+  EXPECT_TRUE(e.grid_refined);
+  EXPECT_NEAR(RadToDeg(e.direction_rad), 10.0, 1e-9);
+  EXPECT_NEAR(RadToDeg(e.em_direction_rad), 12.5, 1e-3);
+  EXPECT_NEAR(RadToDeg(e.uncertainty_rad), 1.0, 1e-9);
+  // Fewer cells: a larger sigma (1 degree x sqrt(600 / 150) = 2).
+  EXPECT_NEAR(RadToDeg(c.Estimate(RoomWithGrid(10.0, 1.6, 150)).uncertainty_rad), 2.0, 1e-9);
+}
+
+TEST(GridRefinement, ClearGridThatContradictsTheEmDeclines) {
+  const HeadingCorrector c;
+  const DirectionEstimate e = c.Estimate(RoomWithGrid(-20.0, 1.6));
+  EXPECT_FALSE(e.accepted);
+  EXPECT_EQ(e.decline, Decline::kGridDisagrees);
+}
+
+TEST(GridRefinement, GridWithoutAClearOrientationLeavesTheEmAlone) {
+  const HeadingCorrector c;
+  const DirectionEstimate e = c.Estimate(RoomWithGrid(-20.0, 1.05));
+  EXPECT_TRUE(e.accepted);
+  EXPECT_FALSE(e.grid_refined);
+  EXPECT_NEAR(RadToDeg(e.direction_rad), 12.5, 1e-3);
+}
+
+TEST(GridRefinement, OffOrPaperModeIsTheEmAlone) {
+  HeadingCorrectionOptions o;
+  o.grid_refine = false;
+  EXPECT_NEAR(RadToDeg(HeadingCorrector(o).Estimate(RoomWithGrid(10.0, 1.6)).direction_rad), 12.5, 1e-3);
+  o = {};
+  o.mode = HeadingMode::kPaper;
+  EXPECT_FALSE(HeadingCorrector(o).Estimate(RoomWithGrid(10.0, 1.6)).grid_refined);
+}
+
+TEST(GridRefinement, RoundRoomStaysDeclinedWhateverTheGridSays) {
+  asr::Asr a = AsrWithWorldWalls({testing::RegularPolygon(36, 2.0, 0.1)});
+  a.grid_orientation = {true, 0.0, 1.6, 700};
+  const DirectionEstimate e = HeadingCorrector().Estimate(a);
+  EXPECT_FALSE(e.accepted);
+  EXPECT_EQ(e.decline, Decline::kNotManhattan);
+}
+
+TEST(GridRefinement, UncertainEmConfirmedByTheGridIsAccepted) {
+  // Two walls 16 degrees apart: the EM is too uncertain on its own.
+  asr::Asr a =
+      AsrWithWorldWalls({testing::Edge({0, 0}, DegToRad(0.0), 1.0), testing::Edge({0, 2}, DegToRad(16.0), 1.0)});
+  HeadingCorrectionOptions o;
+  o.grid_refine = false;
+  const DirectionEstimate em = HeadingCorrector(o).Estimate(a);
+  ASSERT_EQ(em.decline, Decline::kTooUncertain) << DeclineName(em.decline);
+  a.grid_orientation = {true, DegToRad(8.0), 1.6, 700};
+  const DirectionEstimate e = HeadingCorrector().Estimate(a);
+  EXPECT_TRUE(e.accepted);
+  EXPECT_TRUE(e.grid_refined);
+  EXPECT_NEAR(RadToDeg(e.direction_rad), 8.0, 1e-9);
+}
+
 INSTANTIATE_TEST_SUITE_P(Modes, CorridorTest, ::testing::Values(HeadingMode::kPaper, HeadingMode::kDefault));
 
 }  // namespace

@@ -365,7 +365,7 @@ TEST(DriftHeadingCorrector, SmoothingTiesTheMapToTheStartingFrame) {
   EXPECT_LT(after.max_deg, 0.5);
 }
 
-TEST(DriftHeadingCorrector, WarmupUnwrapsAGapOfMoreThanAQuarterTurnOver45) {
+TEST(DriftHeadingCorrector, WarmupUnwrapsAGapOfMoreThan45Degrees) {
   // 2 degrees per metre, rooms 1-4 round (declined): the heading drifts 50
   // degrees between the first two measurements, which the walls alone read as
   // -40. The warm-up line through the later rooms puts it back.
