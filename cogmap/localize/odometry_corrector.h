@@ -42,7 +42,7 @@ struct DriftFilterOptions {
   std::vector<double> walk_candidates_rad_per_sqrt_m = {DegToRad(0.15), DegToRad(0.3), DegToRad(0.45),
                                                         DegToRad(0.6),  DegToRad(0.9), DegToRad(1.2)};
   std::vector<double> sigma_scale_candidates = {0.35, 0.5, 0.7, 1.0, 1.4, 2.0};
-  int min_measurements_to_fit_noise = 6;
+  int min_measurements_to_fit_noise = 15;
   // Random walk of the rate (drift that changes along the run): rad/m per sqrt(m).
   double rate_walk_rad_per_m_per_sqrt_m = DegToRad(0.01);
   // Measurement 1-sigma of one ASR's estimate = max(floor, scale x the EM

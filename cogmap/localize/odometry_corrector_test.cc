@@ -21,6 +21,7 @@ TEST(DriftFilterOptions, Defaults) {
   EXPECT_EQ(o.heading_prior_sigma_rad, DegToRad(10.0));
   EXPECT_EQ(o.heading_walk_rad_per_sqrt_m, DegToRad(0.6));
   EXPECT_EQ(o.warmup_min_band_rad, DegToRad(5.0));
+  EXPECT_EQ(o.min_measurements_to_fit_noise, 15);
   EXPECT_EQ(o.measurement_sigma_scale, 2.0);
   EXPECT_EQ(o.measurement_sigma_floor_rad, DegToRad(0.5));
   EXPECT_EQ(o.gate_sigmas, 4.0);
