@@ -4,6 +4,7 @@
 // path a loop 1.5 m inside the walls.
 #include <benchmark/benchmark.h>
 
+#include "cogmap/vectorize/orientation.h"
 #include "cogmap/vectorize/synthetic_grid.h"
 #include "cogmap/vectorize/vectorize.h"
 
@@ -90,7 +91,20 @@ void BM_Vectorize(benchmark::State& state) {
 
 }  // namespace
 
+// The dominant orientation of the occupied cells (what the mapper computes
+// for each ASR as it closes, for the heading correction's grid refinement).
+void BM_DominantOrientation(benchmark::State& state) {
+  const auto& g = Grid(static_cast<int>(state.range(0)));
+  std::vector<Vec2> cells;
+  for (int y = 0; y < g.limits().height(); ++y)
+    for (int x = 0; x < g.limits().width(); ++x)
+      if (g.at(x, y) > 7.0f) cells.push_back(Vec2(x + 0.5, y + 0.5));
+  for (auto _ : state) benchmark::DoNotOptimize(cv::DominantOrientation(cells));
+  state.SetLabel(std::to_string(cells.size()) + " occupied cells");
+}
+
 BENCHMARK(BM_Clean)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DominantOrientation)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CleanPaperBruteForce)->Arg(0)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_Extract)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SimplifyAndFit)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

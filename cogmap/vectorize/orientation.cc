@@ -16,13 +16,14 @@ double Fold(double a) {
 }
 
 // Sum of squares of the Gaussian-smoothed density of the projections of
-// 'points' on 'normal': fine histogram (a quarter of sigma per bin, linear
+// 'points' on 'normal': fine histogram (half a sigma per bin, linear
 // interpolation), convolved with the Gaussian. The smoothing makes the score
 // blind to the lattice of grid cell centres (whose projections line up at 0
 // and 45 degrees whatever the walls do).
 double ProfileScore(const std::vector<Vec2>& points, const Vec2& normal, double sigma) {
   if (points.empty()) return 0.0;
-  const double bin = sigma / 4.0;
+  constexpr int kBinsPerSigma = 4;
+  const double bin = sigma / kBinsPerSigma;
   double lo = 1e300, hi = -1e300;
   std::vector<double> t(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
@@ -30,7 +31,7 @@ double ProfileScore(const std::vector<Vec2>& points, const Vec2& normal, double 
     lo = std::min(lo, t[i]);
     hi = std::max(hi, t[i]);
   }
-  const int pad = 12;  // 3 sigma
+  const int pad = 3 * kBinsPerSigma;  // 3 sigma
   lo -= pad;
   // Room for the kernel on both sides of the extreme points.
   const size_t n = static_cast<size_t>(std::floor(hi - lo)) + 2 * pad + 2;
@@ -44,7 +45,10 @@ double ProfileScore(const std::vector<Vec2>& points, const Vec2& normal, double 
   }
   static const std::vector<double> kernel = [] {
     std::vector<double> k(2 * pad + 1);
-    for (int i = -pad; i <= pad; ++i) k[i + pad] = std::exp(-0.5 * (i / 4.0) * (i / 4.0));
+    for (int i = -pad; i <= pad; ++i) {
+      const double u = static_cast<double>(i) / kBinsPerSigma;
+      k[i + pad] = std::exp(-0.5 * u * u);
+    }
     return k;
   }();
   double s = 0.0;
@@ -81,50 +85,57 @@ Orientation DominantOrientation(const std::vector<Vec2>& points, const Orientati
   for (const Vec2& p : points) q.push_back(p - c);
 
   const double quarter = kPi / 2.0;
+  const double fine = options.bin_size;
+  const double coarse = fine * options.coarse_sigma_factor;
+  auto score = [&](double theta, double sigma) { return OrientationScore(q, theta, sigma); };
+
+  // 1. Coarse scan of the quarter turn with a wide kernel (a broad peak, so
+  //    coarse steps do not miss it, and cheap: few bins).
   const int steps = std::max(8, static_cast<int>(std::lround(quarter / options.coarse_step_rad)));
   const double step = quarter / steps;
-  std::vector<double> score(steps);
   int best = 0;
+  double best_score = -1.0;
   for (int i = 0; i < steps; ++i) {
-    score[i] = OrientationScore(q, -quarter / 2.0 + i * step, options.bin_size);
-    if (score[i] > score[best]) best = i;
+    const double v = score(-quarter / 2.0 + i * step, coarse);
+    if (v > best_score) best_score = v, best = i;
   }
-  std::vector<double> sorted = score;
-  std::nth_element(sorted.begin(), sorted.begin() + steps / 2, sorted.end());
-  const double median = sorted[steps / 2];
-
-  // Golden-section search for the maximum in [best - step, best + step].
-  double a = -quarter / 2.0 + (best - 1) * step, b = -quarter / 2.0 + (best + 1) * step;
+  // 2. Scan of [best - step, best + step] with the fine kernel.
+  const double centre = -quarter / 2.0 + best * step;
+  const int sub = std::max(2, static_cast<int>(std::ceil(step / options.fine_step_rad)));
+  const double fstep = step / sub;
+  double t_best = centre, f_best = -1.0;
+  for (int k = -sub; k <= sub; ++k) {
+    const double v = score(centre + k * fstep, fine);
+    if (v > f_best) f_best = v, t_best = centre + k * fstep;
+  }
+  // 3. Golden-section refinement in [t_best - fstep, t_best + fstep].
+  double a = t_best - fstep, b = t_best + fstep;
   const double g = (std::sqrt(5.0) - 1.0) / 2.0;
   double x1 = b - g * (b - a), x2 = a + g * (b - a);
-  double f1 = OrientationScore(q, x1, options.bin_size), f2 = OrientationScore(q, x2, options.bin_size);
+  double f1 = score(x1, fine), f2 = score(x2, fine);
   while (b - a > options.tolerance_rad) {
     if (f1 < f2) {
       a = x1, x1 = x2, f1 = f2;
       x2 = a + g * (b - a);
-      f2 = OrientationScore(q, x2, options.bin_size);
+      f2 = score(x2, fine);
     } else {
       b = x2, x2 = x1, f2 = f1;
       x1 = b - g * (b - a);
-      f1 = OrientationScore(q, x1, options.bin_size);
+      f1 = score(x1, fine);
     }
   }
-  const double theta = 0.5 * (a + b);
-  const double peak = std::max(score[best], OrientationScore(q, theta, options.bin_size));
+  double theta = 0.5 * (a + b);
+  double peak = score(theta, fine);
+  if (f_best > peak) peak = f_best, theta = t_best;
+  // 4. Contrast: the peak over the median fine score at 8 angles spread over
+  //    the rest of the quarter turn (10 degrees apart, none nearer the peak).
+  std::vector<double> off;
+  for (int k = 1; k <= 8; ++k) off.push_back(score(theta + k * quarter / 9.0, fine));
+  std::nth_element(off.begin(), off.begin() + 4, off.end());
+  const double median = 0.5 * (off[4] + *std::max_element(off.begin(), off.begin() + 4));
   out.valid = true;
   out.angle_rad = Fold(theta);
   out.contrast = median > 0.0 ? peak / median : 0.0;
-  // Half width at the midpoint between the median and the peak (the scan is
-  // circular modulo a quarter turn).
-  const double mid = 0.5 * (peak + median);
-  int w = 0;
-  for (int k = 1; k < steps / 2; ++k) {
-    const double l = score[((best - k) % steps + steps) % steps];
-    const double r = score[(best + k) % steps];
-    if (l < mid && r < mid) break;
-    w = k;
-  }
-  out.half_width_rad = std::max(0.5, static_cast<double>(w) + 0.5) * step;
   return out;
 }
 

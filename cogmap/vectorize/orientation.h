@@ -17,23 +17,24 @@ namespace cogmap::vectorize {
 // on a straight wall fall into one or two bins only when theta matches the
 // wall, so the score peaks at the orientation shared by most wall points
 // (walls parallel or perpendicular to each other add up; clutter spreads out).
-// Coarse scan over [-45, 45) degrees, then golden-section refinement.
+// A coarse scan of [-45, 45) degrees with a wide kernel, a fine scan around
+// its best with the fine one, then golden-section refinement.
 struct OrientationOptions {
-  double bin_size = 0.5;                  // Gaussian sigma, unit of the points (cells)
-  double coarse_step_rad = DegToRad(0.5);
-  double tolerance_rad = DegToRad(0.01);  // refinement stops here
+  double bin_size = 0.5;                   // Gaussian sigma, unit of the points (cells)
+  double coarse_sigma_factor = 4.0;        // coarse scan: sigma x this
+  double coarse_step_rad = DegToRad(2.0);  // coarse scan step
+  double fine_step_rad = DegToRad(0.25);   // fine scan around the coarse best
+  double tolerance_rad = DegToRad(0.01);   // golden-section refinement stops here
   int min_points = 10;
 };
 
 struct Orientation {
   bool valid = false;      // enough points
   double angle_rad = 0.0;  // folded into [-45, 45) degrees
-  // Peak score over the median score of the scan (>= 1; about 1 for points
-  // without a dominant orientation, e.g. a round room).
+  // Peak score over the median score of 8 angles spread over the rest of the
+  // quarter turn (>= 1; about 1 for points without a dominant orientation,
+  // e.g. a round room).
   double contrast = 0.0;
-  // Half the angular width of the peak where the score is above the midpoint
-  // between the median and the peak.
-  double half_width_rad = 0.0;
   int points = 0;
 };
 
