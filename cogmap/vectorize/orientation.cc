@@ -99,34 +99,50 @@ Orientation DominantOrientation(const std::vector<Vec2>& points, const Orientati
     const double v = score(-quarter / 2.0 + i * step, coarse);
     if (v > best_score) best_score = v, best = i;
   }
-  // 2. Scan of [best - step, best + step] with the fine kernel.
+  // 2. Scan of [best - 2 steps, best + 2 steps] with the fine kernel. Long walls
+  //    give narrow fine peaks (a fraction of a degree) that a scan can fall
+  //    between, so the three highest local maxima of the scan are refined.
   const double centre = -quarter / 2.0 + best * step;
-  const int sub = std::max(2, static_cast<int>(std::ceil(step / options.fine_step_rad)));
-  const double fstep = step / sub;
-  double t_best = centre, f_best = -1.0;
-  for (int k = -sub; k <= sub; ++k) {
-    const double v = score(centre + k * fstep, fine);
-    if (v > f_best) f_best = v, t_best = centre + k * fstep;
+  // Two coarse steps either side: the wide kernel's peak can sit a step or
+  // more from the fine one when clutter lies near the walls.
+  const int per_step = std::max(2, static_cast<int>(std::ceil(step / options.fine_step_rad)));
+  const double fstep = step / per_step;
+  const int sub = 2 * per_step;
+  std::vector<double> fs(2 * sub + 1);
+  for (int k = -sub; k <= sub; ++k) fs[k + sub] = score(centre + k * fstep, fine);
+  std::vector<int> maxima;
+  for (int i = 0; i < static_cast<int>(fs.size()); ++i) {
+    const bool left = i == 0 || fs[i] >= fs[i - 1];
+    const bool right = i + 1 == static_cast<int>(fs.size()) || fs[i] >= fs[i + 1];
+    if (left && right) maxima.push_back(i);
   }
-  // 3. Golden-section refinement in [t_best - fstep, t_best + fstep].
-  double a = t_best - fstep, b = t_best + fstep;
+  std::sort(maxima.begin(), maxima.end(), [&](int x, int y) { return fs[x] > fs[y]; });
+  if (maxima.size() > 3) maxima.resize(3);
+  // 3. Golden-section refinement of each in [t - fstep, t + fstep].
   const double g = (std::sqrt(5.0) - 1.0) / 2.0;
-  double x1 = b - g * (b - a), x2 = a + g * (b - a);
-  double f1 = score(x1, fine), f2 = score(x2, fine);
-  while (b - a > options.tolerance_rad) {
-    if (f1 < f2) {
-      a = x1, x1 = x2, f1 = f2;
-      x2 = a + g * (b - a);
-      f2 = score(x2, fine);
-    } else {
-      b = x2, x2 = x1, f2 = f1;
-      x1 = b - g * (b - a);
-      f1 = score(x1, fine);
+  double theta = centre, peak = -1.0;
+  for (int i : maxima) {
+    const double t = centre + (i - sub) * fstep;
+    double a = t - fstep, b = t + fstep;
+    double x1 = b - g * (b - a), x2 = a + g * (b - a);
+    double f1 = score(x1, fine), f2 = score(x2, fine);
+    while (b - a > options.tolerance_rad) {
+      if (f1 < f2) {
+        a = x1, x1 = x2, f1 = f2;
+        x2 = a + g * (b - a);
+        f2 = score(x2, fine);
+      } else {
+        b = x2, x2 = x1, f2 = f1;
+        x1 = b - g * (b - a);
+        f1 = score(x1, fine);
+      }
     }
+    const double tt = 0.5 * (a + b);
+    double v = score(tt, fine);
+    double best_t = tt;
+    if (fs[i] > v) v = fs[i], best_t = t;
+    if (v > peak) peak = v, theta = best_t;
   }
-  double theta = 0.5 * (a + b);
-  double peak = score(theta, fine);
-  if (f_best > peak) peak = f_best, theta = t_best;
   // 4. Contrast: the peak over the median fine score at 8 angles spread over
   //    the rest of the quarter turn (10 degrees apart, none nearer the peak).
   std::vector<double> off;
