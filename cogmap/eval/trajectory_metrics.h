@@ -1,0 +1,92 @@
+#pragma once
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cogmap/asr/asr.h"
+#include "cogmap/core/pose2.h"
+
+namespace cogmap::eval {
+
+// Trajectory metrics as SLAM papers publish them (Sturm et al. 2012, Kuemmerle
+// et al. 2009): the absolute trajectory error after one rigid alignment and
+// the relative pose error over fixed distances of travel. 'estimate' and
+// 'reference' are the same instants, pose i with pose i.
+
+// The rigid transform (rotation + translation, no scale) that maps the
+// positions of 'from' onto those of 'to' with the least sum of squared
+// distances (Umeyama/Horn in 2D; headings are not used). Identity when empty;
+// a pure translation when the positions of 'from' all coincide.
+Pose2 AlignPositions(const std::vector<Pose2>& from, const std::vector<Pose2>& to);
+
+struct AteStats {
+  int poses = 0;         // 0: no poses, the rest means nothing
+  double rmse_m = 0.0;   // root mean square position error after alignment
+  double mean_m = 0.0;
+  double median_m = 0.0;
+  double max_m = 0.0;
+  Pose2 reference_from_estimate;  // the alignment applied to the estimate
+};
+
+// Absolute trajectory error: AlignPositions(estimate, reference) applied to
+// the estimate once, then the distances between paired positions.
+// Requires estimate.size() == reference.size().
+AteStats AbsoluteTrajectoryError(const std::vector<Pose2>& estimate, const std::vector<Pose2>& reference);
+
+struct RpeStats {
+  double distance_m = 0.0;  // the travel d the pairs span
+  int pairs = 0;
+  double trans_rmse_m = 0.0;  // of |translation of (ref_i^-1 ref_j)^-1 (est_i^-1 est_j)|
+  double trans_mean_m = 0.0;
+  double rot_rmse_deg = 0.0;  // of |rotation of the same|, degrees
+  double rot_mean_deg = 0.0;
+};
+
+// Relative pose error over 'distance_m' of travel: for every pose i, the first
+// pose j > i whose reference path length from i is at least distance_m; the
+// error of the relative motion est_i^-1 est_j against ref_i^-1 ref_j. nullopt
+// when no such pair exists (the run is shorter than distance_m). Requires
+// estimate.size() == reference.size().
+std::optional<RpeStats> RelativePoseError(const std::vector<Pose2>& estimate, const std::vector<Pose2>& reference,
+                                          double distance_m);
+
+// A stored map's trajectories, paired pose for pose with the reference.
+struct AsrTrajectories {
+  std::vector<Pose2> reference;  // true_path
+  std::vector<Pose2> raw;        // path: odometry, world raw frame
+  std::vector<Pose2> corrected;  // world_from_local_corrected * world_from_local_raw^-1 * path
+  int asrs = 0;                  // ASRs that contributed poses
+  int unpaired_poses = 0;        // path poses left out (no true pose of the same instant)
+};
+
+// Concatenates, in the order given (the store's id order), the ASRs' paths
+// with their true paths. The mapper samples both at the same records, so
+// path[k] pairs with true_path[k]; the only path poses without a true pose are
+// those taken before the log's first true pose (CARMEN's leading ODOM
+// records), at the start of an ASR. So when an ASR's path is longer than its
+// true path, the two are paired from their ends and the leading path poses are
+// counted in unpaired_poses; when the true path is the longer (not written by
+// this mapper), its leading extra poses are dropped likewise. ASRs without a
+// true path add nothing.
+AsrTrajectories PairAsrTrajectories(const std::vector<asr::Asr>& asrs);
+
+struct TrajectoryMetrics {
+  AteStats ate, ate_raw;
+  // One per distance of TrajectoryDistances(), nullopt where no pair exists.
+  std::vector<std::optional<RpeStats>> rpe, rpe_raw;
+};
+
+// The distances of travel the relative pose error is reported over: 1, 5, 20 m.
+const std::vector<double>& TrajectoryDistances();
+
+TrajectoryMetrics ComputeTrajectoryMetrics(const AsrTrajectories& t);
+
+// `cogmap eval` keys: ate_rmse_m, ate_mean_m, ate_median_m, ate_max_m,
+// rpe_<d>m_trans_m, rpe_<d>m_rot_deg, rpe_<d>m_trans_mean_m, rpe_<d>m_rot_mean_deg
+// for d = 1, 5, 20, each also with the suffix _raw (the raw odometry), and
+// trajectory_poses. nullopt (JSON null) where the metric does not exist: no
+// paired poses, or no pair d metres apart.
+std::vector<std::pair<std::string, std::optional<double>>> TrajectoryEvalKeys(const TrajectoryMetrics& m);
+
+}  // namespace cogmap::eval
