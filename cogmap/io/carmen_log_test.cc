@@ -1,6 +1,7 @@
 #include "cogmap/io/carmen_log.h"
 
 #include <cmath>
+#include <map>
 
 #include "cogmap/core/angles.h"
 #include "cogmap/io/log_test_util.h"
@@ -188,9 +189,187 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"flaser_n", "FLASER two 1 2\n", ":1: beam count: 'two' is not a whole number"},
         BadCase{"truepos_count", "TRUEPOS 0 0 0 0 0 0\n", ":1: TRUEPOS: expected 10 fields"},
         BadCase{"param_short", "PARAM x\n", ":1: PARAM: expected"},
-        BadCase{"no_laser", "ODOM 0 0 0 0 0 0 1 h 1\n", "no_laser.clf: empty log: no range readings"},
-        BadCase{"only_comments", "# nothing\n", "only_comments.clf: empty log: no range readings"}),
+        BadCase{"no_laser", "ODOM 0 0 0 0 0 0 1 h 1\nNEFF 3\n",
+                "no_laser.clf:2: empty log: no range readings (1 odometry messages, no laser or sonar message; "
+                "skipped 1 NEFF)"},
+        BadCase{"only_comments", "# nothing\n", "only_comments.clf:1: empty log: no range readings"},
+        BadCase{"unknown_type", "ODOM 0 0 0 0 0 0 1 h 1\nLIDARSCAN 3 1 2 3\n",
+                "unknown_type.clf:2: unknown message type 'LIDARSCAN'"},
+        BadCase{"garbage_line", "ODOM 0 0 0 0 0 0 1 h 1\n0.5 0.25\n", "garbage_line.clf:2: unknown message type '0.5'"},
+        BadCase{"sonar_cut", "ODOM 0 0 0 0 0 0 1 h 1\nSONAR 0.5 2 1 2 0 0 0 0 0 3.14 5 h\n",
+                "sonar_cut.clf:2: SONAR: expected 14 fields"},
+        BadCase{"sonar_no_count", "SONAR 0.5\n", "sonar_no_count.clf:1: SONAR: message cut short before the sonar count"},
+        BadCase{"sonar_degrees", "ODOM 0 0 0 0 0 0 1 h 1\nSONAR 30 1 2 0 0 0 5 h 5\n",
+                ":2: SONAR: cone_angle 30 must be in (0, 2 pi] radians"},
+        BadCase{"sonar_negative", "ODOM 0 0 0 0 0 0 1 h 1\nSONAR 0.5 1 -2 0 0 0 5 h 5\n", ":2: sonar 0: negative range"},
+        BadCase{"sonar_count_changes", "ODOM 0 0 0 0 0 0 1 h 1\nSONAR 0.5 1 2 0 0 0 5 h 5\nSONAR 0.5 0 6 h 6\n",
+                ":3: SONAR with 0 sonars, but the first one had 1"},
+        BadCase{"sonar_before_odom", "SONAR 0.5 1 2 0 0 0 5 h 5\n",
+                "sonar_before_odom.clf:1: empty log: no range readings (0 odometry messages, no laser or sonar "
+                "message; skipped 1 SONAR (before the first odometry: no pose))"},
+        BadCase{"rawlaser_cut", "ODOM 0 0 0 0 0 0 1 h 1\nRAWLASER1 0 -1.5 3 1.5 20 0.01 0 3 1 2 3 0 7 h\n",
+                ":2: RAWLASER1: expected 16 fields"},
+        BadCase{"rawlaser_remissions", "RAWLASER1 0 -1.5 3 1.5 20 0.01 0 1 1 x\n",
+                ":1: remission count: 'x' is not a whole number"},
+        BadCase{"robotlaser2_cut", "ROBOTLASER2 0 -1.5 3 1.5 20 0.01 0 2 1 2 0 0 0 0 0 0 0 0 0 0 0 0 7 h\n",
+                ":1: ROBOTLASER2: expected 26 fields"}),
     [](const auto& info) { return std::string(info.param.name); });
+
+// CARMEN's message formats (readlog.c): RAWLASERk has no pose and takes the
+// latest odometry; SONAR likewise; ROBOTLASER2 is parsed like ROBOTLASER1.
+const std::string kRaw =
+    "PARAM robot_frontlaser_offset 0.2 h 0\n"
+    "ODOM 1 2 0.5 0 0 0 10 h 10\n"
+    // type start fov res max acc mode n r1..r3 m e1 e2 ts host lts
+    "RAWLASER1 0 -1.5 3 1.5 30 0.01 0 3 1.25 2.5 30 2 0.75 0.5 11 h 11\n"
+    "TRUEPOS 3.5 4.5 0.25 3 4 0.2 12 h 12\n"
+    "RAWLASER1 0 -1.5 3 1.5 30 0.01 0 3 4 5 6 0 0 h 13\n";
+
+TEST(CarmenLog, RawLaserTakesTheLatestOdometry) {
+  const auto rs = ReadAll(WriteTemp("raw.clf", kRaw), "carmen");
+  ASSERT_EQ(rs.size(), 4u);
+  const auto& a = rs[1];
+  EXPECT_EQ(a.time_s, 11.0);
+  EXPECT_EQ(a.odom.x, 1.0);
+  EXPECT_EQ(a.odom.y, 2.0);
+  EXPECT_EQ(a.odom.theta, 0.5);
+  EXPECT_FALSE(a.truth);
+  ASSERT_EQ(a.ranges.size(), 3u);
+  EXPECT_EQ(a.ranges[0].sensor, 0);
+  EXPECT_EQ(a.ranges[0].range_m, 1.25);
+  EXPECT_EQ(a.ranges[1].range_m, 2.5);
+  EXPECT_EQ(a.ranges[2].sensor, 2);
+  EXPECT_EQ(a.ranges[2].range_m, 30.0);
+  // After a TRUEPOS: its odometry and its truth; timestamp 0 -> logger time.
+  const auto& b = rs[3];
+  EXPECT_EQ(b.time_s, 13.0);
+  EXPECT_EQ(b.odom.x, 3.0);
+  EXPECT_EQ(b.odom.theta, 0.2);
+  ASSERT_TRUE(b.truth);
+  EXPECT_EQ(b.truth->x, 3.5);
+  EXPECT_EQ(b.ranges[2].range_m, 6.0);
+}
+
+TEST(CarmenLog, RawLaserGeometryFromItsFields) {
+  auto r = OpenLog(WriteTemp("raw.clf", kRaw), "carmen");
+  const auto robot = *r->robot_hint();
+  EXPECT_EQ(robot.name, "carmen-laser");
+  ASSERT_EQ(robot.sensors.size(), 3u);
+  EXPECT_EQ(robot.sensors[0].robot_from_sensor.x, 0.2);  // laser 1: the front laser's offset
+  EXPECT_DOUBLE_EQ(robot.sensors[0].robot_from_sensor.theta, -1.5);
+  EXPECT_DOUBLE_EQ(robot.sensors[1].robot_from_sensor.theta, 0.0);
+  EXPECT_DOUBLE_EQ(robot.sensors[2].robot_from_sensor.theta, 1.5);
+  EXPECT_EQ(robot.sensors[0].beam_width_rad, 1.5);
+  EXPECT_EQ(robot.sensors[0].max_range_m, 30.0);
+  EXPECT_EQ(robot.sensors[0].kind, sensors::SensorKind::kLaser);
+}
+
+TEST(CarmenLog, RawLaserBeforeAnyOdometryIsSkippedAndCounted) {
+  auto r = OpenLog(WriteTemp("raw_first.clf", "RAWLASER3 0 -1.5 3 1.5 30 0.01 0 1 1 0 5 h 5\n" + kRaw), "carmen");
+  EXPECT_EQ(ReadAll(*r).size(), 4u);
+  EXPECT_EQ(r->skipped(), (std::map<std::string, long>{{"RAWLASER3 (before the first odometry: no pose)", 1}}));
+  // RAWLASER1 first, then RAWLASER3 at the robot centre.
+  EXPECT_EQ(r->robot_hint()->sensors.size(), 4u);
+  EXPECT_EQ(r->robot_hint()->sensors[3].robot_from_sensor.x, 0.0);
+}
+
+TEST(CarmenLog, RawLaserOfALaserWithPosesIsSkipped) {
+  // ROBOTLASER1 carries laser 1's scans with poses: RAWLASER1 repeats them.
+  const std::string log =
+      "ROBOTLASER1 0 -1.5 3 1.5 20 0.01 0 3 1 2 3 0 1.1 2 0 1 2 0 0 0 0 0 0 7 h 7\n"
+      "RAWLASER1 0 -1.5 3 1.5 20 0.01 0 3 1 2 3 0 7 h 7\n";
+  auto r = OpenLog(WriteTemp("raw_shadow.clf", log), "carmen");
+  EXPECT_EQ(r->robot_hint()->sensors.size(), 3u);
+  EXPECT_EQ(ReadAll(*r).size(), 1u);
+  EXPECT_EQ(r->skipped(), (std::map<std::string, long>{
+                              {"RAWLASER1 (the same scans as FLASER/ROBOTLASER1, which carry poses)", 1}}));
+}
+
+TEST(CarmenLog, RobotLaser2ComesAfterRobotLaser1) {
+  const std::string log =
+      "ROBOTLASER1 0 -1.5 3 1.5 20 0.01 0 3 1 2 3 0 1.1 2 0 1 2 0 0 0 0 0 0 7 h 7\n"
+      "ROBOTLASER2 0 -0.5 1 1 10 0.01 0 2 4 5 1 9 0.5 2 3.14159 1 2 0 0 0 0 0 0 8 h 8\n";
+  auto r = OpenLog(WriteTemp("rl2.clf", log), "carmen");
+  const auto robot = *r->robot_hint();
+  ASSERT_EQ(robot.sensors.size(), 5u);
+  EXPECT_NEAR(robot.sensors[3].robot_from_sensor.x, -0.5, 1e-12);
+  EXPECT_NEAR(robot.sensors[3].robot_from_sensor.theta, 3.14159 - 0.5, 1e-12);
+  EXPECT_EQ(robot.sensors[3].max_range_m, 10.0);
+  const auto rs = ReadAll(*r);
+  ASSERT_EQ(rs.size(), 2u);
+  EXPECT_EQ(rs[1].time_s, 8.0);
+  EXPECT_EQ(rs[1].odom.x, 1.0);
+  ASSERT_EQ(rs[1].ranges.size(), 2u);
+  EXPECT_EQ(rs[1].ranges[0].sensor, 3);
+  EXPECT_EQ(rs[1].ranges[1].sensor, 4);
+  EXPECT_EQ(rs[1].ranges[1].range_m, 5.0);
+}
+
+// cone n r1..rn (x y theta)*n ts host lts
+const std::string kSonar =
+    "ODOM 1 2 0.5 0 0 0 10 h 10\n"
+    "NEFF 1\n"
+    "SONAR 0.5 3 1.5 5 2.25 0.1 0.2 1.5 0.15 0 0 0.1 -0.2 -1.5 12 h 12\n"
+    "NEFF 2\n"
+    "SYNC x 1 h 1\n";
+
+TEST(CarmenLog, SonarTakesTheLatestOdometry) {
+  auto r = OpenLog(WriteTemp("sonar.clf", kSonar), "carmen");
+  const auto rs = ReadAll(*r);
+  ASSERT_EQ(rs.size(), 2u);
+  const auto& s = rs[1];
+  EXPECT_EQ(s.time_s, 12.0);
+  EXPECT_EQ(s.odom.x, 1.0);
+  EXPECT_EQ(s.odom.y, 2.0);
+  EXPECT_EQ(s.odom.theta, 0.5);
+  ASSERT_EQ(s.ranges.size(), 3u);
+  EXPECT_EQ(s.ranges[0].sensor, 0);
+  EXPECT_EQ(s.ranges[0].range_m, 1.5);
+  EXPECT_EQ(s.ranges[1].range_m, 5.0);
+  EXPECT_EQ(s.ranges[2].sensor, 2);
+  EXPECT_EQ(s.ranges[2].range_m, 2.25);
+  EXPECT_EQ(r->skipped(), (std::map<std::string, long>{{"NEFF", 2}, {"SYNC", 1}}));
+}
+
+TEST(CarmenLog, SonarRingFromTheFirstMessage) {
+  auto r = OpenLog(WriteTemp("sonar.clf", kSonar), "carmen");
+  const auto robot = *r->robot_hint();
+  EXPECT_EQ(robot.name, "carmen-sonar");
+  ASSERT_EQ(robot.sensors.size(), 3u);
+  EXPECT_EQ(robot.sensors[0].robot_from_sensor.x, 0.1);
+  EXPECT_EQ(robot.sensors[0].robot_from_sensor.y, 0.2);
+  EXPECT_EQ(robot.sensors[0].robot_from_sensor.theta, 1.5);
+  EXPECT_EQ(robot.sensors[2].robot_from_sensor.y, -0.2);
+  EXPECT_EQ(robot.sensors[2].robot_from_sensor.theta, -1.5);
+  for (const auto& sensor : robot.sensors) {
+    EXPECT_EQ(sensor.kind, sensors::SensorKind::kSonar);
+    EXPECT_EQ(sensor.beam_width_rad, 0.5);
+    EXPECT_EQ(sensor.max_range_m, 5.0);  // largest reading 5 m: the Pioneer's 5 m
+    EXPECT_EQ(sensor.min_range_m, 0.15);
+  }
+}
+
+TEST(CarmenLog, SonarMaxRangeIsTheLargestReadingAboveFiveMetres) {
+  auto r = OpenLog(WriteTemp("sonar_far.clf", "ODOM 0 0 0 0 0 0 1 h 1\nSONAR 0.5 1 6.5 0 0 0 5 h 5\n"), "carmen");
+  EXPECT_EQ(r->robot_hint()->sensors[0].max_range_m, 6.5);
+}
+
+TEST(CarmenLog, LaserAndSonarInOneLog) {
+  auto r = OpenLog(WriteTemp("both.clf", kSonar + "FLASER 2 1 2 0 0 0 0 0 0 13 h 13\n"), "carmen");
+  const auto robot = *r->robot_hint();
+  EXPECT_EQ(robot.name, "carmen-laser-sonar");
+  ASSERT_EQ(robot.sensors.size(), 5u);
+  EXPECT_EQ(robot.sensors[2].kind, sensors::SensorKind::kSonar);
+  const auto rs = ReadAll(*r);
+  EXPECT_EQ(rs[1].ranges[0].sensor, 2);
+  EXPECT_EQ(rs[2].ranges[1].sensor, 1);
+}
+
+TEST(CarmenLog, RadishLogsSkipOnlyNeff) {
+  auto r = OpenLog(std::string(COGMAP_SHARED_DIR) + "/data/carmen/aces-corrected.log.gz", "auto");
+  ReadAll(*r);
+  EXPECT_EQ(r->skipped(), (std::map<std::string, long>{{"NEFF", 440}}));
+}
 
 // The real Radish logs (../shared/data/carmen).
 const std::string kIntel = std::string(COGMAP_SHARED_DIR) + "/data/carmen/intel-corrected.log.gz";

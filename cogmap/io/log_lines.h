@@ -1,18 +1,31 @@
 #pragma once
-// Shared pieces of the log readers: a line source over plain or gzip files, and
-// number parsing that names file:line in every error.
+// Shared pieces of the log readers: a line source over plain or gzip files (or
+// standard input), and number parsing that names file:line in every error.
+#include <istream>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace cogmap::io {
 
+// The path that means standard input, and the name messages give it
+// ("stdin:12: ODOM: expected 10 fields ...").
+inline constexpr const char* kStdinPath = "-";
+inline constexpr const char* kStdinName = "stdin";
+
 // Reads a text file line by line, plain or gzip (zlib detects which), without
 // loading it into memory. Lines have their "\r\n" / "\n" removed.
 class LineSource {
  public:
-  // Throws InputError naming 'path' when it cannot be opened.
+  // Throws InputError naming 'path' when it cannot be opened. "-" reads
+  // standard input (through TakeStdin(): its buffered head, then the rest).
   explicit LineSource(const std::string& path);
+  // Opens 'path' but names it 'name_for_messages' in errors and path() (a
+  // spooled copy of standard input).
+  LineSource(const std::string& path, const std::string& name_for_messages);
+  // Reads 'in' (plain or gzip, told by its first two bytes) to its end.
+  LineSource(std::unique_ptr<std::istream> in, const std::string& name_for_messages);
   ~LineSource();
   LineSource(const LineSource&) = delete;
   LineSource& operator=(const LineSource&) = delete;
@@ -23,17 +36,35 @@ class LineSource {
   bool Next(std::string* line);
   // 1-based number of the line last returned (0 before the first).
   long line_number() const { return line_; }
-  // Fraction of the file's bytes consumed (compressed bytes for .gz).
+  // Fraction of the file's bytes consumed (compressed bytes for .gz; a stream
+  // of unknown length stays at 0 until its end).
   double progress() const;
   const std::string& path() const { return path_; }
 
  private:
+  struct Stream;
+  void OpenFile(const std::string& open_path);
+  bool NextFromStream(std::string* line);
+
   std::string path_;
   void* gz_ = nullptr;  // gzFile
+  std::unique_ptr<Stream> stream_;
   long line_ = 0;
   double size_bytes_ = 0;
   bool done_ = false;
 };
+
+// Standard input is read once per process: its first bytes (up to
+// kStdinHeadBytes, fewer at its end) are kept so that the format can be told
+// from them (StdinHeadLines) and still be read by the reader (TakeStdin).
+inline constexpr size_t kStdinHeadBytes = size_t{64} << 10;
+// The complete text lines of the head, gunzipped when it is gzip (at most
+// max_lines). Reads the head on the first call.
+std::vector<std::string> StdinHeadLines(size_t max_lines = 1000);
+// A stream that replays the head and continues with the rest of standard
+// input. Only one reader may take it: a second call throws InputError
+// "stdin: standard input was already read".
+std::unique_ptr<std::istream> TakeStdin();
 
 // Splits on spaces and tabs.
 std::vector<std::string_view> SplitFields(std::string_view line);

@@ -1,4 +1,5 @@
 #pragma once
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -21,6 +22,11 @@ class LogReader {
   // The robot this log was recorded with, when the format says (a CARMEN laser
   // of n beams, the native log's "robot" header, the EV3's bearings).
   virtual std::optional<sensors::RobotDescription> robot_hint() const { return std::nullopt; }
+  // Messages the reader skipped, by type, with their counts ("NEFF" -> 910):
+  // complete once Next() has returned false (the CARMEN reader knows them from
+  // opening). The library never prints: the app names each type once in a
+  // warning ("cogmap: warning: LOG: skipped 910 NEFF messages").
+  virtual std::map<std::string, long> skipped() const { return {}; }
   // Fraction of the input consumed so far, in [0, 1] (for progress bars).
   virtual double progress() const = 0;
   // The path as given by the user (for messages).
@@ -32,11 +38,15 @@ class LogReader {
 std::vector<std::string> LogFormatNames();
 
 // Opens a log. Throws InputError naming the file for a missing file, an
-// unknown format, or content that no reader recognises.
+// unknown format, or content that no reader recognises. "-" is standard input
+// (any format but pioneer; gzip too): the format is told from its buffered
+// head, which the reader then reads again (log_lines.h), so the stream is read
+// once.
 std::unique_ptr<LogReader> OpenLog(const std::string& path, const std::string& format = "auto");
 
 // The format OpenLog(path, "auto") would choose ("native", "carmen", "pioneer"
-// or "ev3"); InputError when the content matches none.
+// or "ev3"); InputError when the content matches none. For "-" it looks at the
+// head of standard input only (calling it before OpenLog("-") is fine).
 std::string DetectLogFormat(const std::string& path);
 
 }  // namespace cogmap::io

@@ -91,3 +91,195 @@ TEST(LogConstants, MatchTheDocumentation) {
 
 }  // namespace
 }  // namespace cogmap::io
+
+// Standard input and streams: "-" reads the stream once; the format is told
+// from its buffered head and the reader gets the head again.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <thread>
+
+namespace cogmap::io {
+namespace {
+
+using namespace testing_util;
+
+std::string FileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+bool SameRecords(const std::vector<sensors::LogRecord>& a, const std::vector<sensors::LogRecord>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const auto &x = a[i], &y = b[i];
+    if (x.time_s != y.time_s || x.odom.x != y.odom.x || x.odom.y != y.odom.y || x.odom.theta != y.odom.theta)
+      return false;
+    if (x.truth.has_value() != y.truth.has_value()) return false;
+    if (x.truth && (x.truth->x != y.truth->x || x.truth->y != y.truth->y || x.truth->theta != y.truth->theta))
+      return false;
+    if (x.ranges.size() != y.ranges.size()) return false;
+    for (size_t k = 0; k < x.ranges.size(); ++k)
+      if (x.ranges[k].sensor != y.ranges[k].sensor || x.ranges[k].range_m != y.ranges[k].range_m) return false;
+  }
+  return true;
+}
+
+std::vector<std::string> Lines(LineSource& src) {
+  std::vector<std::string> out;
+  std::string line;
+  while (src.Next(&line)) out.push_back(line);
+  return out;
+}
+
+TEST(LineSourceStream, PlainAndGzipStreamsGiveTheFileLines) {
+  const std::string text = "a b\r\nc\n\nlast without newline";
+  LineSource file(WriteTemp("lines.txt", text));
+  const auto want = Lines(file);
+  ASSERT_EQ(want.size(), 4u);
+  LineSource plain(std::make_unique<std::istringstream>(text), "plain");
+  EXPECT_EQ(Lines(plain), want);
+  LineSource gz(std::make_unique<std::istringstream>(GzipBytes(text)), "gz");
+  EXPECT_EQ(Lines(gz), want);
+  EXPECT_EQ(gz.progress(), 1.0);
+}
+
+TEST(LineSourceStream, ConcatenatedGzipMembersAreOneStream) {
+  LineSource gz(std::make_unique<std::istringstream>(GzipBytes("one\ntwo\n") + GzipBytes("three\n")), "gz");
+  EXPECT_EQ(Lines(gz), (std::vector<std::string>{"one", "two", "three"}));
+}
+
+TEST(LineSourceStream, TruncatedGzipStreamNamesTheLine) {
+  std::string text;
+  for (int i = 0; i < 5000; ++i) text += "ODOM " + std::to_string(i) + " 0 0 0 0 0 1 h 1\n";
+  const std::string gz = GzipBytes(text);
+  LineSource src(std::make_unique<std::istringstream>(gz.substr(0, gz.size() / 2)), "stdin");
+  std::string line;
+  try {
+    while (src.Next(&line)) {
+    }
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("stdin:" + std::to_string(src.line_number() + 1) +
+                                    ": truncated or corrupt gzip data (unexpected end of file)"));
+    EXPECT_GT(src.line_number(), 100);
+  }
+}
+
+// Runs 'body' in a child process whose standard input is a pipe fed with
+// 'bytes' (standard input is read once per process). True when the child
+// exits with 0.
+bool WithStdinPipe(const std::string& bytes, const std::function<bool()>& body) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    int fds[2];
+    if (pipe(fds) != 0) _exit(3);
+    std::thread writer([&] {
+      for (size_t done = 0; done < bytes.size();) {
+        const ssize_t w = write(fds[1], bytes.data() + done, bytes.size() - done);
+        if (w <= 0) break;
+        done += static_cast<size_t>(w);
+      }
+      close(fds[1]);
+    });
+    dup2(fds[0], 0);
+    close(fds[0]);
+    bool ok = false;
+    try {
+      ok = body();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "child: %s\n", e.what());
+    }
+    writer.join();
+    _exit(ok ? 0 : 1);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+// The same records from the file and from a pipe, through OpenLog("-").
+void ExpectPipeGivesFileRecords(const std::string& path, const std::string& bytes, const std::string& format) {
+  const auto want = ReadAll(path, "auto");
+  ASSERT_FALSE(want.empty());
+  EXPECT_TRUE(WithStdinPipe(bytes, [&] {
+    if (DetectLogFormat("-") != format) return false;
+    return SameRecords(ReadAll("-", "auto"), want);
+  })) << path;
+}
+
+TEST(StdinLog, NativeThroughAPipe) {
+  const std::string path = std::string(COGMAP_SOURCE_DIR) + "/tests/data/logs/tiny.log";
+  ExpectPipeGivesFileRecords(path, FileBytes(path), "native");
+}
+
+TEST(StdinLog, Ev3ThroughAPipe) {
+  const std::string path = std::string(COGMAP_SHARED_DIR) + "/data/ev3-sonar/ev3-69.log";
+  ExpectPipeGivesFileRecords(path, FileBytes(path), "ev3");
+}
+
+TEST(StdinLog, GzipCarmenThroughAPipe) {
+  // The whole Intel log (about 1 MB compressed: far more than the buffered head).
+  const std::string path = std::string(COGMAP_SHARED_DIR) + "/data/carmen/intel-corrected.log.gz";
+  ExpectPipeGivesFileRecords(path, FileBytes(path), "carmen");
+  EXPECT_TRUE(WithStdinPipe(FileBytes(path), [] {
+    auto r = OpenLog("-", "auto");
+    return r->robot_hint()->sensors[0].max_range_m == 81.83 && r->path() == "stdin";
+  }));
+}
+
+TEST(StdinLog, LongNativeLogThroughAPipe) {
+  std::string text = "# cogmap-log 1\nrobot pioneer8\n";
+  for (int i = 0; i < 20000; ++i) text += "ODOM " + std::to_string(i) + " 0.5 0 0\nSWEEP 0 2 0 1.5 7 4.25\n";
+  const std::string path = WriteTemp("long_pipe.log", text);
+  ExpectPipeGivesFileRecords(path, text, "native");
+  ExpectPipeGivesFileRecords(path, GzipBytes(text), "native");
+}
+
+TEST(StdinLog, ErrorsNameStdin) {
+  EXPECT_TRUE(WithStdinPipe("ODOM 0 0 0 0 0 0 1 h 1\nODOM 1 2\n", [] {
+    try {
+      ReadAll("-", "auto");
+    } catch (const InputError& e) {
+      return std::string(e.what()) == "stdin:2: ODOM: expected 10 fields (ODOM x y theta tv rv accel timestamp "
+                                      "host logger_timestamp), got 3";
+    }
+    return false;
+  }));
+  EXPECT_TRUE(WithStdinPipe("", [] {
+    try {
+      ReadAll("-", "auto");
+    } catch (const InputError& e) {
+      return std::string(e.what()) == "stdin: empty log: no range readings";
+    }
+    return false;
+  }));
+  EXPECT_TRUE(WithStdinPipe("0 0 0 1 2 3 4 5 6 7 8 9 10 11 12 13\n", [] {
+    try {
+      OpenLog("-", "pioneer");
+    } catch (const InputError& e) {
+      return std::string(e.what()).find("stdin: a pioneer log is two files") == 0;
+    }
+    return false;
+  }));
+}
+
+TEST(StdinLog, StandardInputIsReadOnce) {
+  EXPECT_TRUE(WithStdinPipe("0 0 0 1 2 3 4 5 6 7 8 9 10 11 12 13\n", [] {
+    auto r = OpenLog("-", "auto");
+    try {
+      OpenLog("-", "auto");
+    } catch (const InputError& e) {
+      return std::string(e.what()) == "stdin: standard input was already read (give '-' once)";
+    }
+    return false;
+  }));
+}
+
+}  // namespace
+}  // namespace cogmap::io

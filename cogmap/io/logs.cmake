@@ -15,3 +15,8 @@ cogmap_add_test(cogmap_log_test
           ${CMAKE_CURRENT_LIST_DIR}/ev3_log_test.cc
           ${CMAKE_CURRENT_LIST_DIR}/log_reader_test.cc
   LIBS cogmap_io ZLIB::ZLIB)
+
+# A CARMEN SONAR log written from a simulated run (issue 12).
+cogmap_add_test(cogmap_carmen_sonar_sim_test
+  SOURCES ${CMAKE_CURRENT_LIST_DIR}/carmen_sonar_sim_test.cc
+  LIBS cogmap_io cogmap_sim cogmap_grid ZLIB::ZLIB)
