@@ -2,7 +2,10 @@
 
 #include <sqlite3.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -243,6 +246,79 @@ void RemoveStoreFiles(const std::string& path) {
     std::filesystem::remove(path + suffix, ec);
 }
 
+std::string FolderOf(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  return parent.empty() ? std::string(".") : parent.string();
+}
+
+// "file:PATH?mode=ro" or "...?immutable=1" (SQLITE_OPEN_URI): the path with
+// the characters a URI gives a meaning to escaped.
+std::string FileUri(const std::string& path, const char* query) {
+  std::string uri = "file:";
+  for (const char c : std::filesystem::absolute(path).string()) {
+    if (c == '?' || c == '#' || c == '%') {
+      char hex[4];
+      std::snprintf(hex, sizeof hex, "%%%02X", static_cast<unsigned char>(c));
+      uri += hex;
+    } else {
+      uri += c;
+    }
+  }
+  return uri + "?" + query;
+}
+
+bool NonEmptyFile(const std::string& path) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(path, ec) && std::filesystem::file_size(path, ec) > 0 && !ec;
+}
+
+// Opens 'path' for reading without creating anything beside it: immutable
+// unless a write-ahead log holds transactions (a store of a killed run), which
+// a read-only connection applies (and then needs a writable folder).
+sqlite3* OpenForReading(const std::string& path, std::string* error) {
+  const bool wal = NonEmptyFile(path + "-wal");
+  const bool folder_writable = ::access(FolderOf(path).c_str(), W_OK) == 0;
+  const std::string uri = FileUri(path, wal && folder_writable ? "mode=ro" : "immutable=1");
+  sqlite3* db = nullptr;
+  if (sqlite3_open_v2(uri.c_str(), &db, SQLITE_OPEN_READONLY | SQLITE_OPEN_URI, nullptr) != SQLITE_OK) {
+    *error = db ? sqlite3_errmsg(db) : "cannot open";
+    sqlite3_close(db);
+    return nullptr;
+  }
+  return db;
+}
+
+// Column names and types of every table, as "table(name type, ...)" lines.
+std::string SchemaOf(sqlite3* db, bool* readable) {
+  std::string out;
+  Stmt t(db, "SELECT name FROM sqlite_master WHERE type='table' ORDER BY name");
+  if (!t.ok()) *readable = false;
+  std::vector<std::string> tables;
+  while (t.ok() && t.Step() == SQLITE_ROW) tables.push_back(t.Text(0));
+  for (const auto& name : tables) {
+    out += name + "(";
+    Stmt c(db, ("SELECT name, type FROM pragma_table_info('" + name + "') ORDER BY cid").c_str());
+    if (!c.ok()) *readable = false;
+    while (c.ok() && c.Step() == SQLITE_ROW) out += c.Text(0) + " " + c.Text(1) + ", ";
+    out += ")\n";
+  }
+  return out;
+}
+
+// The tables this version creates.
+const std::string& ExpectedSchema() {
+  static const std::string schema = [] {
+    sqlite3* db = nullptr;
+    sqlite3_open(":memory:", &db);
+    sqlite3_exec(db, kSchema, nullptr, nullptr, nullptr);
+    bool readable = true;
+    std::string s = SchemaOf(db, &readable);
+    sqlite3_close(db);
+    return s;
+  }();
+  return schema;
+}
+
 }  // namespace
 
 void SqliteAsrStore::Exec(const std::string& sql) const {
@@ -262,19 +338,25 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
   namespace fs = std::filesystem;
   std::error_code ec;
   const bool exists = fs::exists(path, ec);
-  if (mode == OpenMode::kOpenExisting && !exists) throw InputError(path, 0, "no such store");
+  const bool read_only = mode == OpenMode::kReadOnly;
+  if ((mode == OpenMode::kOpenExisting || read_only) && !exists) throw InputError(path, 0, "no such store");
   if (exists && fs::is_directory(path, ec)) throw InputError(path, 0, "is a directory, not a cogmap store");
+  // Permissions first: a store we may not read or write is not a foreign file.
+  if (exists && ::access(path.c_str(), R_OK) != 0) throw InputError(path, 0, "permission denied");
+  if (!read_only) {
+    if (::access(FolderOf(path).c_str(), W_OK) != 0) throw InputError(FolderOf(path), 0, "permission denied");
+    if (exists && ::access(path.c_str(), W_OK) != 0) throw InputError(path, 0, "permission denied");
+  }
   bool empty = false;
   if (exists && !HasSqliteHeader(path, &empty) && !empty)
     throw InputError(path, 0, "not a cogmap store (not an SQLite database)");
+  if (read_only && empty) throw InputError(path, 0, "not a cogmap store (empty file)");
   if (exists && !empty) {
-    // Check the markers before anything is changed.
-    sqlite3* probe = nullptr;
-    if (sqlite3_open_v2(path.c_str(), &probe, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
-      const std::string msg = probe ? sqlite3_errmsg(probe) : "cannot open";
-      sqlite3_close(probe);
-      throw InputError(path, 0, "cannot open store: " + msg);
-    }
+    // Check the markers before anything is changed (and without creating
+    // -wal / -shm files beside a file that is then refused).
+    std::string error;
+    sqlite3* probe = OpenForReading(path, &error);
+    if (!probe) throw InputError(path, 0, "cannot open store: " + error);
     int app_id = 0, version = 0;
     bool readable = true;
     {
@@ -288,6 +370,7 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
       Stmt t(probe, "SELECT count(*) FROM sqlite_master");
       if (t.ok() && t.Step() == SQLITE_ROW) tables = static_cast<int>(t.Int(0)); else readable = false;
     }
+    const std::string schema = readable && tables > 0 ? SchemaOf(probe, &readable) : std::string();
     sqlite3_close(probe);
     if (!readable) throw InputError(path, 0, "not a cogmap store (unreadable SQLite file)");
     if (tables > 0 && app_id != kStoreApplicationId)
@@ -295,7 +378,20 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     if (version > kStoreSchemaVersion)
       throw InputError(path, 0, "schema version " + std::to_string(version) +
                                     " is newer than this cogmap (" + std::to_string(kStoreSchemaVersion) + ")");
+    if (tables > 0 && version < kStoreSchemaVersion)
+      throw InputError(path, 0, "schema version " + std::to_string(version) +
+                                    " is older than this cogmap (" + std::to_string(kStoreSchemaVersion) + ")");
+    if (tables > 0 && schema != ExpectedSchema())
+      throw InputError(path, 0, "not a cogmap store of schema version " + std::to_string(kStoreSchemaVersion) +
+                                    " (its tables differ)");
+    if (read_only && tables == 0) throw InputError(path, 0, "not a cogmap store (an empty SQLite database)");
     if (mode == OpenMode::kReplace) RemoveStoreFiles(path);
+  }
+  if (read_only) {
+    std::string error;
+    sqlite3* db = OpenForReading(path, &error);
+    if (!db) throw InputError(path, 0, "cannot open store: " + error);
+    return std::unique_ptr<SqliteAsrStore>(new SqliteAsrStore(path, db, /*read_only=*/true));
   }
   sqlite3* db = nullptr;
   if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) != SQLITE_OK) {
@@ -306,7 +402,11 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
   sqlite3_busy_timeout(db, 5000);
   std::unique_ptr<SqliteAsrStore> store(new SqliteAsrStore(path, db));
   store->Exec("PRAGMA journal_mode=WAL");
-  store->Exec("PRAGMA synchronous=FULL");
+  // Under WAL, NORMAL keeps the store consistent through a crash of the
+  // application or of the machine; a power cut may lose the last commits
+  // (https://www.sqlite.org/pragma.html#pragma_synchronous). FULL would sync
+  // at every ASR.
+  store->Exec("PRAGMA synchronous=NORMAL");
   // ASRs are written once and read on demand: a small page cache keeps the
   // memory of a long run flat (SQLite's default is 2 MB).
   store->Exec("PRAGMA cache_size=-256");
@@ -326,7 +426,18 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
   return store;
 }
 
-SqliteAsrStore::~SqliteAsrStore() { sqlite3_close(Db(db_)); }
+SqliteAsrStore::~SqliteAsrStore() {
+  sqlite3* db = Db(db_);
+  if (db && !read_only_) {
+    // Leave the file self-contained: everything checkpointed into it and no
+    // WAL (a store on read-only media, or copied alone, reads whole). Skipped
+    // silently while another connection holds the store.
+    sqlite3_busy_timeout(db, 0);
+    if (sqlite3_exec(db, "PRAGMA wal_checkpoint(TRUNCATE)", nullptr, nullptr, nullptr) == SQLITE_OK)
+      sqlite3_exec(db, "PRAGMA journal_mode=DELETE", nullptr, nullptr, nullptr);
+  }
+  sqlite3_close(db);
+}
 
 void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string>& meta) {
   sqlite3* db = Db(db_);

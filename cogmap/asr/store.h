@@ -63,8 +63,10 @@ class MemoryAsrStore : public AsrStore {
 
 // map.sqlite: schema version kStoreSchemaVersion, PRAGMA application_id
 // kStoreApplicationId ("cogm"), a meta table (application = "cogmap",
-// schema_version), WAL journal, synchronous=FULL, one transaction per Put.
-// See docs/store.md.
+// schema_version), WAL journal with synchronous=NORMAL while a run writes, one
+// transaction per Put; closing a writable store checkpoints it and leaves WAL
+// (journal_mode=DELETE), so that the file alone is the store (read-only media,
+// copies). See docs/store.md.
 constexpr int kStoreSchemaVersion = 1;
 constexpr int32_t kStoreApplicationId = 0x636f676d;  // "cogm"
 
@@ -74,10 +76,15 @@ class SqliteAsrStore : public AsrStore {
     kCreateOrOpen,  // open a cogmap store, or create one (missing or empty file)
     kOpenExisting,  // the file must exist and be a cogmap store
     kReplace,       // an existing cogmap store is deleted first (a new run)
+    kReadOnly,      // an existing store, read only; works on read-only media
+                    // (opened immutable when its folder is not writable)
   };
   // Throws InputError: "PATH: schema version N is newer than this cogmap (M)",
-  // "PATH: not a cogmap store (...)", or a message naming the path when the
-  // file cannot be opened or created.
+  // "PATH: schema version N is older than this cogmap (M)", "PATH: not a
+  // cogmap store (...)" (also for a store whose tables differ from this
+  // version's schema), "PATH: permission denied" / "DIR: permission denied",
+  // or a message naming the path when the file cannot be opened or created.
+  // Refusing a file leaves no -wal / -shm files behind.
   static std::unique_ptr<SqliteAsrStore> Open(const std::string& path,
                                               OpenMode mode = OpenMode::kCreateOrOpen);
   ~SqliteAsrStore() override;
@@ -102,12 +109,14 @@ class SqliteAsrStore : public AsrStore {
   const std::string& path() const { return path_; }
 
  private:
-  SqliteAsrStore(std::string path, void* db) : path_(std::move(path)), db_(db) {}
+  SqliteAsrStore(std::string path, void* db, bool read_only = false)
+      : path_(std::move(path)), db_(db), read_only_(read_only) {}
   void Exec(const std::string& sql) const;
   [[noreturn]] void Fail(const std::string& what) const;
 
   std::string path_;
   void* db_ = nullptr;  // sqlite3*
+  bool read_only_ = false;
 };
 
 // Binary encodings of the ASR's variable parts (little-endian, versioned by

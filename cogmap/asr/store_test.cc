@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sqlite3.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -249,6 +250,130 @@ TEST(SqliteAsrStore, KillDuringWritesLeavesAValidStore) {
   EXPECT_GE(count, 5);
   EXPECT_EQ(s->MaxId(), count - 1);  // no gap: every committed ASR is whole
   for (int i = 0; i < count; ++i) ExpectSame(*s->Get(i), MakeAsr(i, 50));
+}
+
+std::string JournalMode(const std::string& path) {
+  sqlite3* db = nullptr;
+  sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr);
+  sqlite3_stmt* st = nullptr;
+  std::string mode;
+  if (sqlite3_prepare_v2(db, "PRAGMA journal_mode", -1, &st, nullptr) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW)
+    mode = reinterpret_cast<const char*>(sqlite3_column_text(st, 0));
+  sqlite3_finalize(st);
+  sqlite3_close(db);
+  return mode;
+}
+
+bool WalOrShm(const std::string& path) { return fs::exists(path + "-wal") || fs::exists(path + "-shm"); }
+
+TEST(SqliteAsrStore, ClosedStoreIsOneFileWithoutWal) {
+  const std::string path = TempDir("sealed") + "/map.sqlite";
+  {
+    auto s = SqliteAsrStore::Open(path);
+    for (int i = 0; i < 3; ++i) s->Put(MakeAsr(i));
+    EXPECT_TRUE(fs::exists(path + "-wal"));  // WAL while the run writes
+  }
+  EXPECT_FALSE(WalOrShm(path));
+  EXPECT_EQ(JournalMode(path), "delete");
+  // The file alone is the store.
+  const std::string copy = TempDir("sealed_copy") + "/map.sqlite";
+  fs::copy_file(path, copy);
+  EXPECT_EQ(SqliteAsrStore::Open(copy, SqliteAsrStore::OpenMode::kReadOnly)->Count(), 3);
+}
+
+TEST(SqliteAsrStore, ReadOnlyOpenCreatesNothingAndWritesNothing) {
+  const std::string path = TempDir("readonly") + "/map.sqlite";
+  SqliteAsrStore::Open(path)->Put(MakeAsr(0));
+  {
+    // A store left in WAL mode (by an older cogmap): read without a -shm.
+    sqlite3* db = nullptr;
+    sqlite3_open(path.c_str(), &db);
+    sqlite3_exec(db, "PRAGMA journal_mode=WAL", nullptr, nullptr, nullptr);
+    sqlite3_close(db);
+  }
+  ASSERT_EQ(JournalMode(path), "wal");
+  fs::remove(path + "-wal");
+  fs::remove(path + "-shm");
+  auto s = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
+  EXPECT_EQ(s->Count(), 1);
+  ExpectSame(*s->Get(0), MakeAsr(0));
+  EXPECT_THROW(s->Put(MakeAsr(1)), InputError);
+  s.reset();
+  EXPECT_FALSE(WalOrShm(path));
+}
+
+TEST(SqliteAsrStore, ReadOnlyFolderStillReads) {
+  if (::geteuid() == 0) GTEST_SKIP() << "root ignores folder permissions";
+  const std::string dir = TempDir("readonly_folder");
+  const std::string path = dir + "/map.sqlite";
+  SqliteAsrStore::Open(path)->Put(MakeAsr(0));
+  ::chmod(dir.c_str(), 0555);
+  EXPECT_EQ(SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly)->Count(), 1);
+  try {
+    SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kOpenExisting);
+    ADD_FAILURE() << "opened for writing in a read-only folder";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), dir + ": permission denied");
+  }
+  ::chmod(dir.c_str(), 0755);
+}
+
+TEST(SqliteAsrStore, RefusedStoresLeaveNoWalOrShm) {
+  const std::string dir = TempDir("refused");
+  const std::string newer = dir + "/newer.sqlite", other = dir + "/other.sqlite";
+  SqliteAsrStore::Open(newer)->Put(MakeAsr(0));
+  sqlite3* db = nullptr;
+  sqlite3_open(newer.c_str(), &db);
+  sqlite3_exec(db, "PRAGMA user_version=7; PRAGMA journal_mode=WAL", nullptr, nullptr, nullptr);
+  sqlite3_close(db);
+  sqlite3_open(other.c_str(), &db);
+  sqlite3_exec(db, "PRAGMA journal_mode=WAL; CREATE TABLE t(x)", nullptr, nullptr, nullptr);
+  sqlite3_close(db);
+  ASSERT_FALSE(WalOrShm(newer));
+  ASSERT_FALSE(WalOrShm(other));
+  for (const auto& path : {newer, other}) {
+    for (auto mode : {SqliteAsrStore::OpenMode::kOpenExisting, SqliteAsrStore::OpenMode::kReadOnly,
+                      SqliteAsrStore::OpenMode::kReplace})
+      EXPECT_THROW(SqliteAsrStore::Open(path, mode), InputError);
+    EXPECT_FALSE(WalOrShm(path)) << path;
+  }
+}
+
+TEST(SqliteAsrStore, StoreOfAnotherSchemaIsRefusedAtOpening) {
+  const std::string path = TempDir("schema") + "/map.sqlite";
+  sqlite3* db = nullptr;
+  sqlite3_open(path.c_str(), &db);
+  const std::string v = std::to_string(kStoreSchemaVersion);
+  sqlite3_exec(db,
+               ("PRAGMA application_id=" + std::to_string(kStoreApplicationId) + "; PRAGMA user_version=" + v +
+                ";"
+                "CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);"
+                "CREATE TABLE asr(id INTEGER PRIMARY KEY, walls BLOB NOT NULL);")
+                   .c_str(),
+               nullptr, nullptr, nullptr);
+  sqlite3_close(db);
+  try {
+    SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kOpenExisting);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": not a cogmap store of schema version " + v + " (its tables differ)");
+  }
+}
+
+TEST(SqliteAsrStore, OlderSchemaIsAClearError) {
+  const std::string path = TempDir("older") + "/map.sqlite";
+  SqliteAsrStore::Open(path)->Put(MakeAsr(0));
+  sqlite3* db = nullptr;
+  sqlite3_open(path.c_str(), &db);
+  sqlite3_exec(db, "PRAGMA user_version=0", nullptr, nullptr, nullptr);
+  sqlite3_close(db);
+  try {
+    SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kOpenExisting);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              path + ": schema version 0 is older than this cogmap (" + std::to_string(kStoreSchemaVersion) + ")");
+  }
 }
 
 TEST(AsrGraph, HoldsCurrentAndNeighboursAndLoadsTheRestOnDemand) {

@@ -130,6 +130,9 @@ void WritePng(const std::string& path, const RgbImage& image) {
 
 namespace {
 
+// 2^28 pixels (16384 x 16384): a 0.8 km square world at 5 cm per pixel.
+constexpr uint64_t kMaxReadPixels = uint64_t{1} << 28;
+
 template <typename Pixel>
 std::vector<Pixel> ReadPng(const std::string& path, int format, int* w, int* h) {
   png_image img;
@@ -138,7 +141,16 @@ std::vector<Pixel> ReadPng(const std::string& path, int format, int* w, int* h) 
   if (!png_image_begin_read_from_file(&img, path.c_str()))
     throw InputError(path, 0, std::string("not a readable PNG: ") + img.message);
   img.format = static_cast<png_uint_32>(format);
-  std::vector<Pixel> pixels(static_cast<size_t>(img.width) * img.height);
+  // The header's size is checked before the raster is allocated: a 69-byte
+  // file may claim 1e6 x 1e6 pixels.
+  const uint64_t count = static_cast<uint64_t>(img.width) * img.height;
+  if (img.width == 0 || img.height == 0 || count > kMaxReadPixels) {
+    png_image_free(&img);
+    throw InputError(path, 0, "PNG of " + std::to_string(img.width) + " x " + std::to_string(img.height) +
+                                  " pixels: more than the " + std::to_string(kMaxReadPixels) +
+                                  " pixels cogmap reads");
+  }
+  std::vector<Pixel> pixels(static_cast<size_t>(count));
   if (!png_image_finish_read(&img, nullptr, pixels.data(), 0, nullptr)) {
     const std::string msg = img.message;
     png_image_free(&img);

@@ -30,6 +30,37 @@ TEST(Png, CorruptFileIsAnInputError) {
   EXPECT_THROW(ReadGreyPng(path), InputError);
 }
 
+// A PNG chunk: length, type, data, CRC-32 of type and data.
+std::string Chunk(const std::string& type, const std::string& data) {
+  auto be32 = [](uint32_t v) {
+    return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
+                       static_cast<char>(v)};
+  };
+  uint32_t crc = 0xffffffffu;
+  for (const char ch : type + data) {
+    crc ^= static_cast<uint8_t>(ch);
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+  }
+  return be32(static_cast<uint32_t>(data.size())) + type + data + be32(~crc);
+}
+
+TEST(Png, HugeClaimedSizeIsRefusedBeforeAllocating) {
+  // 1e6 x 1e6 grey pixels claimed by a file of a few dozen bytes.
+  const std::string ihdr = std::string("\x00\x0f\x42\x40\x00\x0f\x42\x40\x08\x00\x00\x00\x00", 13);
+  const std::string png = std::string("\x89PNG\r\n\x1a\n", 8) + Chunk("IHDR", ihdr) +
+                          Chunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8)) + Chunk("IEND", "");
+  const std::string path = ::cogmap::testing_util::TestTempPath("huge.png");
+  WriteFileAtomically(path, png);
+  try {
+    ReadGreyPng(path);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              path + ": PNG of 1000000 x 1000000 pixels: more than the 268435456 pixels cogmap reads");
+  }
+  EXPECT_THROW(ReadRgbPng(path), InputError);
+}
+
 TEST(AtomicFile, FailedWriteLeavesOldFile) {
   const std::string path = ::cogmap::testing_util::TestTempPath("keep.txt");
   WriteFileAtomically(path, std::string("old"));

@@ -10,6 +10,10 @@
 namespace cogmap::io {
 namespace {
 
+// More readings in one SWEEP than this is absurd (the largest laser has a few
+// thousand beams); checked before any arithmetic on the count.
+constexpr long kMaxSweepReadings = 100000;
+
 void AppendNumber(std::string* s, double v) {
   char buf[64];
   const auto r = std::to_chars(buf, buf + sizeof buf, v);
@@ -59,7 +63,7 @@ class NativeLogReader : public LogReader {
         nlohmann::json j;
         try {
           j = nlohmann::json::parse(line.substr(at));
-        } catch (const nlohmann::json::parse_error& e) {
+        } catch (const nlohmann::json::exception& e) {  // parse_error, out_of_range (1e999), ...
           throw InputError(path, n, std::string("robot-json: invalid JSON: ") + e.what());
         }
         try {
@@ -112,6 +116,9 @@ class NativeLogReader : public LogReader {
         if (f.size() < 3) throw InputError(p, n, "SWEEP: expected 'SWEEP t n s0 r0 ...'");
         const double t = ParseNumber(f[1], p, n, "time");
         const long count = ParseCount(f[2], p, n, "reading count");
+        if (count > kMaxSweepReadings)
+          throw InputError(p, n, "SWEEP: reading count " + std::to_string(count) + " is absurd (at most " +
+                                     std::to_string(kMaxSweepReadings) + ")");
         if (f.size() != 3 + 2 * static_cast<size_t>(count))
           throw InputError(p, n, "SWEEP: expected " + std::to_string(3 + 2 * count) + " fields for " +
                                      std::to_string(count) + " readings, got " + std::to_string(f.size()));

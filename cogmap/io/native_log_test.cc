@@ -169,6 +169,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"bad_robot", "# cogmap-log 1\nrobot r2d2\n", ":2: unknown robot 'r2d2'"},
         BadCase{"bad_json", "# cogmap-log 1\nrobot-json {\"name\": \"x\", \"wheels\": 3}\n",
                 ":2: robot-json: unknown key 'wheels'"},
+        // Hostile sizes and numbers (issue 14): refused before any allocation or overflow.
+        BadCase{"huge_count", "# cogmap-log 1\nrobot pioneer8\nODOM 0 0 0 0\nSWEEP 0 9223372036854775807 0 1\n",
+                ":4: SWEEP: reading count 9223372036854775807 is absurd (at most 100000)"},
+        BadCase{"big_count", "# cogmap-log 1\nrobot pioneer8\nODOM 0 0 0 0\nSWEEP 0 4611686018427387904 0 1\n",
+                ":4: SWEEP: reading count 4611686018427387904 is absurd"},
+        BadCase{"json_overflow", "# cogmap-log 1\nrobot-json {\"name\": \"x\", \"radius\": 1e999}\n",
+                "json_overflow.log:2: robot-json: invalid JSON: "},
         BadCase{"no_magic", "ODOM 0 0 0 0\n", ":1: not a native cogmap log"},
         BadCase{"empty", "# cogmap-log 1\nrobot pioneer8\n", "empty.log: empty log: no range readings"},
         BadCase{"odom_only", "# cogmap-log 1\nrobot pioneer8\nODOM 0 0 0 0\n",

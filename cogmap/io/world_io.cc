@@ -42,6 +42,10 @@ std::vector<Token> Tokenize(const std::string& s) {
   return out;
 }
 
+// Coordinates (mm) and headings (degrees) beyond this are refused: grids and
+// pictures of the world are sized from its extent.
+constexpr double kMaxWorldNumber = 1e8;
+
 bool ParseNumber(const std::string& s, double* v) {
   if (s.empty()) return false;
   char* end = nullptr;
@@ -85,9 +89,13 @@ WorldReadResult ParseAriaMap(const std::string& text, const std::string& path) {
     if (tok.size() < from + n)
       throw InputError(path, line_no, what + ": expected " + std::to_string(n) + " numbers, got " +
                                           std::to_string(tok.size() > from ? tok.size() - from : 0));
-    for (size_t i = 0; i < n; ++i)
+    for (size_t i = 0; i < n; ++i) {
       if (tok[from + i].quoted || !ParseNumber(tok[from + i].text, &v[i]))
         throw InputError(path, line_no, what + ": '" + tok[from + i].text + "' is not a number");
+      if (std::abs(v[i]) > kMaxWorldNumber)
+        throw InputError(path, line_no,
+                         what + ": '" + tok[from + i].text + "' is out of range (at most 1e8: 100 km in mm)");
+    }
     return v;
   };
   while (std::getline(in, raw)) {

@@ -76,6 +76,18 @@ TEST(WorldIo, MalformedLineNamesFileAndLine) {
   EXPECT_THROW(ReadAriaMap("/nonexistent/x.map"), InputError);
 }
 
+TEST(WorldIo, CoordinatesBeyondAHundredKilometresAreRefused) {
+  // Grids and pictures are sized from the extent: 1e15 mm must not reach them.
+  const std::string text = "2D-Map\nLineMinPos: 0 0\nLineMaxPos: 1000000000000000 1000\nLINES\n0 0 1000 0\n";
+  try {
+    ParseAriaMap(text, "far.map");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "far.map:3: LineMaxPos: '1000000000000000' is out of range (at most 1e8: 100 km in mm)");
+  }
+  EXPECT_THROW(ParseAriaMap("2D-Map\nLINES\n0 0 -1e15 0\n", "far.map"), InputError);
+}
+
 TEST(WorldIo, RoundTrip) {
   FloorPlan p;
   p.walls = {{{0, 0}, {5, 0}}, {{5, 0}, {5, 4.25}}};

@@ -48,9 +48,20 @@ std::string StringOr(const json& j, const std::string& key, const std::string& f
   return j.at(key).get<std::string>();
 }
 
+RobotDescription ParseRobotJsonChecked(const json& j, const std::string& src);
+
 }  // namespace
 
 RobotDescription ParseRobotJson(const json& j, const std::string& src) {
+  try {
+    return ParseRobotJsonChecked(j, src);
+  } catch (const json::exception& e) {  // a value of an unexpected type deep inside
+    throw InputError(src, 0, std::string("invalid robot description: ") + e.what());
+  }
+}
+
+namespace {
+RobotDescription ParseRobotJsonChecked(const json& j, const std::string& src) {
   CheckKeys(j, {"name", "units", "angles", "radius", "sensors", "laser"}, src, "");
   RobotDescription r;
   r.name = StringOr(j, "name", "", src);
@@ -120,6 +131,7 @@ RobotDescription ParseRobotJson(const json& j, const std::string& src) {
   if (r.sensors.empty()) throw InputError(src, 0, "no sensors: give \"sensors\" or \"laser\"");
   return r;
 }
+}  // namespace
 
 RobotDescription LoadRobotJson(const std::string& path) {
   std::ifstream in(path);
@@ -127,7 +139,7 @@ RobotDescription LoadRobotJson(const std::string& path) {
   json j;
   try {
     j = json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, out_of_range (a number like 1e999), ...
     throw InputError(path, 0, std::string("invalid JSON: ") + e.what());
   }
   return ParseRobotJson(j, path);

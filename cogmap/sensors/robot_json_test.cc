@@ -124,6 +124,18 @@ TEST(RobotJson, LoadReportsBadJsonWithPath) {
   }
 }
 
+TEST(RobotJson, OverflowingNumberIsAnErrorNamingTheFile) {
+  // nlohmann throws out_of_range (not parse_error) for 1e999.
+  const std::string path = ::cogmap::testing_util::TestTempPath("overflow.json");
+  std::ofstream(path) << R"({"name": "x", "radius": 1e999, "laser": {"beams": 10}})";
+  try {
+    LoadRobotJson(path);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(path + ": invalid JSON: "));
+  }
+}
+
 TEST(RobotJson, ResolveTakesBuiltinNameOrFile) {
   EXPECT_EQ(ResolveRobot("pioneer8").sensors.size(), 8u);
   const std::string path = ::cogmap::testing_util::TestTempPath("one_robot.json");
