@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 #include <limits>
+#include <optional>
 
 #include "app/command.h"
 #include "app/progress.h"
@@ -12,6 +13,7 @@
 #include "cogmap/io/ev3_log.h"
 #include "cogmap/io/log_reader.h"
 #include "cogmap/io/native_log.h"
+#include "cogmap/sensors/as_sonar.h"
 #include "cogmap/sensors/robot_json.h"
 
 namespace cogmap::app {
@@ -86,23 +88,32 @@ int RunLogInfo(const std::string& path, const std::string& format) {
 }
 
 int RunConvert(const std::string& path, const std::string& format, const std::string& robot_arg,
-               const std::string& out_path) {
+               const std::string& as_sonar_arg, const std::string& out_path) {
   auto reader = io::OpenLog(path, format);
   sensors::RobotDescription robot;
   if (!robot_arg.empty()) robot = sensors::ResolveRobot(robot_arg);
   else if (reader->robot_hint()) robot = *reader->robot_hint();
   else throw InputError(path, 0, "the log does not say which robot recorded it: give --robot NAME|FILE");
   const int n_sensors = static_cast<int>(robot.sensors.size());
+  // --as-sonar: the log's readings become those of a sonar ring (the nearest
+  // echo in each sonar's cone), written under the sonar robot's name.
+  std::optional<sensors::RobotDescription> sonar;
+  std::optional<sensors::AsSonar> as_sonar;
+  if (!as_sonar_arg.empty()) {
+    sonar = sensors::ResolveRobot(as_sonar_arg);
+    as_sonar.emplace(robot, *sonar);
+  }
   long records = 0, readings = 0;
   ProgressBar bar("convert");
   io::WriteFileAtomically(out_path, [&](std::ostream& out) {
-    io::NativeLogWriter writer(out, robot);
+    io::NativeLogWriter writer(out, sonar ? *sonar : robot);
     sensors::LogRecord r;
     while (reader->Next(&r)) {
       for (const auto& q : r.ranges)
         if (q.sensor < 0 || q.sensor >= n_sensors)
           throw InputError(path, 0, "reading of sensor " + std::to_string(q.sensor) + " but robot '" + robot.name +
                                         "' has " + std::to_string(n_sensors) + " sensors");
+      if (as_sonar) r.ranges = as_sonar->Convert(r.ranges);
       writer.Write(r);
       ++records;
       readings += static_cast<long>(r.ranges.size());
@@ -110,8 +121,16 @@ int RunConvert(const std::string& path, const std::string& format, const std::st
     }
   });
   bar.Finish();
-  std::printf("wrote %s: %ld records, %ld readings, robot %s\n", out_path.c_str(), records, readings,
-              robot.name.c_str());
+  std::printf("wrote %s: %ld records, %ld readings, robot %s%s\n", out_path.c_str(), records, readings,
+              sonar ? sonar->name.c_str() : robot.name.c_str(),
+              sonar ? (" (sonar readings derived from " + robot.name + ")").c_str() : "");
+  if (as_sonar) {
+    int unseen = 0;
+    for (bool c : as_sonar->covered()) unseen += c ? 0 : 1;
+    if (unseen)
+      std::printf("%d of %zu sonars point where %s does not look: they have no readings\n", unseen,
+                  sonar->sensors.size(), robot.name.c_str());
+  }
   return 0;
 }
 
@@ -132,13 +151,19 @@ const bool kConvertRegistered = RegisterCommand(
        auto format = std::make_shared<std::string>("auto");
        auto robot = std::make_shared<std::string>();
        auto out = std::make_shared<std::string>();
+       auto as_sonar = std::make_shared<std::string>();
        sub.add_option("LOG", *path, "Log file (.gz accepted), or the pioneer folder")->required();
        sub.add_option("--format", *format, FormatHelp())->check(CLI::IsMember(io::LogFormatNames()));
        sub.add_option("--robot", *robot,
                       "Robot to write in the header: a built-in name (pioneer16, pioneer8, pioneer8-course, p2at16, laser) or a "
                       "robot JSON file; default: the robot the log implies");
+       sub.add_option("--as-sonar", *as_sonar,
+                      "Turn a laser log into a sonar log: each sonar of this robot (built-in name or robot JSON file) "
+                      "reads the nearest laser return inside its beam cone, or max range (no echo) when none; "
+                      "sonars pointing where the laser does not look get no readings; odometry and reference "
+                      "poses are kept");
        sub.add_option("-o,--output", *out, "Native log to write (written atomically)")->required();
-       return [=] { return RunConvert(*path, *format, *robot, *out); };
+       return [=] { return RunConvert(*path, *format, *robot, *as_sonar, *out); };
      }});
 
 }  // namespace

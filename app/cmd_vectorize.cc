@@ -16,6 +16,7 @@
 #include "cogmap/asr/room_metrics.h"
 #include "cogmap/asr/store.h"
 #include "cogmap/core/error.h"
+#include "cogmap/eval/trajectory_metrics.h"
 #include "cogmap/eval/wall_metrics.h"
 #include "cogmap/grid/range_fusion.h"
 #include "cogmap/io/atomic_file.h"
@@ -347,6 +348,7 @@ int RunEval(const EvalArgs& a) {
   // A `cogmap map` folder: the ASRs add the room and heading metrics.
   std::optional<asr::RoomMetrics> rooms;
   std::optional<localize::HeadingErrorStats> headings;
+  std::optional<eval::TrajectoryMetrics> trajectory;
   const std::filesystem::path store_path = std::filesystem::is_directory(dir) ? dir / "map.sqlite" : dir.parent_path() / "map.sqlite";
   if (std::filesystem::exists(store_path)) {
     auto store = asr::SqliteAsrStore::Open(store_path.string(), asr::SqliteAsrStore::OpenMode::kOpenExisting);
@@ -364,6 +366,15 @@ int RunEval(const EvalArgs& a) {
     }
     headings = localize::ComputeHeadingErrors(asrs);
     for (const auto& [key, value] : localize::HeadingErrorEvalKeys(*headings)) j[key] = value;
+    // ATE/RPE of the corrected and the raw trajectories against the log's
+    // reference poses (the same with or without a world: ATE aligns once, RPE
+    // is frame-free).
+    const eval::AsrTrajectories traj = eval::PairAsrTrajectories(asrs);
+    trajectory = eval::ComputeTrajectoryMetrics(traj);
+    for (const auto& [key, value] : eval::TrajectoryEvalKeys(*trajectory)) {
+      if (value) j[key] = *value;
+      else j[key] = nullptr;
+    }
   }
   j["mode"] = wf.mode;
   j["log"] = wf.log_path;
@@ -396,13 +407,34 @@ int RunEval(const EvalArgs& a) {
                   j["heading_error_deg_median"].get<double>(), j["heading_error_deg_max"].get<double>(),
                   j["heading_error_deg_median_raw"].get<double>(), j["heading_error_deg_max_raw"].get<double>());
     }
+    if (trajectory && trajectory->ate.poses > 0) {
+      const auto& t = *trajectory;
+      std::printf("  trajectory (%d poses): ATE RMSE corrected %.3f m (median %.3f, max %.3f), raw %.3f m "
+                  "(median %.3f, max %.3f)\n",
+                  t.ate.poses, t.ate.rmse_m, t.ate.median_m, t.ate.max_m, t.ate_raw.rmse_m, t.ate_raw.median_m,
+                  t.ate_raw.max_m);
+      std::string line = "  RPE RMSE corrected / raw:";
+      for (size_t k = 0; k < t.rpe.size(); ++k) {
+        line += " " + Num(eval::TrajectoryDistances()[k]) + " m: ";
+        if (!t.rpe[k]) {
+          line += "n/a;";
+          continue;
+        }
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "%.3f / %.3f m, %.2f / %.2f deg;", t.rpe[k]->trans_rmse_m,
+                      t.rpe_raw[k]->trans_rmse_m, t.rpe[k]->rot_rmse_deg, t.rpe_raw[k]->rot_rmse_deg);
+        line += buf;
+      }
+      line.pop_back();
+      std::printf("%s\n", line.c_str());
+    }
   }
   return 0;
 }
 
 std::function<int()> SetupEval(CLI::App& sub) {
   auto a = std::make_shared<EvalArgs>();
-  sub.add_option("OUTDIR", a->dir, "A folder written by cogmap vectorize or cogmap map (or its walls.json); with a map.sqlite beside it, also ASR count, room precision/recall and heading errors")->required();
+  sub.add_option("OUTDIR", a->dir, "A folder written by cogmap vectorize or cogmap map (or its walls.json); with a map.sqlite beside it, also ASR count, room precision/recall, heading errors and the trajectory errors (ATE, RPE over 1/5/20 m; corrected and raw odometry)")->required();
   sub.add_option("--world", a->world,
                  "The world the log was driven in (ARIA 2D-Map or PNG); without it only the heading errors "
                  "(against the log's reference poses) and the sizes are reported");

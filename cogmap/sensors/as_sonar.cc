@@ -1,0 +1,66 @@
+#include "cogmap/sensors/as_sonar.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "cogmap/core/angles.h"
+
+namespace cogmap::sensors {
+
+AsSonar::AsSonar(const RobotDescription& source, const RobotDescription& sonar, const AsSonarOptions& options)
+    : source_(source), sonar_(sonar) {
+  // Source headings, sorted on the circle, and the median gap between
+  // neighbours as the beam spacing.
+  std::vector<double> headings;
+  for (const auto& s : source.sensors) headings.push_back(NormalizeAngle(s.robot_from_sensor.theta));
+  std::sort(headings.begin(), headings.end());
+  double spacing = 2.0 * kPi;
+  if (headings.size() > 1) {
+    std::vector<double> gaps;
+    for (size_t i = 1; i < headings.size(); ++i)
+      if (headings[i] - headings[i - 1] > 1e-12) gaps.push_back(headings[i] - headings[i - 1]);
+    if (!gaps.empty()) {
+      std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+      spacing = gaps[gaps.size() / 2];
+    }
+  }
+  for (const auto& s : sonar.sensors) {
+    sonar_from_robot_.push_back(s.robot_from_sensor.inverse());
+    bool covered = !options.skip_unseen_sonars;
+    for (double h : headings)
+      if (std::abs(AngleDiff(s.robot_from_sensor.theta, h)) <= spacing + 1e-9) covered = true;
+    covered_.push_back(covered);
+  }
+}
+
+std::vector<RangeReading> AsSonar::Convert(const std::vector<RangeReading>& source_readings) const {
+  std::vector<RangeReading> out;
+  if (source_readings.empty()) return out;
+  // The echoes in the robot frame.
+  std::vector<Vec2> points;
+  points.reserve(source_readings.size());
+  const int n_source = static_cast<int>(source_.sensors.size());
+  for (const auto& r : source_readings) {
+    if (r.sensor < 0 || r.sensor >= n_source) continue;
+    const RangeSensor& s = source_.sensors[r.sensor];
+    if (!(r.range_m > 0.0) || r.range_m < s.min_range_m || r.range_m >= s.max_range_m) continue;
+    points.push_back(ReadingEndPoint(Pose2{}, s, r.range_m));
+  }
+  for (size_t k = 0; k < sonar_.sensors.size(); ++k) {
+    if (!covered_[k]) continue;
+    const RangeSensor& s = sonar_.sensors[k];
+    const double half = 0.5 * s.beam_width_rad + 1e-12;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Vec2& p : points) {
+      const Vec2 q = sonar_from_robot_[k] * p;
+      const double range = q.norm();
+      if (range >= nearest) continue;
+      if (std::abs(std::atan2(q.y(), q.x())) <= half) nearest = range;
+    }
+    out.push_back({static_cast<int>(k), nearest < s.max_range_m ? nearest : s.max_range_m});
+  }
+  return out;
+}
+
+}  // namespace cogmap::sensors

@@ -1,0 +1,46 @@
+#pragma once
+#include <vector>
+
+#include "cogmap/core/pose2.h"
+#include "cogmap/sensors/reading.h"
+#include "cogmap/sensors/robot.h"
+
+namespace cogmap::sensors {
+
+struct AsSonarOptions {
+  // A sonar whose axis points where the source sensors do not look (a rear
+  // sonar over a front laser) gets no reading rather than a false "no echo"
+  // that would clear cells nobody saw. Covered: some source sensor's heading
+  // lies within one beam spacing (the median angle between neighbouring source
+  // headings) of the sonar's heading.
+  bool skip_unseen_sonars = true;
+};
+
+// Derives a sonar ring's readings from a laser's (cogmap convert --as-sonar).
+// Each echo of the source (a reading with 0 < min_range <= range < max_range
+// of its sensor; at or over max range is no return) is the point at its range
+// along its beam's axis. Each sonar of the target robot reports the distance,
+// from its transducer, of the nearest such point inside its cone (within
+// +-beam_width/2 of its axis, in its own mounting frame), or its max_range (no
+// echo) when there is none or the nearest is at or beyond it. A nearest point
+// closer than the sonar's min_range is still reported as measured.
+class AsSonar {
+ public:
+  AsSonar(const RobotDescription& source, const RobotDescription& sonar, const AsSonarOptions& options = {});
+
+  // The target robot's readings for one sweep of the source robot's. A
+  // sweep with no readings (odometry only) gives none. Source readings must
+  // name sensors of the source robot (others are ignored; the caller checks).
+  std::vector<RangeReading> Convert(const std::vector<RangeReading>& source_readings) const;
+
+  // Per target sensor: whether it gets readings (see AsSonarOptions).
+  const std::vector<bool>& covered() const { return covered_; }
+
+ private:
+  RobotDescription source_;
+  RobotDescription sonar_;
+  std::vector<Pose2> sonar_from_robot_;
+  std::vector<bool> covered_;
+};
+
+}  // namespace cogmap::sensors

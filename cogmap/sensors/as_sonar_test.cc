@@ -1,0 +1,152 @@
+#include "cogmap/sensors/as_sonar.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "cogmap/core/angles.h"
+
+namespace cogmap::sensors {
+namespace {
+
+// A 181-beam laser over 180 degrees at the robot centre, 1 degree apart.
+RobotDescription Laser(double max_range_m = 8.0) {
+  LaserOptions o;
+  o.max_range_m = max_range_m;
+  return MakeLaser(o);
+}
+
+// The laser's readings of a wall across the robot's path at x = d (beams that
+// do not reach it within max range read max range: no return).
+std::vector<RangeReading> WallAhead(const RobotDescription& laser, double d) {
+  std::vector<RangeReading> r;
+  for (int i = 0; i < static_cast<int>(laser.sensors.size()); ++i) {
+    const RangeSensor& s = laser.sensors[i];
+    const double c = std::cos(s.robot_from_sensor.theta);
+    const double range = c > 1e-9 ? d / c : s.max_range_m;
+    r.push_back({i, std::min(range, s.max_range_m)});
+  }
+  return r;
+}
+
+// One sonar at the robot centre with the given heading and a 30 degree cone.
+RobotDescription OneSonar(double heading_deg, double x_m = 0.0, double y_m = 0.0) {
+  RobotDescription r;
+  r.name = "one-sonar";
+  RangeSensor s;
+  s.robot_from_sensor = {x_m, y_m, DegToRad(heading_deg)};
+  s.beam_width_rad = DegToRad(30.0);
+  s.max_range_m = 5.0;
+  r.sensors.push_back(s);
+  return r;
+}
+
+double Only(const std::vector<RangeReading>& r) {
+  EXPECT_EQ(r.size(), 1u);
+  return r.empty() ? -1.0 : r[0].range_m;
+}
+
+TEST(AsSonar, FrontSonarSeesAWallTwoMetresAhead) {
+  const auto laser = Laser();
+  const AsSonar conv(laser, OneSonar(0.0));
+  EXPECT_NEAR(Only(conv.Convert(WallAhead(laser, 2.0))), 2.0, 1e-12);
+}
+
+TEST(AsSonar, AngledSonarSeesTheNearEdgeOfItsCone) {
+  // Heading 30 degrees, cone 15..45: the nearest wall point in it is on the
+  // beam at 15 degrees, 2 / cos(15 deg) away.
+  const auto laser = Laser();
+  const AsSonar conv(laser, OneSonar(30.0));
+  EXPECT_NEAR(Only(conv.Convert(WallAhead(laser, 2.0))), 2.0 / std::cos(DegToRad(15.0)), 1e-12);
+}
+
+TEST(AsSonar, MountedSonarMeasuresFromItsTransducer) {
+  // Sonar 0.2 m ahead and 0.1 m left of the laser, heading 0: the wall is
+  // 1.8 m from it; the laser point nearest its foot (2, 0.1) is at 2 tan(3 deg)
+  // = 0.1048 m, 0.0048 m along the wall.
+  const auto laser = Laser();
+  const AsSonar conv(laser, OneSonar(0.0, 0.2, 0.1));
+  const double along = 2.0 * std::tan(DegToRad(3.0)) - 0.1;
+  EXPECT_NEAR(Only(conv.Convert(WallAhead(laser, 2.0))), std::hypot(1.8, along), 1e-12);
+}
+
+TEST(AsSonar, Pioneer16FrontRingOverAWall) {
+  // Each front sonar of the stock ring: the nearest laser point inside its cone
+  // (brute force here), and for the two +-10 degree sonars, whose cones hold the
+  // foot of the perpendicular, within a hair of the perpendicular distance.
+  const auto laser = Laser();
+  const auto ring = BuiltinRobot("pioneer16");
+  const AsSonar conv(laser, ring);
+  const auto readings = WallAhead(laser, 2.0);
+  const auto out = conv.Convert(readings);
+  ASSERT_EQ(out.size(), 10u);  // 8 front + the two rear side sonars (+-90); the 6 rear ones see nothing
+  for (const auto& r : out) {
+    const RangeSensor& s = ring.sensors[r.sensor];
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& q : readings) {
+      if (q.range_m >= laser.sensors[q.sensor].max_range_m) continue;
+      const Vec2 p = ReadingEndPoint(Pose2{}, laser.sensors[q.sensor], q.range_m);
+      const Vec2 local = s.robot_from_sensor.inverse() * p;
+      if (std::abs(std::atan2(local.y(), local.x())) <= s.beam_width_rad / 2) nearest = std::min(nearest, local.norm());
+    }
+    EXPECT_DOUBLE_EQ(r.range_m, std::min(nearest, s.max_range_m)) << r.sensor;
+  }
+  EXPECT_NEAR(out[3].range_m, 2.0 - 0.166, 2e-4);  // sonar 3 at x = 166 mm, heading 10 deg
+  EXPECT_NEAR(out[4].range_m, 2.0 - 0.166, 2e-4);
+  // Sonars 0 and 7 look sideways (+-90): the wall at 2 m ahead is 1.93 m in
+  // front of them, at 90 - 15 = 75 degrees off the wall normal or more: beyond 5 m.
+  EXPECT_EQ(out[0].range_m, 5.0);
+  EXPECT_EQ(out[7].range_m, 5.0);
+}
+
+TEST(AsSonar, NoReturnInTheConeGivesMaxRange) {
+  const auto laser = Laser();
+  const AsSonar conv(laser, OneSonar(0.0));
+  std::vector<RangeReading> none;
+  for (int i = 0; i < 181; ++i) none.push_back({i, 8.0});  // every beam at max range: no return
+  EXPECT_EQ(Only(conv.Convert(none)), 5.0);
+  // Returns outside the cone only.
+  std::vector<RangeReading> side = none;
+  side[0].range_m = 1.0;    // -90 degrees
+  side[180].range_m = 1.0;  // +90 degrees
+  EXPECT_EQ(Only(conv.Convert(side)), 5.0);
+}
+
+TEST(AsSonar, LaserMaxRangeIsNoEcho) {
+  // The laser reads its max range (no return) at 3 m straight ahead: that is
+  // not a wall at 3 m for the sonar.
+  const auto laser = Laser(3.0);
+  const AsSonar conv(laser, OneSonar(0.0));
+  std::vector<RangeReading> r = {{90, 3.0}, {91, 4.0}};  // the second is over max, too
+  EXPECT_EQ(Only(conv.Convert(r)), 5.0);
+  r.push_back({92, 2.9});  // 2 degrees left, a real echo
+  EXPECT_NEAR(Only(conv.Convert(r)), 2.9, 1e-12);
+}
+
+TEST(AsSonar, EchoBeyondTheSonarsRangeIsMaxRange) {
+  const auto laser = Laser();
+  const AsSonar conv(laser, OneSonar(0.0));
+  EXPECT_EQ(Only(conv.Convert(WallAhead(laser, 6.5))), 5.0);
+}
+
+TEST(AsSonar, SonarOutsideTheLasersViewGetsNoReading) {
+  const auto laser = Laser();
+  const AsSonar conv(laser, OneSonar(180.0));
+  EXPECT_FALSE(conv.covered()[0]);
+  EXPECT_TRUE(conv.Convert(WallAhead(laser, 2.0)).empty());
+  // Unless asked for: then no echo.
+  AsSonarOptions o;
+  o.skip_unseen_sonars = false;
+  const AsSonar all(laser, OneSonar(180.0), o);
+  EXPECT_EQ(Only(all.Convert(WallAhead(laser, 2.0))), 5.0);
+}
+
+TEST(AsSonar, OdometryOnlyRecordStaysWithoutReadings) {
+  const auto laser = Laser();
+  const AsSonar conv(laser, BuiltinRobot("pioneer16"));
+  EXPECT_TRUE(conv.Convert({}).empty());
+}
+
+}  // namespace
+}  // namespace cogmap::sensors
