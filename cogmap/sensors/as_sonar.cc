@@ -25,12 +25,28 @@ AsSonar::AsSonar(const RobotDescription& source, const RobotDescription& sonar, 
       spacing = gaps[gaps.size() / 2];
     }
   }
+  // Whether the source looks at robot-frame point p: some source sensor's
+  // heading within one spacing of p's bearing from that sensor.
+  auto in_view = [&](const Vec2& p) {
+    for (const auto& src : source.sensors) {
+      const Vec2 d = p - src.robot_from_sensor.translation();
+      if (d.norm() < 1e-9) return true;
+      if (std::abs(AngleDiff(std::atan2(d.y(), d.x()), src.robot_from_sensor.theta)) <= spacing + 1e-9) return true;
+    }
+    return false;
+  };
+  constexpr int kAxisSamples = 20;
   for (const auto& s : sonar.sensors) {
     sonar_from_robot_.push_back(s.robot_from_sensor.inverse());
     bool covered = !options.skip_unseen_sonars;
     for (double h : headings)
       if (std::abs(AngleDiff(s.robot_from_sensor.theta, h)) <= spacing + 1e-9) covered = true;
     covered_.push_back(covered);
+    bool no_echo = true;
+    if (options.no_echo_only_when_in_view)
+      for (int i = 1; i <= kAxisSamples && no_echo; ++i)
+        no_echo = in_view(s.robot_from_sensor * Vec2(s.max_range_m * i / kAxisSamples, 0.0));
+    no_echo_.push_back(no_echo);
   }
 }
 
@@ -58,7 +74,8 @@ std::vector<RangeReading> AsSonar::Convert(const std::vector<RangeReading>& sour
       if (range >= nearest) continue;
       if (std::abs(std::atan2(q.y(), q.x())) <= half) nearest = range;
     }
-    out.push_back({static_cast<int>(k), nearest < s.max_range_m ? nearest : s.max_range_m});
+    if (nearest < s.max_range_m) out.push_back({static_cast<int>(k), nearest});
+    else if (no_echo_[k]) out.push_back({static_cast<int>(k), s.max_range_m});
   }
   return out;
 }

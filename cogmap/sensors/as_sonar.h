@@ -14,6 +14,14 @@ struct AsSonarOptions {
   // lies within one beam spacing (the median angle between neighbouring source
   // headings) of the sonar's heading.
   bool skip_unseen_sonars = true;
+  // "No echo" is claimed only by a sonar whose axis, from its transducer out
+  // to its max range, lies wholly in view of the source (each point of it
+  // within one beam spacing of some source sensor's heading, seen from that
+  // sensor). A side sonar mounted behind a front laser (pioneer16's 8 and 15)
+  // has the part of its cone next to the robot out of the laser's view: when
+  // no laser point lies in its cone it gets no reading in that sweep (a wall
+  // 0.5 m beside it is seen by the laser only outside its cone).
+  bool no_echo_only_when_in_view = true;
 };
 
 // Derives a sonar ring's readings from a laser's (cogmap convert --as-sonar).
@@ -35,12 +43,15 @@ class AsSonar {
 
   // Per target sensor: whether it gets readings (see AsSonarOptions).
   const std::vector<bool>& covered() const { return covered_; }
+  // Per target sensor: whether it may report no echo (max range).
+  const std::vector<bool>& may_report_no_echo() const { return no_echo_; }
 
  private:
   RobotDescription source_;
   RobotDescription sonar_;
   std::vector<Pose2> sonar_from_robot_;
   std::vector<bool> covered_;
+  std::vector<bool> no_echo_;
 };
 
 }  // namespace cogmap::sensors

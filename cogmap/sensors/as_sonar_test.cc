@@ -80,7 +80,10 @@ TEST(AsSonar, Pioneer16FrontRingOverAWall) {
   const AsSonar conv(laser, ring);
   const auto readings = WallAhead(laser, 2.0);
   const auto out = conv.Convert(readings);
-  ASSERT_EQ(out.size(), 10u);  // 8 front + the two rear side sonars (+-90); the 6 rear ones see nothing
+  // The 8 front sonars; the 6 rear ones point where the laser does not look,
+  // and the two rear side ones (8, 15: +-90 degrees behind the laser) find no
+  // point in their cones and may not claim "no echo".
+  ASSERT_EQ(out.size(), 8u);
   for (const auto& r : out) {
     const RangeSensor& s = ring.sensors[r.sensor];
     double nearest = std::numeric_limits<double>::infinity();
@@ -138,8 +141,44 @@ TEST(AsSonar, SonarOutsideTheLasersViewGetsNoReading) {
   // Unless asked for: then no echo.
   AsSonarOptions o;
   o.skip_unseen_sonars = false;
+  o.no_echo_only_when_in_view = false;
   const AsSonar all(laser, OneSonar(180.0), o);
   EXPECT_EQ(Only(all.Convert(WallAhead(laser, 2.0))), 5.0);
+}
+
+TEST(AsSonar, SideSonarBehindTheLaserOnlyReportsEchoes) {
+  // pioneer16's sonar 15 sits at (-0.157, 0.136) looking left (+90): the part
+  // of its cone near the robot is behind the laser. A wall 0.6 m to the left
+  // of the laser is seen by the laser only at bearings that lie outside the
+  // sonar's cone near it: no reading (not a false "no echo"). Sonar 0, ahead
+  // of the laser, reads the wall at 0.6 - 0.136 m.
+  const auto laser = Laser();
+  const auto ring = BuiltinRobot("pioneer16");
+  const AsSonar conv(laser, ring);
+  EXPECT_TRUE(conv.covered()[15]);
+  EXPECT_FALSE(conv.may_report_no_echo()[15]);
+  EXPECT_TRUE(conv.may_report_no_echo()[0]);
+  std::vector<RangeReading> wall_left;
+  for (int i = 0; i < 181; ++i) {
+    const double a = laser.sensors[i].robot_from_sensor.theta;
+    wall_left.push_back({i, std::sin(a) > 1e-9 ? std::min(0.6 / std::sin(a), 8.0) : 8.0});
+  }
+  double s0 = -1, s15 = -1;
+  for (const auto& r : conv.Convert(wall_left)) {
+    if (r.sensor == 0) s0 = r.range_m;
+    if (r.sensor == 15) s15 = r.range_m;
+  }
+  EXPECT_NEAR(s0, 0.6 - 0.136, 1e-3);
+  EXPECT_EQ(s15, -1.0);
+  // A wall at 2 m to the left is inside its cone (laser points from 79 degrees on).
+  for (int i = 0; i < 181; ++i) {
+    const double a = laser.sensors[i].robot_from_sensor.theta;
+    wall_left[i].range_m = std::sin(a) > 1e-9 ? std::min(2.0 / std::sin(a), 8.0) : 8.0;
+  }
+  for (const auto& r : conv.Convert(wall_left))
+    if (r.sensor == 15) s15 = r.range_m;
+  EXPECT_GT(s15, 2.0 - 0.136);
+  EXPECT_LT(s15, (2.0 - 0.136) / std::cos(DegToRad(15.0)));
 }
 
 TEST(AsSonar, OdometryOnlyRecordStaysWithoutReadings) {
