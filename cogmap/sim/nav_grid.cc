@@ -3,8 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <string>
+
+#include "cogmap/core/error.h"
 
 namespace cogmap::sim {
+namespace {
+// 2^26 cells (10 bytes each): an 800 m square at 10 cm.
+constexpr double kMaxNavCells = 67108864.0;
+}  // namespace
 
 grid::MapLimits LimitsAround(const World& world, const std::vector<Vec2>& extra, double cell_m,
                              double margin_m) {
@@ -16,8 +23,15 @@ grid::MapLimits LimitsAround(const World& world, const std::vector<Vec2>& extra,
   }
   lo -= Vec2(margin_m, margin_m);
   hi += Vec2(margin_m, margin_m);
-  const int w = std::max(1, static_cast<int>(std::ceil((hi.x() - lo.x()) / cell_m)));
-  const int h = std::max(1, static_cast<int>(std::ceil((hi.y() - lo.y()) / cell_m)));
+  // Sizes in floating point first: a world far too large (or not finite) must
+  // not reach the conversion to int, nor the allocation.
+  const double wd = std::ceil((hi.x() - lo.x()) / cell_m), hd = std::ceil((hi.y() - lo.y()) / cell_m);
+  if (!(std::isfinite(wd) && std::isfinite(hd)) || std::max(wd, 1.0) * std::max(hd, 1.0) > kMaxNavCells)
+    throw InputError("world: " + std::to_string(hi.x() - lo.x()) + " x " + std::to_string(hi.y() - lo.y()) +
+                     " m needs more than " + std::to_string(static_cast<long>(kMaxNavCells)) +
+                     " navigation cells of " + std::to_string(cell_m) + " m");
+  const int w = std::max(1, static_cast<int>(wd));
+  const int h = std::max(1, static_cast<int>(hd));
   return grid::MapLimits(cell_m, lo, w, h);
 }
 

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "cogmap/core/angles.h"
+#include "cogmap/core/error.h"
+#include "cogmap/sim/nav_grid.h"
 
 namespace cogmap::sim {
 namespace {
@@ -53,6 +55,16 @@ TEST(Vfh, WallAheadBlocksStraightOnButNotTheDoorGap) {
 TEST(Vfh, DefaultsLockedToSpec) {
   const VfhOptions o;
   EXPECT_NEAR(o.sector_rad, DegToRad(5.0), 1e-12);  // SPEC 6
+}
+
+TEST(NavGrid, WorldTooLargeForTheGridIsAnInputErrorNotAnAllocation) {
+  // 1e12 m across (a world file's 1e15 mm): refused before any cast to int.
+  const World world({{{0, 0}, {1e12, 0}}, {{0, 0}, {0, 10}}});
+  EXPECT_THROW(LimitsAround(world, {}, 0.1, 1.0), InputError);
+  const World wide({{{0, 0}, {1000, 0}}, {{0, 0}, {0, 1000}}});  // 1 km square: 1e8 cells
+  EXPECT_THROW(LimitsAround(wide, {}, 0.1, 1.0), InputError);
+  const World room({{{0, 0}, {10, 0}}, {{0, 0}, {0, 10}}});
+  EXPECT_EQ(LimitsAround(room, {}, 0.1, 1.0).width(), 120);
 }
 
 }  // namespace
