@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -24,6 +25,7 @@
 #include "cogmap/io/atomic_file.h"
 #include "cogmap/io/log_reader.h"
 #include "cogmap/io/map_files.h"
+#include "cogmap/io/output_folder.h"
 #include "cogmap/io/polyline_io.h"
 #include "cogmap/io/world_io.h"
 #include "cogmap/localize/correction_figures.h"
@@ -116,12 +118,33 @@ int RunMap(const MapArgs& a) {
   std::optional<FloorPlan> truth_plan;
   if (!a.world.empty()) truth_plan = io::ReadWorld(a.world).plan;
 
-  std::error_code ec;
-  fs::create_directories(a.output, ec);
-  if (!fs::is_directory(a.output)) throw InputError(a.output, 0, "cannot create the output folder");
-  const std::string store_path = (fs::path(a.output) / "map.sqlite").string();
-  auto store = asr::SqliteAsrStore::Open(
-      store_path, a.resume ? asr::SqliteAsrStore::OpenMode::kOpenExisting : asr::SqliteAsrStore::OpenMode::kReplace);
+  // The output folder (docs/store.md): locked for this run ("OUTDIR: locked by
+  // another cogmap run (pid N)"); the store and every file are written into its
+  // staging folder and moved into place at the end. A run that fails leaves the
+  // previous map untouched and its own partial result in OUTDIR/failed-run-*/.
+  auto folder = io::OutputFolder::Open(a.output);
+  struct SetAsideOnFailure {
+    io::OutputFolder* folder;
+    ~SetAsideOnFailure() {  // after the store is closed (declared before it)
+      if (folder->committed() || std::uncaught_exceptions() == 0) return;
+      const std::string kept = folder->Abandon();
+      if (!kept.empty())
+        std::fprintf(stderr, "cogmap: %s: this run's partial result (the previous map is untouched)\n", kept.c_str());
+    }
+  } set_aside{folder.get()};
+  const std::string store_path = folder->Final("map.sqlite");
+  std::unique_ptr<asr::SqliteAsrStore> store;
+  if (a.resume) {
+    // Checked where it is (before the log is mapped; errors name it), then
+    // continued in a copy: the stored map stays as it was until the end.
+    asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kReadOnly);
+    folder->CopyIntoStaging("map.sqlite");
+    store = asr::SqliteAsrStore::Open(folder->Staged("map.sqlite"), asr::SqliteAsrStore::OpenMode::kOpenExisting);
+  } else {
+    store = asr::SqliteAsrStore::Open(folder->Staged("map.sqlite"), asr::SqliteAsrStore::OpenMode::kReplace);
+  }
+  // report.json carries the same id: a reader can check that they belong together.
+  store->SetMeta("run_id", folder->run_id());
 
   asr::MapperOptions options;
   options.cell_m = a.cell_m;
@@ -245,15 +268,9 @@ int RunMap(const MapArgs& a) {
     }
     mapper.Finish();
   } catch (...) {
-    // Every ASR closed before the bad line is in the store already (one
-    // transaction each). A new store that holds none would only look like a
-    // finished empty map: remove it.
+    // Every ASR closed before the bad line is in the staging store (one
+    // transaction each); SetAsideOnFailure keeps it under failed-run-*.
     bar.Finish();
-    if (!a.resume && closed == 0) {
-      store.reset();
-      std::error_code ec;
-      for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(store_path + suffix, ec);
-    }
     throw;
   }
   bar.Finish();
@@ -282,7 +299,7 @@ int RunMap(const MapArgs& a) {
   std::vector<asr::Asr> all;
   for (int id : store->Ids()) all.push_back(*store->Get(id));
   const io::MasterMap master = io::BuildMasterMap(all, !a.raw);
-  const auto files = io::WriteMasterMapFiles(a.output, master);
+  const auto files = io::WriteMasterMapFiles(folder->staging(), master);
 
   // Before / after correction side by side, and the heading error per ASR.
   {
@@ -299,10 +316,10 @@ int RunMap(const MapArgs& a) {
     const std::string lt = drift_filter ? "BEFORE: ASRS AT THEIR ODOMETRY POSES" : "BEFORE: ODOMETRY";
     const std::string rt =
         a.no_correct ? "AFTER: NOT CORRECTED (--NO-CORRECT)" : "AFTER: HEADING CORRECTION (" + a.mode + ")";
-    io::WriteFileAtomically((fs::path(a.output) / "map_compare.svg").string(),
+    io::WriteFileAtomically((fs::path(folder->staging()) / "map_compare.svg").string(),
                             localize::SideBySideSvg(io::FormatMapSvg(raw_map, style_for(raw_map)), lt,
                                                     io::FormatMapSvg(cor_map, style_for(cor_map)), rt));
-    io::WritePng((fs::path(a.output) / "map_compare.png").string(),
+    io::WritePng((fs::path(folder->staging()) / "map_compare.png").string(),
                  localize::SideBySide(io::RenderMap(raw_map, style_for(raw_map)), lt,
                                       io::RenderMap(cor_map, style_for(cor_map)), rt));
   }
@@ -316,7 +333,7 @@ int RunMap(const MapArgs& a) {
         j["heading_error_raw_deg"] = RadToDeg(e.raw_rad);
       }
   if (heading.asrs > 0)
-    io::WritePng((fs::path(a.output) / "heading_error.png").string(), localize::PlotHeadingErrors(heading));
+    io::WritePng((fs::path(folder->staging()) / "heading_error.png").string(), localize::PlotHeadingErrors(heading));
 
   // walls.json for `cogmap eval` (the master map's walls; map frame = the raw
   // odometry frame of the first run, placed in the truth's world when known).
@@ -345,7 +362,7 @@ int RunMap(const MapArgs& a) {
     wf.bytes_vertices += x.bytes.vertices;
     wf.bytes_polylines += x.bytes.polylines;
   }
-  io::WriteWallsJson((fs::path(a.output) / "walls.json").string(), wf);
+  io::WriteWallsJson((fs::path(folder->staging()) / "walls.json").string(), wf);
 
   asr::StageBytes bytes_all;
   nlohmann::json seconds_all = nlohmann::json::array();
@@ -388,6 +405,7 @@ int RunMap(const MapArgs& a) {
       {"peak_grid_cells", mapper.stats().peak_grid_cells},
       {"max_rss_kb_mapping", rss_mapping_kb},
       {"store", store_path},
+      {"run_id", folder->run_id()},
   };
   if (drift_filter) {
     report["drift_rate_deg_per_m"] = RadToDeg(drift_corrector.odometry().rate_rad_per_m());
@@ -405,8 +423,12 @@ int RunMap(const MapArgs& a) {
     report["room_recall"] = m.room_recall;
     report["asr_rooms"] = m.asr_room;
   }
-  const std::string report_path = (fs::path(a.output) / "report.json").string();
+  const std::string report_path = (fs::path(folder->staging()) / "report.json").string();
   io::WriteFileAtomically(report_path, report.dump(2) + "\n");
+  // Everything is written: close the store (checkpointed, without WAL) and
+  // move the files into place, the store last.
+  store.reset();
+  folder->Commit("map.sqlite");
 
   std::printf("%s: %ld records, %d ASRs (%d this run), %zu exits, grid %.1f KB -> polylines %.2f KB, %.2f s "
               "(%.1fx real time)\n",
