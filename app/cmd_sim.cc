@@ -1,10 +1,13 @@
 // `cogmap simulate`, `cogmap render-world` and `cogmap gen-building`: the
 // simulator (issue 3).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "app/cli_util.h"
 #include "app/command.h"
@@ -46,8 +49,29 @@ struct SimulateArgs {
   double m_per_pixel = 0.05;
   bool noiseless = false;
   bool vfh_from_readings = false;
+  std::string start;  // "X,Y,THETA_DEG"
   std::string output;
 };
+
+// "X,Y,THETA_DEG" (metres, metres, degrees CCW) as a pose.
+Pose2 ParseStart(const std::string& text) {
+  std::vector<double> v;
+  size_t i = 0;
+  while (i <= text.size()) {
+    const size_t comma = std::min(text.find(',', i), text.size());
+    const std::string part = text.substr(i, comma - i);
+    char* end = nullptr;
+    const double x = std::strtod(part.c_str(), &end);
+    if (part.empty() || end != part.c_str() + part.size() || !std::isfinite(x))
+      throw InputError("--start: expected X,Y,THETA_DEG (metres, metres, degrees), got '" + text + "'");
+    v.push_back(x);
+    i = comma + 1;
+  }
+  if (v.size() != 3)
+    throw InputError("--start: expected X,Y,THETA_DEG (3 numbers), got " + std::to_string(v.size()) + " in '" +
+                     text + "'");
+  return {v[0], v[1], NormalizeAngle(DegToRad(v[2]))};
+}
 
 int RunSimulate(const SimulateArgs& a) {
   const auto start = std::chrono::steady_clock::now();
@@ -60,6 +84,7 @@ int RunSimulate(const SimulateArgs& a) {
   const sensors::RobotDescription robot = sensors::ResolveRobot(a.robot);
 
   sim::SimulatorOptions o;
+  if (!a.start.empty()) o.start = ParseStart(a.start);
   o.mode = a.explore ? sim::SimMode::kExplore : sim::SimMode::kRoute;
   if (o.mode == sim::SimMode::kRoute && world.plan.route.empty())
     throw InputError(a.world, 0, "no route (no GoalWithHeading cairns named wpNN): use --explore");
@@ -98,8 +123,12 @@ int RunSimulate(const SimulateArgs& a) {
 std::function<int()> SetupSimulate(CLI::App& sub) {
   auto a = std::make_shared<SimulateArgs>();
   sub.add_option("WORLD", a->world,
-                 "World: an ARIA 2D-Map file (.map), or a PNG occupancy image (dark pixels are walls)")
+                 "World: an ARIA 2D-Map file (.map), a PNG occupancy image (dark pixels are walls), or a ROS "
+                 "map_server map.yaml with its PGM or PNG (occupied cells are walls)")
       ->required();
+  sub.add_option("--start", a->start,
+                 "Start pose X,Y,THETA_DEG (metres, metres, degrees CCW; e.g. 1.5,2,90): overrides the world's "
+                 "RobotHome (bitmap and ROS-map worlds start at the free cell farthest from walls)");
   sub.add_option("--robot", a->robot,
                  "Robot: a built-in name (" + Join(sensors::BuiltinRobotNames()) + ") or a robot JSON file")
       ->capture_default_str();
@@ -220,7 +249,8 @@ int RunRender(const RenderArgs& a) {
 
 std::function<int()> SetupRender(CLI::App& sub) {
   auto a = std::make_shared<RenderArgs>();
-  sub.add_option("WORLD", a->world, "World: an ARIA 2D-Map file or a PNG occupancy image")->required();
+  sub.add_option("WORLD", a->world, "World: an ARIA 2D-Map file, a PNG occupancy image, or a ROS map.yaml")
+      ->required();
   sub.add_option("--log", a->log, "A run to draw: true path in green, odometry path in red");
   sub.add_option("--px-per-m", a->px_per_m, "Pixels per metre")->capture_default_str();
   sub.add_option("--m-per-pixel", a->m_per_pixel, "Metres per pixel of a PNG world")->capture_default_str();

@@ -3,4 +3,4 @@ target_sources(cogmap_io PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/world_io.cc)
 
 cogmap_add_test(cogmap_world_io_test
   SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/world_io_test.cc
-  LIBS cogmap_io)
+  LIBS cogmap_io cogmap_sim)  # cogmap_sim: a ROS-map world simulated (issue 12)

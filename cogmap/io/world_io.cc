@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -11,6 +12,7 @@
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
 #include "cogmap/io/atomic_file.h"
+#include "cogmap/io/grid_io.h"
 
 namespace cogmap::io {
 namespace {
@@ -333,9 +335,65 @@ FloorPlan FloorPlanFromOccupancy(const GreyImage& img, const BitmapWorldOptions&
   return plan;
 }
 
+WorldReadResult ReadMapServerWorld(const std::string& yaml_path) {
+  const MapServerYaml yaml = ReadMapServerYaml(yaml_path);
+  std::filesystem::path image(yaml.image);
+  if (image.is_relative()) image = std::filesystem::path(yaml_path).parent_path() / image;
+  std::string ext = image.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  GreyImage pixels;
+  int max_value = 255;
+  if (ext == ".png") {
+    pixels = ReadGreyPng(image.string());
+  } else if (ext == ".pgm") {
+    PgmImage pgm = ReadPgm(image.string());
+    pixels = GreyImage{pgm.width, pgm.height, std::move(pgm.pixels)};
+    max_value = pgm.max_value;
+  } else {
+    throw InputError(yaml_path, 0, "image '" + yaml.image + "': cogmap reads map_server images as PGM or PNG");
+  }
+  // map_server's classification (as ReadMapServer in grid_io.cc), drawn as a
+  // bitmap world: occupied black, free white, unknown grey (neither).
+  constexpr uint8_t kWall = 0, kFree = 255, kUnknown = 205;
+  GreyImage grey{pixels.width, pixels.height, std::vector<uint8_t>(pixels.pixels.size(), kUnknown)};
+  for (size_t i = 0; i < pixels.pixels.size(); ++i) {
+    const double v = 255.0 * pixels.pixels[i] / max_value;
+    const double p = yaml.negate ? v / 255.0 : (255.0 - v) / 255.0;
+    if (yaml.mode == "raw") {
+      grey.pixels[i] = v >= 100.0 ? kWall : v == 0.0 ? kFree : kUnknown;
+    } else if (p > yaml.occupied_thresh) {
+      grey.pixels[i] = kWall;
+    } else if (p < yaml.free_thresh) {
+      grey.pixels[i] = kFree;
+    }
+  }
+  BitmapWorldOptions o;
+  o.m_per_pixel = yaml.resolution;
+  WorldReadResult r;
+  r.plan = FloorPlanFromOccupancy(grey, o);
+  // Image frame (lower-left corner at 0, 0) -> map frame.
+  const Pose2 map_from_image{yaml.origin.x(), yaml.origin.y(), yaml.origin_yaw};
+  auto place = [&](const Vec2& v) { return map_from_image * v; };
+  for (auto& w : r.plan.walls) w = {place(w.a), place(w.b)};
+  if (r.plan.home) r.plan.home = map_from_image * *r.plan.home;
+  const Vec2 corners[] = {place(r.plan.min), place({r.plan.max.x(), r.plan.min.y()}), place(r.plan.max),
+                          place({r.plan.min.x(), r.plan.max.y()})};
+  r.plan.min = r.plan.max = corners[0];
+  for (const Vec2& c : corners) {
+    r.plan.min = r.plan.min.cwiseMin(c);
+    r.plan.max = r.plan.max.cwiseMax(c);
+  }
+  if (r.plan.walls.empty()) r.warnings.push_back(yaml_path + ": no occupied cells in " + image.string() + ", so no walls");
+  return r;
+}
+
 WorldReadResult ReadWorld(const std::string& path, const BitmapWorldOptions& bitmap) {
   std::string lower = path;
   std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  auto ends_with = [&](const std::string& e) {
+    return lower.size() >= e.size() && lower.compare(lower.size() - e.size(), e.size(), e) == 0;
+  };
+  if (ends_with(".yaml") || ends_with(".yml")) return ReadMapServerWorld(path);
   if (lower.size() >= 4 && lower.compare(lower.size() - 4, 4, ".png") == 0) {
     WorldReadResult r;
     r.plan = FloorPlanFromOccupancy(ReadGreyPng(path), bitmap);

@@ -43,7 +43,18 @@ struct BitmapWorldOptions {
 };
 FloorPlan FloorPlanFromOccupancy(const GreyImage& image, const BitmapWorldOptions& options = {});
 
-// A world by file name: *.png -> bitmap world, anything else -> 2D-Map.
+// A ROS map_server map as a world: the YAML (image, resolution, origin,
+// negate, occupied_thresh, free_thresh, mode; grid_io.h) and its PGM or PNG.
+// Each pixel is classified as map_server does (occupied: 100, free: 0, else
+// unknown); occupied pixels become walls exactly as in a bitmap world
+// (FloorPlanFromOccupancy at the map's resolution), placed in the map frame by
+// the YAML's origin [x, y, yaw]. The RobotHome is the free pixel farthest from
+// any wall (unknown pixels are never home). InputError naming the YAML or the
+// image (file:line for YAML problems).
+WorldReadResult ReadMapServerWorld(const std::string& yaml_path);
+
+// A world by file name: *.png -> bitmap world, *.yaml / *.yml -> ROS map,
+// anything else -> 2D-Map.
 WorldReadResult ReadWorld(const std::string& path, const BitmapWorldOptions& bitmap = {});
 
 }  // namespace cogmap::io

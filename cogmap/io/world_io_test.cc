@@ -1,13 +1,19 @@
 #include "cogmap/io/world_io.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
 #include "cogmap/core/test_temp.h"
+#include "cogmap/io/grid_io.h"
+#include "cogmap/sensors/robot.h"
+#include "cogmap/sim/simulator.h"
 
 namespace cogmap::io {
 namespace {
@@ -159,6 +165,130 @@ TEST(WorldIo, CorruptPngIsAnError) {
   }
   EXPECT_THROW(ReadWorld(path), InputError);
   std::filesystem::remove(path);
+}
+
+
+// A ROS map_server map as a world: a 4 m x 3 m room (one-pixel walls at
+// 0.1 m per pixel) whose lower-left corner sits at the YAML's origin.
+std::string WriteRoomMap(const std::string& name, const std::string& image_ext) {
+  const int w = 40, h = 30;
+  std::vector<uint8_t> px(static_cast<size_t>(w) * h, kPgmFree);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (x == 0 || y == 0 || x == w - 1 || y == h - 1) px[static_cast<size_t>(y) * w + x] = kPgmOccupied;
+  px[static_cast<size_t>(5) * w + 5] = kPgmUnknown;  // unknown: neither wall nor free
+  const std::string dir = ::cogmap::testing_util::TestTempPath(name);
+  std::filesystem::create_directories(dir);
+  if (image_ext == ".pgm") {
+    PgmImage pgm;
+    pgm.width = w;
+    pgm.height = h;
+    pgm.pixels = px;
+    std::ofstream(dir + "/room.pgm", std::ios::binary) << EncodePgm(pgm);
+  } else {
+    std::ofstream(dir + "/room.png", std::ios::binary) << EncodeGreyPng(w, h, px);
+  }
+  std::ofstream(dir + "/map.yaml") << "image: room" << image_ext
+                                   << "\nresolution: 0.1\norigin: [-1.0, -2.0, 0.0]\nnegate: 0\n"
+                                      "occupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  return dir + "/map.yaml";
+}
+
+void ExpectRoomWorld(const FloorPlan& p) {
+  // Outer and inner outline of the one-pixel border, plus the unknown pixel's
+  // nothing: 8 segments.
+  EXPECT_EQ(p.walls.size(), 8u);
+  double xmin = 9, xmax = -9, ymin = 9, ymax = -9;
+  for (const auto& wall : p.walls)
+    for (const Vec2& v : {wall.a, wall.b}) {
+      xmin = std::min(xmin, v.x());
+      xmax = std::max(xmax, v.x());
+      ymin = std::min(ymin, v.y());
+      ymax = std::max(ymax, v.y());
+    }
+  EXPECT_NEAR(xmin, -1.0, 1e-12);
+  EXPECT_NEAR(xmax, 3.0, 1e-12);
+  EXPECT_NEAR(ymin, -2.0, 1e-12);
+  EXPECT_NEAR(ymax, 1.0, 1e-12);
+  EXPECT_NEAR(p.min.x(), -1.0, 1e-12);
+  EXPECT_NEAR(p.max.y(), 1.0, 1e-12);
+  ASSERT_TRUE(p.home.has_value());
+  EXPECT_GT(p.home->x, -0.9);
+  EXPECT_LT(p.home->x, 2.9);
+  EXPECT_GT(p.home->y, -1.9);
+  EXPECT_LT(p.home->y, 0.9);
+}
+
+TEST(WorldIo, RosMapYamlWithPgmIsAWorld) {
+  const auto r = ReadWorld(WriteRoomMap("rosmap_pgm", ".pgm"));
+  ExpectRoomWorld(r.plan);
+  EXPECT_TRUE(r.warnings.empty());
+}
+
+TEST(WorldIo, RosMapYamlWithPngIsAWorld) { ExpectRoomWorld(ReadWorld(WriteRoomMap("rosmap_png", ".png")).plan); }
+
+TEST(WorldIo, RosMapOriginYawRotatesTheWorld) {
+  const std::string yaml = WriteRoomMap("rosmap_yaw", ".pgm");
+  std::ofstream(yaml) << "image: room.pgm\nresolution: 0.1\norigin: [1.0, 2.0, 1.5707963267948966]\n";
+  const FloorPlan p = ReadWorld(yaml).plan;
+  // Image x runs along map y: the 4 m side now spans y 2..6, x -2..1.
+  EXPECT_NEAR(p.min.x(), -2.0, 1e-9);
+  EXPECT_NEAR(p.max.x(), 1.0, 1e-9);
+  EXPECT_NEAR(p.min.y(), 2.0, 1e-9);
+  EXPECT_NEAR(p.max.y(), 6.0, 1e-9);
+}
+
+TEST(WorldIo, RosMapProblemsNameTheFile) {
+  const std::string yaml = WriteRoomMap("rosmap_bad", ".pgm");
+  std::ofstream(yaml) << "image: room.pgm\nresolution: -0.1\norigin: [0, 0, 0]\n";
+  try {
+    ReadWorld(yaml);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("map.yaml:2: 'resolution' must be positive"), std::string::npos) << e.what();
+  }
+  std::ofstream(yaml) << "image: missing.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n";
+  try {
+    ReadWorld(yaml);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("missing.pgm"), std::string::npos) << e.what();
+  }
+}
+
+// Simulated from a given start, a noiseless laser sees the room's inner walls
+// exactly: every beam's range is the distance along the beam to the
+// rectangle [-0.9, 2.9] x [-1.9, 0.9].
+TEST(WorldIo, RosMapWorldSimulatesReadingsOnItsWalls) {
+  const FloorPlan plan = ReadWorld(WriteRoomMap("rosmap_sim", ".pgm")).plan;
+  const sensors::RobotDescription robot = sensors::BuiltinRobot("laser");
+  sim::SimulatorOptions o;
+  o.mode = sim::SimMode::kExplore;
+  o.start = Pose2{0.5, -0.5, DegToRad(30.0)};
+  o.max_time_s = 4.0;
+  o.odometry = sim::OdometryNoiseOptions{0, 0, 0, 0, 0};
+  o.sensor.laser_range_sigma_m = 0;
+  std::vector<sensors::LogRecord> run;
+  sim::Simulate(plan, robot, o, [&](const sensors::LogRecord& r) { run.push_back(r); });
+  ASSERT_FALSE(run.empty());
+  ASSERT_TRUE(run.front().truth);
+  EXPECT_NEAR(run.front().truth->x, 0.5, 1e-9);
+  EXPECT_NEAR(run.front().truth->theta, DegToRad(30.0), 1e-9);
+  long checked = 0;
+  for (const auto& r : run) {
+    for (const auto& q : r.ranges) {
+      const Pose2 s = *r.truth * robot.sensors[q.sensor].robot_from_sensor;
+      const double c = std::cos(s.theta), d = std::sin(s.theta);
+      double t = 1e9;
+      if (c > 1e-12) t = std::min(t, (2.9 - s.x) / c);
+      if (c < -1e-12) t = std::min(t, (-0.9 - s.x) / c);
+      if (d > 1e-12) t = std::min(t, (0.9 - s.y) / d);
+      if (d < -1e-12) t = std::min(t, (-1.9 - s.y) / d);
+      ASSERT_NEAR(q.range_m, t, 1e-6) << "sensor " << q.sensor;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 1000);
 }
 
 }  // namespace
