@@ -338,6 +338,9 @@ class CarmenReader : public LogReader {
         } else if ((id == kFront || id == kRear) && f.size() >= 2) {
           Device& l = dev_[id];
           const long n = ParseCount(f[1], path, 0, "n");
+          // A hostile count (FLASER 30000000) must not size the robot: only a
+          // whole message counts; Next() reports the others with their line.
+          if (n > kMaxCount || f.size() != 11 + static_cast<size_t>(n)) continue;
           if (!l.present) {
             l.present = true;
             l.beams = static_cast<int>(n);
@@ -346,8 +349,9 @@ class CarmenReader : public LogReader {
             l.max_seen_m = std::max(l.max_seen_m, num(2 + i));
         } else if (id >= kRobotLaser1 && id <= kRaw4 && f.size() >= 10 && !dev_[id].present) {
           const long n = ParseCount(f[8], path, 0, "n");
-          if (f.size() < 10 + static_cast<size_t>(n)) continue;
+          if (n > kMaxCount || f.size() < 10 + static_cast<size_t>(n)) continue;
           const long m = ParseCount(f[9 + n], path, 0, "m");
+          if (m > kMaxCount) continue;
           const bool robot = id <= kRobotLaser2;
           if (f.size() != (robot ? 24 : 13) + static_cast<size_t>(n + m)) continue;
           Device& l = dev_[id];
@@ -366,7 +370,7 @@ class CarmenReader : public LogReader {
         } else if (id == kSonar && f.size() >= 3) {
           Device& d = dev_[kSonar];
           const long n = ParseCount(f[2], path, 0, "n");
-          if (f.size() != 6 + 4 * static_cast<size_t>(n)) continue;
+          if (n > kMaxCount || f.size() != 6 + 4 * static_cast<size_t>(n)) continue;
           if (!d.present) {
             d.cone_rad = num(1);
             for (long i = 0; i < n; ++i)

@@ -212,7 +212,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"rawlaser_remissions", "RAWLASER1 0 -1.5 3 1.5 20 0.01 0 1 1 x\n",
                 ":1: remission count: 'x' is not a whole number"},
         BadCase{"robotlaser2_cut", "ROBOTLASER2 0 -1.5 3 1.5 20 0.01 0 2 1 2 0 0 0 0 0 0 0 0 0 0 0 0 7 h\n",
-                ":1: ROBOTLASER2: expected 26 fields"}),
+                ":1: ROBOTLASER2: expected 26 fields"},
+        // Hostile counts (issue 14): refused before anything is sized by them.
+        BadCase{"flaser_huge", "FLASER 30000000\n", "flaser_huge.clf:1: beam count 30000000 is absurd"},
+        BadCase{"flaser_overflow", "FLASER 9223372036854775807 1 2\n", ":1: beam count 9223372036854775807 is absurd"},
+        BadCase{"remission_huge", "ROBOTLASER1 0 -1.5 3 1.5 20 0.01 0 1 1 9223372036854775807 0 0\n",
+                ":1: remission count 9223372036854775807 is absurd"},
+        BadCase{"sonar_huge", "ODOM 0 0 0 0 0 0 1 h 1\nSONAR 0.5 4611686018427387904 1\n",
+                ":2: sonar count 4611686018427387904 is absurd"}),
     [](const auto& info) { return std::string(info.param.name); });
 
 // CARMEN's message formats (readlog.c): RAWLASERk has no pose and takes the
