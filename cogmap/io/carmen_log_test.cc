@@ -158,7 +158,7 @@ TEST(CarmenLog, TruncatedGzipIsAnErrorNamingTheFile) {
 TEST(CarmenLog, GzipMissingOnlyItsTrailerIsAnError) {
   const std::string gz = GzipBytes(kTiny);
   const std::string path = WriteTemp("trailer.clf.gz", gz.substr(0, gz.size() - 4));
-  EXPECT_THAT(ErrorReading(path, "carmen"), HasSubstr("trailer.clf.gz:10: truncated or corrupt gzip data"));
+  EXPECT_THAT(ErrorReading(path, "carmen"), HasSubstr("trailer.clf.gz:10: truncated or corrupt gzip data (unexpected end of file)"));
 }
 
 struct BadCase {

@@ -249,6 +249,7 @@ LineSource::LineSource(std::unique_ptr<std::istream> in, const std::string& name
 void LineSource::OpenFile(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw InputError(path_, 0, "is a folder, not a log file");
+  open_path_ = path;
   gzFile f = gzopen(path.c_str(), "rb");
   if (!f) throw InputError(path_, 0, std::string("cannot open: ") + std::strerror(errno ? errno : ENOENT));
   gzbuffer(f, 1 << 17);
@@ -318,7 +319,9 @@ bool LineSource::Next(std::string* line) {
   int err = Z_OK;
   const char* msg = gzerror(f, &err);
   if (!complete && err != Z_OK && err != Z_STREAM_END) {
-    const std::string what = err == Z_ERRNO ? std::string(std::strerror(errno)) : std::string(msg ? msg : "");
+    std::string what = err == Z_ERRNO ? std::string(std::strerror(errno)) : std::string(msg ? msg : "");
+    // zlib prefixes the path it opened (a temporary copy of standard input).
+    if (what.rfind(open_path_ + ": ", 0) == 0) what.erase(0, open_path_.size() + 2);
     throw InputError(path_, line_ + 1, "truncated or corrupt gzip data (" + what + ")");
   }
   if (!got) {

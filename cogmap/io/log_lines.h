@@ -47,6 +47,7 @@ class LineSource {
   bool NextFromStream(std::string* line);
 
   std::string path_;
+  std::string open_path_;  // the file opened (path_ names it in messages)
   void* gz_ = nullptr;  // gzFile
   std::unique_ptr<Stream> stream_;
   long line_ = 0;
