@@ -141,6 +141,11 @@ int RunMap(const MapArgs& a) {
     folder->CopyIntoStaging("map.sqlite");
     store = asr::SqliteAsrStore::Open(folder->Staged("map.sqlite"), asr::SqliteAsrStore::OpenMode::kOpenExisting);
   } else {
+    // A new run replaces a cogmap store, never another file (nor a store of a
+    // newer cogmap): checked before mapping, as a store opened in place was.
+    std::error_code ec;
+    if (fs::exists(store_path, ec) && fs::file_size(store_path, ec) > 0)
+      asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kReadOnly);
     store = asr::SqliteAsrStore::Open(folder->Staged("map.sqlite"), asr::SqliteAsrStore::OpenMode::kReplace);
   }
   // report.json carries the same id: a reader can check that they belong together.
@@ -269,8 +274,14 @@ int RunMap(const MapArgs& a) {
     mapper.Finish();
   } catch (...) {
     // Every ASR closed before the bad line is in the staging store (one
-    // transaction each); SetAsideOnFailure keeps it under failed-run-*.
+    // transaction each); SetAsideOnFailure keeps it under failed-run-*. A new
+    // store that holds none is no partial result: no failed-run folder for it.
     bar.Finish();
+    if (!a.resume && closed == 0) {
+      store.reset();
+      std::error_code ec;
+      for (const char* suffix : {"", "-wal", "-shm", "-journal"}) fs::remove(folder->Staged("map.sqlite") + suffix, ec);
+    }
     throw;
   }
   bar.Finish();
