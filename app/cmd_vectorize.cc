@@ -351,7 +351,8 @@ int RunEval(const EvalArgs& a) {
   std::optional<eval::TrajectoryMetrics> trajectory;
   const std::filesystem::path store_path = std::filesystem::is_directory(dir) ? dir / "map.sqlite" : dir.parent_path() / "map.sqlite";
   if (std::filesystem::exists(store_path)) {
-    auto store = asr::SqliteAsrStore::Open(store_path.string(), asr::SqliteAsrStore::OpenMode::kOpenExisting);
+    // Read only: works on a read-only folder or copy, and changes nothing.
+    auto store = asr::SqliteAsrStore::Open(store_path.string(), asr::SqliteAsrStore::OpenMode::kReadOnly);
     std::vector<asr::Asr> asrs;
     for (int id : store->Ids())
       if (auto one = store->Get(id)) asrs.push_back(std::move(*one));
