@@ -9,7 +9,7 @@ import subprocess
 import sys
 import time
 
-from . import cases, machine, plots, report, runner
+from . import cases, issue10, machine, plots, report, runner
 from .tool import Cogmap, finite
 
 SOURCE_DIR = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -39,9 +39,13 @@ def parse_args(argv, smoke_default=False):
     ap.add_argument("--drifts", default=",".join(f"{d:g}" for d in DRIFTS), help="deg per metre")
     ap.add_argument("--seeds", default=",".join(str(s) for s in SEEDS),
                     help="comma list, or a count N for seeds 1..N")
-    ap.add_argument("--skip", default="", help="comma list of: sim, real, thesis, scale, micro, peers")
+    ap.add_argument("--skip", default="",
+                    help="comma list of: sim, real, thesis, scale, micro, peers, issue10 (the pose graph's "
+                         "section), issue10-carmen, issue10-cost (its two big pieces)")
     ap.add_argument("--scale-rooms", type=int, default=100,
                     help="rooms of the generated building of the scale run (0: none)")
+    ap.add_argument("--cost-rooms", type=int, default=issue10.COST_ROOMS,
+                    help="rooms of the generated building of the pose graph's cost run (0: none)")
     ap.add_argument("--step-timeout", type=float, default=600.0, help="seconds per command")
     ap.add_argument("--micro-min-time", type=float, default=0.1,
                     help="--benchmark_min_time of the micro-benchmarks (s)")
@@ -176,9 +180,14 @@ def main(argv=None, smoke_default=False):
                                       variant="fixed4m"))
     if "scale" not in skip and not args.smoke and args.scale_rooms > 0:
         jobs.append(cases.scale_job(ctx, args.scale_rooms))
+    with_issue10 = "issue10" not in skip and "sim" not in skip
+    if with_issue10:
+        # The pose graph's runs at 1 and 2 deg/m that the grid does not make.
+        jobs += issue10.phase1_jobs(ctx, lambda w: world_path(args.shared, w), {j.name for j in jobs}, seeds,
+                                    worlds, args.smoke)
     log(f"phase 1: {len(jobs)} jobs on {args.jobs} workers", args.quiet)
     res1 = runner.run_jobs(jobs, args.jobs, progress)
-    sims, reals = [], []
+    sims, reals, graph10 = [], [], []
     for j in jobs:
         r = res1[j.name]
         r["job"] = j.name
@@ -190,11 +199,25 @@ def main(argv=None, smoke_default=False):
             results["scale"] = r
         elif j.kind == "thesis":
             results.setdefault("thesis", []).append(r)
+        elif j.kind == "issue10_graph":
+            graph10.append(r)
         else:
             reals.append(r)
     results["sim"], results["real"] = sims, reals
     if "real" in skip:
         results["real_skipped"] = True
+
+    # Phase 1b: the pose graph's section (issue 10): the same logs without the
+    # graph and without correction, the CARMEN logs, the cost run.
+    if with_issue10:
+        jobs10 = issue10.phase2_jobs(ctx, lambda w: world_path(args.shared, w), seeds, worlds, args.smoke, skip,
+                                     args.cost_rooms)
+        log(f"phase 1b: {len(jobs10)} pose-graph jobs", args.quiet)
+        res10 = runner.run_jobs(jobs10, args.jobs, progress)
+        results["issue10"] = issue10.collect(sims + graph10, res10, jobs10)
+        for r in graph10:  # results.json keeps only their scalars
+            r.pop("map_report", None)
+            r.pop("eval", None)
 
     # Phase 2: peers, on logs of phase 1.
     peers = {"mrpt": [], "opencv": [], "sources": {}}
@@ -299,6 +322,8 @@ def smoke_check(results):
     keys = cases.EVAL_KEYS + cases.SPEED_KEYS
     if not results["sim"]:
         problems.append("no simulated run")
+    if "issue10" in results:
+        problems += issue10.smoke_problems(results["issue10"])
     for r in results["sim"]:
         for k in keys:
             if not finite(r.get("metrics", {}).get(k)):

@@ -3,6 +3,7 @@ import collections
 import math
 import os
 
+from . import issue10
 from .stats import fmt_bytes, fmt_num, fmt_summary, summary
 from .tool import finite
 
@@ -555,6 +556,7 @@ class Report:
         body += self.thesis_speed()
         body += self.scale()
         body += self.real()
+        body += issue10.section(self)
         body += self.peers()
         body += self.micro()
         body += self.figures()

@@ -162,4 +162,64 @@ std::vector<std::pair<std::string, std::optional<double>>> TrajectoryEvalKeys(co
   return keys;
 }
 
+int PoseCalibration::within() const {
+  return static_cast<int>(std::count_if(items.begin(), items.end(), [](const auto& i) { return i.within(); }));
+}
+int PoseCalibration::position_within() const {
+  return static_cast<int>(std::count_if(items.begin(), items.end(), [](const auto& i) { return i.position_within; }));
+}
+int PoseCalibration::heading_within() const {
+  return static_cast<int>(std::count_if(items.begin(), items.end(), [](const auto& i) { return i.heading_within; }));
+}
+
+PoseCalibration ComputePoseCalibration(const std::vector<asr::Asr>& asrs,
+                                       const std::map<int, Eigen::Matrix3d>& covariances, double k_sigma) {
+  PoseCalibration c;
+  c.k_sigma = k_sigma;
+  // The true frame pose from the first paired path pose (paired from the
+  // ends, as PairAsrTrajectories does).
+  auto true_frame = [](const asr::Asr& a) -> std::optional<Pose2> {
+    const size_t n = a.path.size(), nt = a.true_path.size(), m = std::min(n, nt);
+    if (m == 0) return std::nullopt;
+    return a.true_path[nt - m] * a.path[n - m].inverse() * a.world_from_local_raw;
+  };
+  std::optional<Pose2> truth_to_map;  // maps the truth's world onto the map's
+  for (const auto& a : asrs) {
+    const std::optional<Pose2> t = true_frame(a);
+    if (!t) continue;
+    if (!truth_to_map) {
+      truth_to_map = a.world_from_local_corrected * t->inverse();
+      c.reference_asr = a.id;
+    }
+    const auto cov = covariances.find(a.id);
+    if (cov == covariances.end()) continue;
+    const Eigen::Matrix3d& s = cov->second;
+    const double var_xy = s(0, 0) + s(1, 1), var_theta = s(2, 2);
+    if (!std::isfinite(var_xy) || !std::isfinite(var_theta) || var_xy <= 0.0 || var_theta < 0.0 || s(0, 0) < 0.0 ||
+        s(1, 1) < 0.0)
+      continue;  // not placed (zero), or not a covariance
+    const Pose2 truth = *truth_to_map * *t;
+    PoseCalibrationItem it;
+    it.asr_id = a.id;
+    it.position_error_m = (a.world_from_local_corrected.translation() - truth.translation()).norm();
+    it.heading_error_rad = NormalizeAngle(a.world_from_local_corrected.theta - truth.theta);
+    it.sigma_position_m = std::sqrt(var_xy);
+    it.sigma_heading_rad = std::sqrt(var_theta);
+    it.position_within = it.position_error_m <= k_sigma * it.sigma_position_m;
+    it.heading_within = std::abs(it.heading_error_rad) <= k_sigma * it.sigma_heading_rad;
+    c.items.push_back(it);
+  }
+  return c;
+}
+
+std::vector<std::pair<std::string, std::optional<double>>> PoseCalibrationEvalKeys(const PoseCalibration& c) {
+  const std::string k = DistanceName(c.k_sigma) + "sigma";
+  const int n = c.checked();
+  auto share = [n](int count) { return n > 0 ? std::optional(static_cast<double>(count) / n) : std::nullopt; };
+  return {{"pose_calibration_" + k, share(c.within())},
+          {"pose_calibration_position_" + k, share(c.position_within())},
+          {"pose_calibration_heading_" + k, share(c.heading_within())},
+          {"pose_calibration_asrs", static_cast<double>(n)}};
+}
+
 }  // namespace cogmap::eval

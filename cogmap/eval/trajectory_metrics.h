@@ -1,8 +1,11 @@
 #pragma once
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "cogmap/asr/asr.h"
 #include "cogmap/core/pose2.h"
@@ -88,5 +91,51 @@ TrajectoryMetrics ComputeTrajectoryMetrics(const AsrTrajectories& t);
 // trajectory_poses. nullopt (JSON null) where the metric does not exist: no
 // paired poses, or no pair d metres apart.
 std::vector<std::pair<std::string, std::optional<double>>> TrajectoryEvalKeys(const TrajectoryMetrics& m);
+
+// Calibration of the pose graph's uncertainties (issue 10): is each ASR's
+// true pose inside k sigma of where the map placed it?
+//
+// An ASR's true frame pose comes from its first paired path pose k:
+// true_world_from_local = true_path_k * path_k^-1 * world_from_local_raw (the
+// raw frame moved by the odometry's error at k). Both it and
+// world_from_local_corrected are taken relative to the reference ASR, the
+// first of 'asrs' with a paired true pose (the graph's fixed anchor, ASR 0,
+// when it has truth), so that the reference's error is zero: the truth is
+// moved rigidly onto the map's frame by est_ref * true_ref^-1.
+//
+// An ASR is checked when it has a paired true pose and a covariance in
+// 'covariances' (of x, y, theta in the map's world frame; metres and
+// radians) with a positive, finite trace of its position block and a
+// non-negative, finite heading variance; zero covariances mean "not placed"
+// and are skipped. It is within when its position error <= k sqrt(var_x +
+// var_y) and its |heading error| <= k sigma_theta.
+struct PoseCalibrationItem {
+  int asr_id = -1;
+  double position_error_m = 0.0;
+  double heading_error_rad = 0.0;  // corrected - true, in (-pi, pi]
+  double sigma_position_m = 0.0;   // sqrt(var_x + var_y)
+  double sigma_heading_rad = 0.0;
+  bool position_within = false, heading_within = false;
+  bool within() const { return position_within && heading_within; }
+};
+
+struct PoseCalibration {
+  double k_sigma = 3.0;
+  int reference_asr = -1;  // -1: no ASR has a paired true pose
+  std::vector<PoseCalibrationItem> items;  // the checked ASRs, in the order given
+  int checked() const { return static_cast<int>(items.size()); }
+  int within() const;           // both tests
+  int position_within() const;
+  int heading_within() const;
+};
+
+PoseCalibration ComputePoseCalibration(const std::vector<asr::Asr>& asrs,
+                                       const std::map<int, Eigen::Matrix3d>& covariances, double k_sigma = 3.0);
+
+// `cogmap eval` keys: pose_calibration_3sigma (share of checked ASRs within
+// both bounds), pose_calibration_position_3sigma, pose_calibration_heading_3sigma
+// (each bound alone), null when none was checked, and pose_calibration_asrs
+// (how many were checked). "3sigma" follows k_sigma = 3.
+std::vector<std::pair<std::string, std::optional<double>>> PoseCalibrationEvalKeys(const PoseCalibration& c);
 
 }  // namespace cogmap::eval
