@@ -77,7 +77,7 @@ def _eval_metrics(ev):
     return m
 
 
-def _map_and_eval(ctx, log, out, extra, world=None, do_eval=True):
+def _map_and_eval(ctx, log, out, extra, world=None, do_eval=True, timeout_s=None):
     """`cogmap map LOG -o OUT EXTRA...` then `cogmap eval OUT --json` (with the
     world when given). Returns a variant's result dict."""
     c = ctx.cogmap
@@ -90,7 +90,7 @@ def _map_and_eval(ctx, log, out, extra, world=None, do_eval=True):
     argv = [c.binary, "map", log, "-o", out] + list(extra)
     if world and c.has_option("map", "--world"):
         argv += ["--world", world]
-    s = ctx.run(argv)
+    s = (runner.run_command([str(a) for a in argv], timeout_s=timeout_s) if timeout_s else ctx.run(argv))
     res["steps"]["map"] = cases._step_summary(s)
     if not s.ok:
         res["na"]["all"] = s.reason()
@@ -261,7 +261,8 @@ def cost_job(ctx, rooms, seed=1, share=0.1):
         todo.append(("100/nograph", full, VARIANTS["nograph"]))
         for key, log, extra in todo:
             out = os.path.join(base, "map_" + key.replace("/", "_"))
-            res["runs"][key] = _map_and_eval(ctx, log, out, extra, world, do_eval=False)
+            res["runs"][key] = _map_and_eval(ctx, log, out, extra, world, do_eval=False,
+                                             timeout_s=max(ctx.step_timeout_s, 1800.0))
             shutil.rmtree(out, ignore_errors=True)
         for log in logs.values():
             try:
@@ -596,12 +597,13 @@ def _carmen_table(rep, carmen, shortfalls, met):
            f"{TARGET_ATE_KEEP_M} m of the input's.", "",
            "| log | sensor | added °/m | ASRs | rooms | closures | heading median ° odometry / `--no-graph` / "
            "graph | ATE m odometry / `--no-graph` / graph | RPE 5 m, m odometry / `--no-graph` / graph | kept "
-           "`--no-graph` / graph | solution |", "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+           "`--no-graph` / graph | uncertain ASRs / warnings | solution |",
+           "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
     heading_ok = heading_n = kept_ok = kept_n = 0
     bad_heading = []
     for log, sensor, d, v in _carmen_runs(carmen):
         if d is None:
-            out.append(f"| {log} | {sensor} | | " + " | ".join([rep.na(v["na"])] * 8) + " |")
+            out.append(f"| {log} | {sensor} | | " + " | ".join([rep.na(v["na"])] * 9) + " |")
             continue
         g, ng = v.get("graph") or {"na": {"all": "not run"}}, v.get("nograph") or {"na": {"all": "not run"}}
 
@@ -612,7 +614,7 @@ def _carmen_table(rep, carmen, shortfalls, met):
         def f3(r, k, digits=3):
             x = val(r, k)
             if x is not None:
-                return fmt_num(x, digits)
+                return f"{x:.{digits}f}" if abs(x) < 10 else fmt_num(x, digits)
             return rep.na(next(iter(r.get("na", {}).values()), f"no `{k}`"))
 
         gr = g.get("graph") or {}
@@ -643,7 +645,8 @@ def _carmen_table(rep, carmen, shortfalls, met):
             f"{f3(g, 'heading_error_deg_median', 2)}",
             f"{f3(g, 'ate_rmse_m_raw')} / {f3(ng, 'ate_rmse_m')} / {f3(g, 'ate_rmse_m')}",
             f"{f3(g, 'rpe_5m_trans_m_raw')} / {f3(ng, 'rpe_5m_trans_m')} / {f3(g, 'rpe_5m_trans_m')}",
-            kept, gr.get("solution", "n/a")]) + " |")
+            kept, f"{gr.get('uncertain_asrs', 'n/a')} / {gr.get('warnings', 'n/a')}",
+            gr.get("solution", "n/a")]) + " |")
     out.append("")
     if heading_n:
         text = (f"CARMEN heading median <= {TARGET_HEADING_DEG}° with the pose graph in {heading_ok} of "
@@ -708,7 +711,7 @@ def _cost(rep, cost, carmen, shortfalls, met):
                                ("100/graph", "100 %, pose graph"), ("100/nograph", "100 %, `--no-graph`")):
                 r = cost["runs"].get(key)
                 if not r:
-                    out.append(f"| {label} | " + " | ".join([rep.na(cost.get('na', {}).get('part', 'not run'))] * 10)
+                    out.append(f"| {label} | " + " | ".join([rep.na(cost.get("na", {}).get("part", "not run"))] * 10)
                                + " |")
                     continue
                 if r.get("na", {}).get("all"):

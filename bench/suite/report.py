@@ -27,7 +27,10 @@ It writes this page, `docs/benchmarks/results.json` (every raw number, including
 each command's wall time and peak memory) and the figures `docs/bench_*.png`,
 `docs/peer_mrpt_*.png`. Intermediate logs and maps go to `build/bench-work/`.
 Smaller runs: `--seeds 1`, `--worlds nine_rooms`, `--robots pioneer16`,
-`--drifts 0,1`, `--skip real,micro,peers`; `bench/run_all --smoke` (also
+`--drifts 0,1`, `--skip real,micro,peers`; the pose graph's section (issue 10)
+adds about 120 map runs: `--skip issue10` leaves it out, `--skip issue10-carmen` or
+`issue10-cost` its two biggest pieces (`--cost-rooms N` sizes the generated
+building of the cost run, 1000 rooms by default); `bench/run_all --smoke` (also
 `bench/smoke`, and the ctest `bench_smoke`, label `slow`) runs one world, one
 robot, one seed and one drift into a scratch folder and fails unless every metric
 is present and finite.
