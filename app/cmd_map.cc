@@ -12,6 +12,7 @@
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -22,6 +23,7 @@
 #include "cogmap/asr/room_metrics.h"
 #include "cogmap/asr/store.h"
 #include "cogmap/core/error.h"
+#include "cogmap/graph/map_optimizer.h"
 #include "cogmap/io/atomic_file.h"
 #include "cogmap/io/log_reader.h"
 #include "cogmap/io/map_files.h"
@@ -49,6 +51,7 @@ struct MapArgs {
   double max_asr_m = 15.0;
   bool no_correct = false;
   bool no_drift_filter = false;
+  bool no_graph = false;
   bool no_smooth = false;
   double add_drift_deg_per_m = 0.0;
   bool resume = false;
@@ -255,6 +258,19 @@ int RunMap(const MapArgs& a) {
     });
   }
 
+  // Default mode: the pose graph over ASRs (docs/pose-graph.md) places every
+  // ASR; the drift filter above still pre-corrects the odometry each room's
+  // grid is built from.
+  const bool use_graph = !a.no_correct && !a.no_graph && a.mode == "default";
+  graph::MapOptimizerOptions graph_options;
+  graph_options.heading = hc_options;
+  graph::MapOptimizer optimizer(graph_options);
+  if (use_graph) {
+    if (a.resume)
+      for (int id : store->Ids()) optimizer.AddStored(*store->Get(id), store->RoomOf(id));
+    mapper.SetPlacer([&optimizer](asr::Asr x) { return optimizer.Place(std::move(x)); });
+  }
+
   ProgressBar bar("map");
   sensors::LogRecord rec;
   double t_first = 0.0, t_last = 0.0;
@@ -288,7 +304,38 @@ int RunMap(const MapArgs& a) {
   // Default mode: the drift rate learnt along the run revises the corrections
   // of this run's ASRs (RTS smoothing), the first ones above all.
   int smoothed = 0;
-  if (drift_filter && !a.no_smooth) {
+  graph::OptimizerResult graph_result;
+  if (use_graph) {
+    graph_result = optimizer.Finish();
+    std::map<int, double> revised_deg;
+    std::vector<asr::Asr> updated;
+    std::vector<asr::Placement> placements;
+    std::vector<asr::ClosureRecord> closure_records;
+    for (const auto& e : graph_result.asrs) {
+      asr::Placement p;
+      p.asr_id = e.asr_id;
+      p.room_id = e.room_id;
+      p.covariance = e.covariance;
+      p.uncertain = e.uncertain;
+      for (const auto& w : e.why) p.why += (p.why.empty() ? "" : "; ") + w;
+      placements.push_back(p);
+      auto x = store->Get(e.asr_id);
+      if (!x) continue;
+      x->world_from_local_corrected = e.pose;
+      x->heading_correction_rad = localize::CorrectionOf(*x).theta;
+      if (e.has_covariance)
+        x->heading_uncertainty_rad = std::sqrt(std::max(0.0, e.covariance(2, 2)));
+      updated.push_back(*x);
+      revised_deg[e.asr_id] = RadToDeg(x->heading_correction_rad);
+    }
+    for (const auto& c : graph_result.closures)
+      closure_records.push_back({c.from_asr, c.to_asr, c.relative, c.agreement, c.rmse_m, c.mahalanobis2, c.accepted,
+                                 c.same_room, c.reason});
+    store->PutPlacements(updated, placements, closure_records);
+    for (auto& j : per_asr)
+      if (auto it = revised_deg.find(j["id"].get<int>()); it != revised_deg.end())
+        j["heading_correction_deg"] = it->second;
+  } else if (drift_filter && !a.no_smooth) {
     std::map<int, double> revised_deg;
     for (const auto& r : drift_corrector.Smooth()) {
       auto x = store->Get(r.asr_id);
@@ -426,6 +473,50 @@ int RunMap(const MapArgs& a) {
     report["drift_filter_walk_deg_per_sqrt_m"] = RadToDeg(drift_corrector.odometry().heading_walk_rad_per_sqrt_m());
     report["drift_filter_sigma_scale"] = drift_corrector.odometry().sigma_scale();
   }
+  if (use_graph) {
+    nlohmann::json closures = nlohmann::json::array(), uncertain = nlohmann::json::array(),
+                   placements = nlohmann::json::array();
+    int accepted = 0, same_room = 0;
+    for (const auto& c : graph_result.closures) {
+      accepted += c.accepted ? 1 : 0;
+      same_room += c.accepted && c.same_room ? 1 : 0;
+      closures.push_back({{"from_asr", c.from_asr}, {"to_asr", c.to_asr}, {"accepted", c.accepted},
+                          {"same_room", c.same_room}, {"agreement", c.agreement}, {"rmse_m", c.rmse_m},
+                          {"mahalanobis2", c.mahalanobis2}, {"reason", c.reason},
+                          {"relative", {c.relative.x, c.relative.y, RadToDeg(c.relative.theta)}}});
+    }
+    std::set<int> rooms;
+    for (int id : store->Ids()) rooms.insert(store->RoomOf(id));
+    for (const auto& e : graph_result.asrs) {
+      nlohmann::json j = {{"id", e.asr_id}, {"room", e.room_id}, {"uncertain", e.uncertain}};
+      if (e.has_covariance) {
+        j["sigma_x_m"] = std::sqrt(std::max(0.0, e.covariance(0, 0)));
+        j["sigma_y_m"] = std::sqrt(std::max(0.0, e.covariance(1, 1)));
+        j["sigma_theta_deg"] = RadToDeg(std::sqrt(std::max(0.0, e.covariance(2, 2))));
+      }
+      placements.push_back(j);
+      if (e.uncertain) uncertain.push_back({{"id", e.asr_id}, {"why", e.why}});
+    }
+    report["pose_graph"] = {{"solution", graph_result.solution},
+                            {"closures_accepted", accepted},
+                            {"revisits", same_room},
+                            {"closure_candidates", closures},
+                            {"rooms", static_cast<int>(rooms.size())},
+                            {"registrations", graph_result.registrations},
+                            {"direction_factors", graph_result.direction_factors},
+                            {"drift_rate_deg_per_m", RadToDeg(graph_result.drift_rate_rad_per_m)},
+                            {"chi2", graph_result.chi2},
+                            {"chi2_dof", graph_result.chi2_dof},
+                            {"chi2_p999", graph_result.chi2_p999},
+                            {"path_wall_crossings_odometry", graph_result.crossings_odometry},
+                            {"path_wall_crossings_graph", graph_result.crossings_graph},
+                            {"path_wall_crossings_chosen", graph_result.crossings_chosen},
+                            {"solve_seconds", graph_result.solve_seconds},
+                            {"covariance_seconds", graph_result.covariance_seconds},
+                            {"uncertain_asrs", uncertain},
+                            {"placements", placements},
+                            {"warnings", graph_result.warnings}};
+  }
   for (const auto& [k, v] : localize::HeadingErrorEvalKeys(heading)) report[k] = v;
   if (truth_plan) {
     const asr::RoomMetrics m = asr::EvaluateRooms(all, truth_plan->rooms);
@@ -452,7 +543,14 @@ int RunMap(const MapArgs& a) {
   if (heading.asrs > 0)
     std::printf("heading error per ASR (deg): corrected median %.2f max %.2f, odometry median %.2f max %.2f\n",
                 heading.median_deg, heading.max_deg, heading.median_raw_deg, heading.max_raw_deg);
-  if (drift_filter)
+  if (use_graph) {
+    int accepted = 0;
+    for (const auto& c : graph_result.closures) accepted += c.accepted ? 1 : 0;
+    std::printf("pose graph: %s, %d loop closures (%zu candidates), %d rooms, drift %.3f deg/m\n",
+                graph_result.solution.c_str(), accepted, graph_result.closures.size(),
+                report["pose_graph"]["rooms"].get<int>(), RadToDeg(graph_result.drift_rate_rad_per_m));
+    for (const auto& w : graph_result.warnings) std::fprintf(stderr, "cogmap: warning: %s\n", w.c_str());
+  } else if (drift_filter)
     std::printf("estimated heading drift: %.3f +- %.3f deg/m\n", RadToDeg(drift_corrector.odometry().rate_rad_per_m()),
                 RadToDeg(drift_corrector.odometry().rate_sigma_rad_per_m()));
   std::printf("outputs in %s: map.sqlite map.svg map.png map.pgm map.yaml map.geojson map.map map_compare.svg "
@@ -486,6 +584,9 @@ std::function<int()> SetupMap(CLI::App& sub) {
   sub.add_flag("--no-correct", a->no_correct, "Skip the heading correction (ASRs placed by odometry)");
   sub.add_flag("--no-smooth", a->no_smooth,
                "Default mode: keep the corrections as computed while mapping (no revision at the end of the run)");
+  sub.add_flag("--no-graph", a->no_graph,
+               "Default mode without the pose graph (docs/pose-graph.md): the drift filter's heading "
+               "correction and smoothing only, as before issue 10");
   sub.add_flag("--no-drift-filter", a->no_drift_filter,
                "Default mode without the drift-rate filter: one EM rotation per ASR, odometry used as it comes");
   sub.add_option("--add-drift-deg-per-m", a->add_drift_deg_per_m,

@@ -153,6 +153,7 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
     out.path = std::move(c.raw_path);
     out.heading_correction_rad = (out.world_from_local_corrected * out.world_from_local_raw.inverse()).theta;
   }
+  if (placer_) out = placer_(std::move(out));
   current_.reset();
   if (store_) {
     store_->Put(out, {{kMetaLastRawPose, PoseText(last_raw_pose_)},

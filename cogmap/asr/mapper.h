@@ -85,6 +85,10 @@ class CognitiveMapper {
   // corrected - raw. Before the first Push.
   using OdometryFilter = std::function<Pose2(const Pose2& raw_odom, double time_s)>;
   void SetOdometryFilter(OdometryFilter filter) { odometry_filter_ = std::move(filter); }
+  // Placement of a closed ASR after its raw fields are in the raw odometry
+  // frame and before it is stored (graph::MapOptimizer::Place, default mode):
+  // sets world_from_local_corrected. Runs after the corrector.
+  void SetPlacer(Corrector placer) { placer_ = std::move(placer); }
   // Before the first Push.
   void Resume(const MapperResume& resume);
 
@@ -122,6 +126,7 @@ class CognitiveMapper {
   AsrStore* store_;
   Callback on_close_;
   Corrector corrector_;
+  Corrector placer_;
   OdometryFilter odometry_filter_;
   BoundaryDetector detector_;
   std::unique_ptr<Current> current_;

@@ -165,6 +165,24 @@ std::vector<int> MemoryAsrStore::Neighbours(int id) const {
   return {out.begin(), out.end()};
 }
 
+void MemoryAsrStore::PutPlacements(const std::vector<Asr>& asrs, const std::vector<Placement>& placements,
+                                   const std::vector<ClosureRecord>& closures) {
+  for (const Asr& a : asrs) asrs_[a.id] = a;
+  for (const Placement& p : placements) placements_[p.asr_id] = p;
+  closures_.insert(closures_.end(), closures.begin(), closures.end());
+}
+
+int MemoryAsrStore::RoomOf(int id) const {
+  auto it = placements_.find(id);
+  return it == placements_.end() || it->second.room_id < 0 ? id : it->second.room_id;
+}
+
+std::optional<Placement> MemoryAsrStore::GetPlacement(int id) const {
+  auto it = placements_.find(id);
+  if (it == placements_.end()) return std::nullopt;
+  return it->second;
+}
+
 std::optional<std::string> MemoryAsrStore::GetMeta(const std::string& key) const {
   const auto it = meta_.find(key);
   if (it == meta_.end()) return std::nullopt;
@@ -230,6 +248,22 @@ CREATE TABLE IF NOT EXISTS edge(
   center_x REAL NOT NULL, center_y REAL NOT NULL, width_m REAL NOT NULL,
   PRIMARY KEY(from_asr, to_asr));
 CREATE INDEX IF NOT EXISTS edge_to ON edge(to_asr);
+)sql";
+
+// Schema version 2 (issue 10): the pose graph's placement of each ASR (its
+// physical room, pose covariance, whether it is uncertain and why) and every
+// loop-closure candidate with its verdict. A version-1 store is migrated by
+// creating these tables (its ASRs keep room_id = their own id).
+const char* kSchemaV2 = R"sql(
+CREATE TABLE IF NOT EXISTS placement(
+  asr_id INTEGER PRIMARY KEY, room_id INTEGER NOT NULL,
+  cov BLOB NOT NULL, uncertain INTEGER NOT NULL, why TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS closure(
+  from_asr INTEGER NOT NULL, to_asr INTEGER NOT NULL,
+  rel_x REAL NOT NULL, rel_y REAL NOT NULL, rel_theta REAL NOT NULL,
+  agreement REAL NOT NULL, rmse_m REAL NOT NULL, mahalanobis2 REAL NOT NULL,
+  accepted INTEGER NOT NULL, same_room INTEGER NOT NULL, reason TEXT NOT NULL,
+  PRIMARY KEY(from_asr, to_asr));
 )sql";
 
 bool HasSqliteHeader(const std::string& path, bool* empty) {
@@ -305,17 +339,23 @@ std::string SchemaOf(sqlite3* db, bool* readable) {
   return out;
 }
 
-// The tables this version creates.
+// The tables a store of 'version' has (1 or kStoreSchemaVersion).
+std::string SchemaOfVersion(int version) {
+  sqlite3* db = nullptr;
+  sqlite3_open(":memory:", &db);
+  sqlite3_exec(db, kSchema, nullptr, nullptr, nullptr);
+  if (version >= 2) sqlite3_exec(db, kSchemaV2, nullptr, nullptr, nullptr);
+  bool readable = true;
+  std::string s = SchemaOf(db, &readable);
+  sqlite3_close(db);
+  return s;
+}
 const std::string& ExpectedSchema() {
-  static const std::string schema = [] {
-    sqlite3* db = nullptr;
-    sqlite3_open(":memory:", &db);
-    sqlite3_exec(db, kSchema, nullptr, nullptr, nullptr);
-    bool readable = true;
-    std::string s = SchemaOf(db, &readable);
-    sqlite3_close(db);
-    return s;
-  }();
+  static const std::string schema = SchemaOfVersion(kStoreSchemaVersion);
+  return schema;
+}
+const std::string& ExpectedSchemaV1() {
+  static const std::string schema = SchemaOfVersion(1);
   return schema;
 }
 
@@ -378,10 +418,13 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     if (version > kStoreSchemaVersion)
       throw InputError(path, 0, "schema version " + std::to_string(version) +
                                     " is newer than this cogmap (" + std::to_string(kStoreSchemaVersion) + ")");
-    if (tables > 0 && version < kStoreSchemaVersion)
+    // Version 1 is migrated (read-only: read as it is, without placements).
+    const bool v1 = tables > 0 && version == 1 && schema == ExpectedSchemaV1();
+    if (tables > 0 && version < kStoreSchemaVersion && !v1)
       throw InputError(path, 0, "schema version " + std::to_string(version) +
-                                    " is older than this cogmap (" + std::to_string(kStoreSchemaVersion) + ")");
-    if (tables > 0 && schema != ExpectedSchema())
+                                    " is older than this cogmap (" + std::to_string(kStoreSchemaVersion) +
+                                    ") and cannot be migrated");
+    if (tables > 0 && !v1 && schema != ExpectedSchema())
       throw InputError(path, 0, "not a cogmap store of schema version " + std::to_string(kStoreSchemaVersion) +
                                     " (its tables differ)");
     if (read_only && tables == 0) throw InputError(path, 0, "not a cogmap store (an empty SQLite database)");
@@ -413,6 +456,7 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
   store->Exec("BEGIN IMMEDIATE");
   try {
     store->Exec(kSchema);
+    store->Exec(kSchemaV2);
     store->Exec("PRAGMA application_id=" + std::to_string(kStoreApplicationId));
     store->Exec("PRAGMA user_version=" + std::to_string(kStoreSchemaVersion));
     store->Exec("INSERT OR IGNORE INTO meta(key, value) VALUES('application', 'cogmap')");
@@ -441,10 +485,10 @@ SqliteAsrStore::~SqliteAsrStore() {
 
 void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string>& meta) {
   sqlite3* db = Db(db_);
-  Exec("BEGIN IMMEDIATE");
+  if (!in_batch_) Exec("BEGIN IMMEDIATE");
   auto fail = [&](const std::string& what) {
     const std::string msg = what + ": " + sqlite3_errmsg(db);
-    sqlite3_exec(db, "ROLLBACK", nullptr, nullptr, nullptr);
+    if (!in_batch_) sqlite3_exec(db, "ROLLBACK", nullptr, nullptr, nullptr);
     Fail("cannot store ASR " + std::to_string(asr.id) + " (" + msg + ")");
   };
   {
@@ -496,7 +540,7 @@ void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string
     s.BindText(2, v);
     if (s.Step() != SQLITE_DONE) fail("insert meta");
   }
-  if (sqlite3_exec(db, "COMMIT", nullptr, nullptr, nullptr) != SQLITE_OK) fail("commit");
+  if (!in_batch_ && sqlite3_exec(db, "COMMIT", nullptr, nullptr, nullptr) != SQLITE_OK) fail("commit");
 }
 
 std::optional<Asr> SqliteAsrStore::Get(int id) const {
@@ -648,6 +692,107 @@ void AsrGraph::SetCurrent(int id) {
 void AsrGraph::Invalidate(int id) {
   cache_.erase(id);
   lru_.remove(id);
+}
+
+}  // namespace cogmap::asr
+
+namespace cogmap::asr {
+
+namespace {
+bool HasTable(sqlite3* db, const char* name) {
+  Stmt s(db, "SELECT count(*) FROM sqlite_master WHERE type='table' AND name=?");
+  sqlite3_bind_text(s.get(), 1, name, -1, SQLITE_TRANSIENT);
+  return s.ok() && s.Step() == SQLITE_ROW && s.Int(0) > 0;
+}
+}  // namespace
+
+void SqliteAsrStore::PutPlacements(const std::vector<Asr>& asrs, const std::vector<Placement>& placements,
+                                   const std::vector<ClosureRecord>& closures) {
+  // One transaction for everything (one sync at the end of a run).
+  Exec("BEGIN IMMEDIATE");
+  in_batch_ = true;
+  try {
+    for (const Asr& a : asrs) Put(a);
+    sqlite3* db = Db(db_);
+    for (const Placement& p : placements) {
+      Stmt s(db, "INSERT OR REPLACE INTO placement VALUES(?,?,?,?,?)");
+      sqlite3_bind_int(s.get(), 1, p.asr_id);
+      sqlite3_bind_int(s.get(), 2, p.room_id);
+      double c[9];
+      for (int k = 0; k < 9; ++k) c[k] = p.covariance(k / 3, k % 3);
+      sqlite3_bind_blob(s.get(), 3, c, sizeof c, SQLITE_TRANSIENT);
+      sqlite3_bind_int(s.get(), 4, p.uncertain ? 1 : 0);
+      sqlite3_bind_text(s.get(), 5, p.why.c_str(), -1, SQLITE_TRANSIENT);
+      if (s.Step() != SQLITE_DONE) Fail("write placement");
+    }
+    for (const ClosureRecord& c : closures) {
+      Stmt s(db, "INSERT OR REPLACE INTO closure VALUES(?,?,?,?,?,?,?,?,?,?,?)");
+      sqlite3_bind_int(s.get(), 1, c.from_asr);
+      sqlite3_bind_int(s.get(), 2, c.to_asr);
+      sqlite3_bind_double(s.get(), 3, c.relative.x);
+      sqlite3_bind_double(s.get(), 4, c.relative.y);
+      sqlite3_bind_double(s.get(), 5, c.relative.theta);
+      sqlite3_bind_double(s.get(), 6, c.agreement);
+      sqlite3_bind_double(s.get(), 7, c.rmse_m);
+      sqlite3_bind_double(s.get(), 8, c.mahalanobis2);
+      sqlite3_bind_int(s.get(), 9, c.accepted ? 1 : 0);
+      sqlite3_bind_int(s.get(), 10, c.same_room ? 1 : 0);
+      sqlite3_bind_text(s.get(), 11, c.reason.c_str(), -1, SQLITE_TRANSIENT);
+      if (s.Step() != SQLITE_DONE) Fail("write closure");
+    }
+    in_batch_ = false;
+    Exec("COMMIT");
+  } catch (...) {
+    in_batch_ = false;
+    sqlite3_exec(Db(db_), "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
+std::optional<Placement> SqliteAsrStore::GetPlacement(int id) const {
+  sqlite3* db = Db(db_);
+  if (!HasTable(db, "placement")) return std::nullopt;  // a version-1 store read as it is
+  Stmt s(db, "SELECT room_id, cov, uncertain, why FROM placement WHERE asr_id=?");
+  sqlite3_bind_int(s.get(), 1, id);
+  if (!s.ok() || s.Step() != SQLITE_ROW) return std::nullopt;
+  Placement p;
+  p.asr_id = id;
+  p.room_id = static_cast<int>(s.Int(0));
+  const void* blob = sqlite3_column_blob(s.get(), 1);
+  if (blob && sqlite3_column_bytes(s.get(), 1) == 9 * static_cast<int>(sizeof(double))) {
+    double c[9];
+    std::memcpy(c, blob, sizeof c);
+    for (int k = 0; k < 9; ++k) p.covariance(k / 3, k % 3) = c[k];
+  }
+  p.uncertain = s.Int(2) != 0;
+  p.why = s.Text(3);
+  return p;
+}
+
+int SqliteAsrStore::RoomOf(int id) const {
+  const auto p = GetPlacement(id);
+  return p && p->room_id >= 0 ? p->room_id : id;
+}
+
+std::vector<ClosureRecord> SqliteAsrStore::Closures() const {
+  std::vector<ClosureRecord> out;
+  sqlite3* db = Db(db_);
+  if (!HasTable(db, "closure")) return out;
+  Stmt s(db, "SELECT * FROM closure ORDER BY to_asr, from_asr");
+  while (s.ok() && s.Step() == SQLITE_ROW) {
+    ClosureRecord c;
+    c.from_asr = static_cast<int>(s.Int(0));
+    c.to_asr = static_cast<int>(s.Int(1));
+    c.relative = Pose2{s.Double(2), s.Double(3), s.Double(4)};
+    c.agreement = s.Double(5);
+    c.rmse_m = s.Double(6);
+    c.mahalanobis2 = s.Double(7);
+    c.accepted = s.Int(8) != 0;
+    c.same_room = s.Int(9) != 0;
+    c.reason = s.Text(10);
+    out.push_back(c);
+  }
+  return out;
 }
 
 }  // namespace cogmap::asr

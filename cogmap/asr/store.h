@@ -13,6 +13,24 @@
 
 namespace cogmap::asr {
 
+// Where the pose graph placed an ASR (schema version 2; graph::MapOptimizer).
+struct Placement {
+  int asr_id = -1;
+  int room_id = -1;  // the physical room: the id of the ASR of its first visit
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // of (x, y, theta); zero: unknown
+  bool uncertain = false;
+  std::string why;  // reasons it is uncertain, "; "-separated
+};
+
+// A loop-closure candidate and its verdict.
+struct ClosureRecord {
+  int from_asr = -1, to_asr = -1;
+  Pose2 relative;  // to_asr's pose in from_asr's frame (registration)
+  double agreement = 0.0, rmse_m = 0.0, mahalanobis2 = 0.0;
+  bool accepted = false, same_room = false;
+  std::string reason;
+};
+
 // Where finished ASRs live (SPEC 4, §2.4.1: only the current ASR and its
 // neighbours need to be in memory). Two implementations: SQLite on disk (the
 // default, map.sqlite) and memory (tests, short runs). Every Put is atomic: it
@@ -33,6 +51,14 @@ class AsrStore {
   virtual std::vector<int> Neighbours(int id) const = 0;
   virtual std::optional<std::string> GetMeta(const std::string& key) const = 0;
   virtual void SetMeta(const std::string& key, const std::string& value) = 0;
+  // Rewrites the given ASRs (their optimised poses), their placements and the
+  // run's closure candidates, in one transaction.
+  virtual void PutPlacements(const std::vector<Asr>& asrs, const std::vector<Placement>& placements,
+                             const std::vector<ClosureRecord>& closures) = 0;
+  // The physical room of an ASR (its own id when never placed).
+  virtual int RoomOf(int id) const = 0;
+  virtual std::optional<Placement> GetPlacement(int id) const = 0;
+  virtual std::vector<ClosureRecord> Closures() const = 0;
 };
 
 // A graph edge: an exit joining two stored ASRs.
@@ -53,11 +79,18 @@ class MemoryAsrStore : public AsrStore {
   std::vector<int> Neighbours(int id) const override;
   std::optional<std::string> GetMeta(const std::string& key) const override;
   void SetMeta(const std::string& key, const std::string& value) override { meta_[key] = value; }
+  void PutPlacements(const std::vector<Asr>& asrs, const std::vector<Placement>& placements,
+                     const std::vector<ClosureRecord>& closures) override;
+  int RoomOf(int id) const override;
+  std::optional<Placement> GetPlacement(int id) const override;
+  std::vector<ClosureRecord> Closures() const override { return closures_; }
 
  private:
   std::map<int, Asr> asrs_;
   std::set<std::pair<int, int>> edges_;
   std::map<std::string, std::string> meta_;
+  std::map<int, Placement> placements_;
+  std::vector<ClosureRecord> closures_;
 };
 
 
@@ -67,7 +100,7 @@ class MemoryAsrStore : public AsrStore {
 // transaction per Put; closing a writable store checkpoints it and leaves WAL
 // (journal_mode=DELETE), so that the file alone is the store (read-only media,
 // copies). See docs/store.md.
-constexpr int kStoreSchemaVersion = 1;
+constexpr int kStoreSchemaVersion = 2;
 constexpr int32_t kStoreApplicationId = 0x636f676d;  // "cogm"
 
 class SqliteAsrStore : public AsrStore {
@@ -99,6 +132,11 @@ class SqliteAsrStore : public AsrStore {
   std::vector<int> Neighbours(int id) const override;
   std::optional<std::string> GetMeta(const std::string& key) const override;
   void SetMeta(const std::string& key, const std::string& value) override;
+  void PutPlacements(const std::vector<Asr>& asrs, const std::vector<Placement>& placements,
+                     const std::vector<ClosureRecord>& closures) override;
+  int RoomOf(int id) const override;
+  std::optional<Placement> GetPlacement(int id) const override;
+  std::vector<ClosureRecord> Closures() const override;
 
   std::vector<Edge> Edges() const;
   // "ok" when PRAGMA integrity_check passes, else its first message.
@@ -117,6 +155,7 @@ class SqliteAsrStore : public AsrStore {
   std::string path_;
   void* db_ = nullptr;  // sqlite3*
   bool read_only_ = false;
+  bool in_batch_ = false;  // inside PutPlacements' transaction
 };
 
 // Binary encodings of the ASR's variable parts (little-endian, versioned by

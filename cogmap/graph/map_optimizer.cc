@@ -1,0 +1,488 @@
+#include "cogmap/graph/map_optimizer.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+namespace cogmap::graph {
+namespace {
+
+double Seconds(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::vector<FacedPoint> TransformPoints(const Pose2& T, const std::vector<FacedPoint>& pts) {
+  std::vector<FacedPoint> out;
+  out.reserve(pts.size());
+  const double c = std::cos(T.theta), s = std::sin(T.theta);
+  for (const auto& p : pts) out.push_back({T * p.p, Vec2(c * p.normal.x() - s * p.normal.y(),
+                                                         s * p.normal.x() + c * p.normal.y())});
+  return out;
+}
+
+std::vector<FacedSegment> TransformFaces(const Pose2& T, const std::vector<FacedSegment>& faces) {
+  std::vector<FacedSegment> out;
+  out.reserve(faces.size());
+  const double c = std::cos(T.theta), s = std::sin(T.theta);
+  for (const auto& f : faces)
+    out.push_back({T * f.a, T * f.b, Vec2(c * f.normal.x() - s * f.normal.y(), s * f.normal.x() + c * f.normal.y())});
+  return out;
+}
+
+std::vector<Vec2> TransformPath(const Pose2& T, const std::vector<Vec2>& path) {
+  std::vector<Vec2> out;
+  out.reserve(path.size());
+  for (const auto& p : path) out.push_back(T * p);
+  return out;
+}
+
+// Residual of 'b' against 'a' as a 3-vector (translation in a's frame, angle).
+Eigen::Vector3d Difference(const Pose2& a, const Pose2& b) {
+  const Pose2 d = a.inverse() * b;
+  return {d.x, d.y, NormalizeAngle(d.theta)};
+}
+
+}  // namespace
+
+MapOptimizer::MapOptimizer(const MapOptimizerOptions& options)
+    : options_(options), estimator_(options.heading) {}
+
+MapOptimizer::Node MapOptimizer::MakeNode(const asr::Asr& a) const {
+  Node n;
+  n.asr_id = a.id;
+  n.raw = a.world_from_local_raw;
+  const Pose2 local_from_world = a.world_from_local_raw.inverse();
+  Vec2 last(1e18, 1e18);
+  for (const Pose2& p : a.path) {
+    const Vec2 q = local_from_world * p.translation();
+    if ((q - last).norm() >= 0.2 || n.path_local.empty()) {
+      n.path_local.push_back(q);
+      last = q;
+    }
+  }
+  if (!a.path.empty() && n.path_local.back() != local_from_world * a.path.back().translation())
+    n.path_local.push_back(local_from_world * a.path.back().translation());
+  n.path_raw = a.path;
+  n.faces = FaceWalls(a.walls_local, n.path_local);
+  n.samples = SampleFaces(n.faces, options_.registration.sample_step_m);
+  // Centre and radius of everything the ASR holds (walls and path).
+  Vec2 lo(1e18, 1e18), hi(-1e18, -1e18);
+  auto grow = [&](const Vec2& p) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  };
+  for (const auto& f : n.faces) {
+    grow(f.a);
+    grow(f.b);
+  }
+  for (const auto& p : n.path_local) grow(p);
+  if (lo.x() > hi.x()) lo = hi = Vec2(0, 0);
+  n.centre_local = 0.5 * (lo + hi);
+  n.radius_m = 0.5 * (hi - lo).norm();
+  return n;
+}
+
+void MapOptimizer::AddStored(const asr::Asr& stored, int room_id) {
+  Node n = MakeNode(stored);
+  n.stored = true;
+  n.room_id = room_id >= 0 ? room_id : stored.id;
+  graph_.AddNode(stored.world_from_local_corrected, /*fixed=*/true);
+  node_of_asr_[stored.id] = static_cast<int>(nodes_.size());
+  nodes_.push_back(std::move(n));
+}
+
+asr::Asr MapOptimizer::Place(asr::Asr a) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Node node = MakeNode(a);
+  node.room_id = a.id;
+  const int idx = static_cast<int>(nodes_.size());
+  // Wall direction (raw world frame) -> local frame.
+  const localize::DirectionEstimate est = estimator_.Estimate(a);
+  if (est.accepted && std::isfinite(est.uncertainty_rad)) {
+    node.direction = true;
+    node.direction_local = est.direction_rad - a.world_from_local_raw.theta;
+    node.direction_sigma =
+        std::max(options_.direction_sigma_floor_rad, options_.direction_sigma_scale * est.uncertainty_rad);
+  }
+  if (idx == 0) {
+    graph_.AddNode(a.world_from_local_raw, /*fixed=*/true);
+  } else {
+    const Node& prev = nodes_[idx - 1];
+    // Odometry from the previous ASR's origin to this one's, through its path.
+    const Pose2 prev_from_world = prev.raw.inverse();
+    std::vector<Pose2> path;
+    path.reserve(prev.path_raw.size() + 1);
+    for (const Pose2& p : prev.path_raw) path.push_back(prev_from_world * p);
+    path.push_back(prev_from_world * a.world_from_local_raw);
+    const OdometryMeasurement m = MeasureOdometry(path, options_.odometry);
+    // Prediction with the previous node's drift rate.
+    const double r = graph_.rate(idx - 1);
+    Vec2 t(0, 0);
+    for (const auto& st : m.steps) t += RotateAbout(Vec2(st.x(), st.y()), Vec2(0, 0), -r * st.z());
+    const Pose2 predicted = graph_.pose(idx - 1) * Pose2{t.x(), t.y(), m.delta.theta - r * m.distance_m};
+    graph_.AddNode(predicted);
+    graph_.AddOdometry(idx - 1, idx, m, options_.odometry);
+    // Uncertainty accumulated for the candidate search: the translation
+    // variance of the odometry plus the heading uncertainty turned lateral.
+    const double heading_sigma2 =
+        prev.direction ? prev.direction_sigma * prev.direction_sigma : std::min(prev.heading_var, kPi * kPi / 16.0);
+    node.heading_var = heading_sigma2 + m.covariance(2, 2);
+    node.var_prefix = prev.var_prefix + m.covariance(0, 0) + m.covariance(1, 1) +
+                      heading_sigma2 * m.distance_m * m.distance_m;
+    // Registration against the previous ASR (across the exit).
+    if (!prev.faces.empty() && !node.faces.empty()) {
+      const Pose2 guess = graph_.pose(idx - 1).inverse() * graph_.pose(idx);
+      Registration reg = RegisterWalls(prev.faces, node.faces, guess, options_.registration);
+      if (reg.converged && reg.match_fraction >= options_.min_match_fraction && reg.matches >= options_.min_matches) {
+        // Gate against the odometry: both can be wrong, the test uses both
+        // covariances (drift-rate uncertainty folded into the heading).
+        Eigen::Matrix3d S = reg.covariance + m.covariance;
+        S(2, 2) += std::pow(options_.odometry.rate_prior_sigma_rad_per_m * m.distance_m, 2);
+        const Eigen::Vector3d d = Difference(guess, reg.target_from_source);
+        const double d2 = d.dot(S.ldlt().solve(d));
+        if (d2 <= ChiSquareQuantile(options_.gate_probability, 3)) {
+          graph_.AddRelative(idx - 1, idx, reg.target_from_source, reg.covariance, FactorKind::kRegistration);
+          ++registrations_;
+        }
+      }
+    }
+  }
+  if (node.direction) graph_.AddDirection(idx, node.direction_local, node.direction_sigma);
+  node_of_asr_[a.id] = idx;
+  nodes_.push_back(std::move(node));
+
+  const size_t closures_before = closures_.size();
+  if (idx > 0) TryLoopClosures(idx);
+  bool closed_loop = false;
+  for (size_t k = closures_before; k < closures_.size(); ++k) closed_loop |= closures_[k].accepted;
+  if (idx > 0) {
+    const auto s = closed_loop ? graph_.Solve(0, options_.full_iterations)
+                               : graph_.Solve(std::max(1, idx - options_.window + 1), options_.local_iterations);
+    (void)s;
+  }
+  const Pose2 T = graph_.pose(idx);
+  a.world_from_local_corrected = T;
+  a.heading_correction_rad = NormalizeAngle(T.theta - a.world_from_local_raw.theta);
+  a.heading_uncertainty_rad = nodes_[idx].direction ? nodes_[idx].direction_sigma : -1.0;
+  solve_seconds_ += Seconds(t0);
+  return a;
+}
+
+void MapOptimizer::TryLoopClosures(int n) {
+  Node& cur = nodes_[n];
+  if (cur.samples.size() < static_cast<size_t>(options_.min_matches)) return;
+  const Pose2 Tn = graph_.pose(n);
+  const Vec2 cn = Tn * cur.centre_local;
+  struct Cand {
+    int k;
+    double score;
+  };
+  std::vector<Cand> cands;
+  for (int k = 0; k + 1 < n; ++k) {
+    const Node& o = nodes_[k];
+    if (o.samples.size() < static_cast<size_t>(options_.min_matches)) continue;
+    const double var = std::max(0.0, cur.var_prefix - o.var_prefix) + 0.01;
+    const double gate = options_.candidate_sigmas * std::sqrt(var);
+    const double dist = (graph_.pose(k) * o.centre_local - cn).norm();
+    const double reach = o.radius_m + cur.radius_m + gate;
+    if (dist > reach) continue;
+    cands.push_back({k, dist / reach});
+  }
+  std::sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) { return a.score < b.score; });
+  if (cands.size() > static_cast<size_t>(options_.max_candidates)) cands.resize(options_.max_candidates);
+  const double cos_max = options_.registration.max_normal_angle_rad;
+  for (const Cand& c : cands) {
+    const Node& o = nodes_[c.k];
+    LoopClosure lc;
+    lc.from_asr = o.asr_id;
+    lc.to_asr = cur.asr_id;
+    const Pose2 guess = graph_.pose(c.k).inverse() * Tn;
+    // Correlative search over the pose uncertainty (positions and headings
+    // within the gate), scored by how many of the new ASR's wall samples land
+    // on a matching face; ICP from the best distinct starts. Distinct good
+    // solutions mean the walls cannot tell the places apart.
+    struct Sol {
+      Registration reg;
+      double agreement;
+    };
+    std::vector<Sol> sols;
+    const double var_here = std::max(0.0, cur.var_prefix - o.var_prefix) + 0.01;
+    const double radius = std::min(options_.candidate_sigmas * std::sqrt(var_here), options_.max_search_m);
+    const double hsig = std::sqrt(cur.heading_var + o.heading_var) + DegToRad(1.0);
+    const double hrange = std::min(options_.candidate_sigmas * hsig, options_.max_search_rad);
+    std::vector<FacedPoint> coarse;
+    for (size_t i = 0; i < cur.samples.size(); i += 3) coarse.push_back(cur.samples[i]);
+    struct Start {
+      Pose2 pose;
+      double score;
+    };
+    std::vector<Start> starts;
+    const double step = options_.search_step_m, hstep = options_.search_step_rad;
+    for (double dth = -hrange; dth <= hrange + 1e-9; dth += hstep) {
+      for (double dx = -radius; dx <= radius + 1e-9; dx += step) {
+        for (double dy = -radius; dy <= radius + 1e-9; dy += step) {
+          if (dx * dx + dy * dy > radius * radius + 1e-9) continue;
+          // Rotate about the new ASR's centre, then shift.
+          const Vec2 c = guess * cur.centre_local;
+          const Pose2 rot = Pose2{c.x(), c.y(), dth} * Pose2{-c.x(), -c.y(), 0.0};
+          const Pose2 start = Pose2{dx, dy, 0.0} * rot * guess;
+          const double score =
+              AgreementFraction(o.faces, TransformPoints(start, coarse), options_.loop_tolerance_m, cos_max);
+          starts.push_back({start, score});
+        }
+      }
+    }
+    std::sort(starts.begin(), starts.end(), [](const Start& a, const Start& b) { return a.score > b.score; });
+    std::vector<Pose2> chosen;
+    for (const Start& st : starts) {
+      if (chosen.size() >= 3 || st.score <= 0.0) break;
+      bool distinct = true;
+      for (const Pose2& p : chosen) {
+        const Eigen::Vector3d dd = Difference(p, st.pose);
+        if (dd.head<2>().norm() < 0.5 && std::abs(dd(2)) < DegToRad(5.0)) distinct = false;
+      }
+      if (distinct) chosen.push_back(st.pose);
+    }
+    for (const Pose2& start : chosen) {
+      Registration reg = RegisterWalls(o.faces, cur.faces, start, options_.registration);
+      if (!reg.converged || reg.matches < options_.min_matches) continue;
+      const auto pts_in_o = TransformPoints(reg.target_from_source, cur.samples);
+      const auto o_in_cur = TransformPoints(reg.target_from_source.inverse(), o.samples);
+      const double a1 = AgreementFraction(o.faces, pts_in_o, options_.loop_tolerance_m, cos_max);
+      const double a2 = AgreementFraction(cur.faces, o_in_cur, options_.loop_tolerance_m, cos_max);
+      sols.push_back({reg, std::min(a1, a2)});
+    }
+    if (sols.empty()) {
+      lc.reason = "registration did not converge";
+      closures_.push_back(lc);
+      continue;
+    }
+    std::sort(sols.begin(), sols.end(), [](const Sol& a, const Sol& b) { return a.agreement > b.agreement; });
+    const Sol& best = sols.front();
+    lc.relative = best.reg.target_from_source;
+    lc.agreement = best.agreement;
+    lc.rmse_m = best.reg.rmse_m;
+    // Gate against the prediction and its uncertainty.
+    const double var = std::max(0.0, cur.var_prefix - o.var_prefix) + 0.01;
+    Eigen::Matrix3d S = best.reg.covariance;
+    S(0, 0) += var;
+    S(1, 1) += var;
+    S(2, 2) += cur.heading_var + o.heading_var + DegToRad(1.0) * DegToRad(1.0);
+    const Eigen::Vector3d d = Difference(guess, best.reg.target_from_source);
+    lc.mahalanobis2 = d.dot(S.ldlt().solve(d));
+    bool ambiguous = false;
+    for (size_t s = 1; s < sols.size(); ++s) {
+      const Eigen::Vector3d dd = Difference(best.reg.target_from_source, sols[s].reg.target_from_source);
+      if ((dd.head<2>().norm() > 0.3 || std::abs(dd(2)) > DegToRad(5.0)) &&
+          sols[s].agreement >= options_.ambiguity_ratio * best.agreement)
+        ambiguous = true;
+    }
+    // Free space: neither ASR's path may cross the other's walls.
+    const int cross = PathWallCrossings(o.faces, TransformPath(best.reg.target_from_source, cur.path_local)) +
+                      PathWallCrossings(cur.faces, TransformPath(best.reg.target_from_source.inverse(), o.path_local));
+    if (best.agreement < options_.loop_min_agreement) lc.reason = "walls disagree";
+    else if (ambiguous) lc.reason = "ambiguous: another placement fits as well";
+    else if (cross > 0) lc.reason = "a path crosses the other's walls";
+    else if (lc.mahalanobis2 > ChiSquareQuantile(options_.gate_probability, 3)) lc.reason = "too far from the prediction";
+    if (!lc.reason.empty()) {
+      closures_.push_back(lc);
+      continue;
+    }
+    lc.accepted = true;
+    lc.reason = "accepted";
+    lc.same_room = best.agreement >= options_.same_room_agreement;
+    if (lc.same_room) cur.room_id = o.room_id;
+    closure_factor_.push_back(
+        graph_.AddRelative(c.k, n, best.reg.target_from_source, best.reg.covariance, FactorKind::kLoopClosure));
+    closure_index_.push_back(static_cast<int>(closures_.size()));
+    closures_.push_back(lc);
+  }
+}
+
+std::vector<int> MapOptimizer::CrossingsPerNode(const std::vector<Pose2>& poses) const {
+  // World walls and paths; pairs tested only where their boxes overlap.
+  const size_t N = nodes_.size();
+  std::vector<std::vector<FacedSegment>> walls(N);
+  std::vector<std::vector<Vec2>> paths(N);
+  std::vector<Eigen::Vector4d> box(N);
+  for (size_t i = 0; i < N; ++i) {
+    walls[i] = TransformFaces(poses[i], nodes_[i].faces);
+    paths[i] = TransformPath(poses[i], nodes_[i].path_local);
+    const Vec2 c = poses[i] * nodes_[i].centre_local;
+    const double r = nodes_[i].radius_m;
+    box[i] = Eigen::Vector4d(c.x() - r, c.y() - r, c.x() + r, c.y() + r);
+  }
+  // A uniform grid of the boxes keeps this linear in the map's size.
+  const double cell = 5.0;
+  std::map<std::pair<long, long>, std::vector<int>> grid;
+  for (size_t i = 0; i < N; ++i)
+    for (long gx = static_cast<long>(std::floor(box[i](0) / cell)); gx <= std::floor(box[i](2) / cell); ++gx)
+      for (long gy = static_cast<long>(std::floor(box[i](1) / cell)); gy <= std::floor(box[i](3) / cell); ++gy)
+        grid[{gx, gy}].push_back(static_cast<int>(i));
+  std::vector<int> out(N, 0);
+  for (size_t i = 0; i < N; ++i) {
+    std::vector<int> others;
+    for (long gx = static_cast<long>(std::floor(box[i](0) / cell)); gx <= std::floor(box[i](2) / cell); ++gx)
+      for (long gy = static_cast<long>(std::floor(box[i](1) / cell)); gy <= std::floor(box[i](3) / cell); ++gy)
+        if (auto it = grid.find({gx, gy}); it != grid.end()) others.insert(others.end(), it->second.begin(), it->second.end());
+    std::sort(others.begin(), others.end());
+    others.erase(std::unique(others.begin(), others.end()), others.end());
+    for (int j : others) {
+      if (j == static_cast<int>(i)) continue;
+      out[i] += PathWallCrossings(walls[j], paths[i]);
+    }
+  }
+  return out;
+}
+
+OptimizerResult MapOptimizer::Finish() {
+  OptimizerResult res;
+  const int N = static_cast<int>(nodes_.size());
+  if (N == 0) return res;
+  auto t0 = std::chrono::steady_clock::now();
+  graph_.Solve(0, options_.full_iterations);
+  // A closure the whole graph contradicts is dropped and the graph re-solved.
+  const double gate3 = ChiSquareQuantile(options_.gate_probability, 3);
+  for (int round = 0; round < 3; ++round) {
+    bool dropped = false;
+    const auto rs = graph_.Residuals();
+    for (const auto& r : rs) {
+      if (r.kind != FactorKind::kLoopClosure || !r.enabled || r.chi2 <= gate3) continue;
+      graph_.SetRelativeEnabled(r.factor, false);
+      for (size_t k = 0; k < closure_factor_.size(); ++k)
+        if (closure_factor_[k] == r.factor) {
+          LoopClosure& lc = closures_[closure_index_[k]];
+          lc.accepted = false;
+          lc.reason = "contradicted by the solved graph (chi2 " + std::to_string(r.chi2) + ")";
+        }
+      dropped = true;
+    }
+    if (!dropped) break;
+    graph_.Solve(0, options_.full_iterations);
+  }
+  std::vector<Pose2> graph_poses(N), odo_poses(N);
+  for (int i = 0; i < N; ++i) {
+    graph_poses[i] = graph_.pose(i);
+    // Odometry: stored nodes stay where they were; new ones by dead reckoning
+    // from the first new node's anchor.
+    odo_poses[i] = nodes_[i].stored ? graph_.pose(i) : nodes_[i].raw;
+  }
+  // Consistency: how often the robot's path runs through another ASR's
+  // walls. Counts are noisy (sonar walls, door jambs): the graph is rejected
+  // only when its count exceeds odometry's by more than 3 Poisson sigmas.
+  const std::vector<int> c_graph = CrossingsPerNode(graph_poses);
+  const std::vector<int> c_odo = CrossingsPerNode(odo_poses);
+  res.crossings_graph = std::accumulate(c_graph.begin(), c_graph.end(), 0);
+  res.crossings_odometry = std::accumulate(c_odo.begin(), c_odo.end(), 0);
+  auto worse = [](int a, int b) { return a > b + 3.0 * std::sqrt(b + 1.0); };
+  std::vector<Pose2> chosen = graph_poses;
+  res.solution = "pose_graph";
+  res.crossings_chosen = res.crossings_graph;
+  if (worse(res.crossings_graph, res.crossings_odometry)) {
+    // Without the closures (the likeliest wrong factors), then odometry.
+    for (size_t k = 0; k < closure_factor_.size(); ++k)
+      if (closures_[closure_index_[k]].accepted) graph_.SetRelativeEnabled(closure_factor_[k], false);
+    graph_.Solve(0, options_.full_iterations);
+    std::vector<Pose2> no_loop(N);
+    for (int i = 0; i < N; ++i) no_loop[i] = graph_.pose(i);
+    const std::vector<int> c_nl = CrossingsPerNode(no_loop);
+    const int total_nl = std::accumulate(c_nl.begin(), c_nl.end(), 0);
+    if (!worse(total_nl, res.crossings_odometry)) {
+      chosen = no_loop;
+      res.solution = "pose_graph_without_closures";
+      res.crossings_chosen = total_nl;
+      for (size_t k = 0; k < closure_factor_.size(); ++k) {
+        LoopClosure& lc = closures_[closure_index_[k]];
+        if (lc.accepted) {
+          lc.accepted = false;
+          lc.reason = "dropped: the map with closures was less consistent than odometry";
+        }
+      }
+    } else {
+      chosen = odo_poses;
+      res.solution = "odometry";
+      res.crossings_chosen = res.crossings_odometry;
+      for (int i = 0; i < N; ++i) graph_.set_pose(i, odo_poses[i]);
+    }
+    res.warnings.push_back("the pose graph made the map less consistent than odometry (robot path through walls: " +
+                           std::to_string(res.crossings_graph) + " vs " + std::to_string(res.crossings_odometry) +
+                           "); using " + res.solution);
+  }
+  res.solve_seconds = solve_seconds_ + Seconds(t0);
+  // Chi-square of the solved graph.
+  for (const auto& r : graph_.Residuals()) {
+    if (!r.enabled) continue;
+    res.chi2 += r.chi2;
+    res.chi2_dof += r.dof;
+    if (r.kind == FactorKind::kDirection) ++res.direction_factors;
+  }
+  res.chi2_dof = std::max(1, res.chi2_dof - 3 * (N - 1));
+  res.chi2_p999 = ChiSquareQuantile(0.999, res.chi2_dof);
+  if (res.chi2 > res.chi2_p999)
+    res.warnings.push_back("the factors disagree more than their covariances allow (chi2 " +
+                           std::to_string(static_cast<int>(res.chi2)) + " for " + std::to_string(res.chi2_dof) +
+                           " dof): the uncertainties are optimistic");
+  res.registrations = registrations_;
+  double rate_sum = 0.0;
+  int rate_n = 0;
+  for (int i = 0; i < N; ++i)
+    if (!nodes_[i].stored) {
+      rate_sum += graph_.rate(i);
+      ++rate_n;
+    }
+  res.drift_rate_rad_per_m = rate_n ? rate_sum / rate_n : 0.0;
+  // Covariances, inflated by the chi-square per dof when the factors
+  // disagree more than their covariances say (calibration).
+  t0 = std::chrono::steady_clock::now();
+  std::vector<Eigen::Matrix3d> cov;
+  if (res.solution != "odometry") cov = graph_.Covariances();
+  res.covariance_seconds = Seconds(t0);
+  const double inflate = std::max(1.0, res.chi2 / res.chi2_dof);
+  std::vector<double> dir_resid(N, 0.0);
+  for (const auto& r : graph_.Residuals())
+    if (r.kind == FactorKind::kDirection && r.enabled) dir_resid[r.i] = std::sqrt(r.chi2);
+  int uncertain = 0;
+  for (int i = 0; i < N; ++i) {
+    if (nodes_[i].stored) continue;
+    AsrEstimate e;
+    e.asr_id = nodes_[i].asr_id;
+    e.pose = chosen[i];
+    e.room_id = nodes_[i].room_id;
+    e.direction_factor = nodes_[i].direction;
+    e.direction_residual_sigmas = dir_resid[i];
+    if (!cov.empty()) {
+      e.covariance = inflate * cov[i];
+      e.has_covariance = true;
+      const double sp = std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1)));
+      const double st = std::sqrt(std::max(0.0, e.covariance(2, 2)));
+      if (sp > options_.uncertain_position_m)
+        e.why.push_back("position 1-sigma " + std::to_string(sp).substr(0, 5) + " m");
+      if (st > options_.uncertain_theta_rad)
+        e.why.push_back("heading 1-sigma " + std::to_string(RadToDeg(st)).substr(0, 5) + " deg");
+    } else if (res.solution == "odometry") {
+      e.why.push_back("placed by odometry (correction rejected)");
+    } else {
+      e.why.push_back("covariance not computable (graph rank deficient)");
+    }
+    if (nodes_[i].direction && dir_resid[i] > 3.0)
+      e.why.push_back("its walls disagree with the building direction (" + std::to_string(dir_resid[i]).substr(0, 4) +
+                      " sigma)");
+    e.uncertain = !e.why.empty();
+    uncertain += e.uncertain ? 1 : 0;
+    res.asrs.push_back(e);
+  }
+  if (uncertain > 0)
+    res.warnings.push_back(std::to_string(uncertain) + " of " + std::to_string(res.asrs.size()) +
+                           " ASRs are uncertain (report.json: pose_graph.uncertain_asrs)");
+  res.closures = closures_;
+  return res;
+}
+
+int MapOptimizer::RoomOf(int asr_id) const {
+  auto it = node_of_asr_.find(asr_id);
+  return it == node_of_asr_.end() ? -1 : nodes_[it->second].room_id;
+}
+
+}  // namespace cogmap::graph

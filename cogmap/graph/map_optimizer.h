@@ -1,0 +1,153 @@
+#pragma once
+#include <Eigen/Core>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cogmap/asr/asr.h"
+#include "cogmap/graph/pose_graph.h"
+#include "cogmap/graph/registration.h"
+#include "cogmap/localize/heading_corrector.h"
+
+namespace cogmap::graph {
+
+// The pose graph over ASRs, built as they close (default mode of `cogmap map`;
+// docs/pose-graph.md). Not in the thesis, which corrects one rotation per ASR;
+// chapter V proposes matching ASRs against each other, which this does.
+struct MapOptimizerOptions {
+  OdometryNoiseOptions odometry;
+  RegistrationOptions registration;
+  // The wall-direction estimate of each ASR (EM + grid refinement).
+  localize::HeadingCorrectionOptions heading;
+  // The EM's 1-sigma is an asymptotic standard error, optimistic on sonar
+  // walls (docs/heading-correction.md): the factor uses max(floor, scale x it).
+  double direction_sigma_scale = 2.0;
+  double direction_sigma_floor_rad = DegToRad(1.0);
+  // Local solve when an ASR closes: the last 'window' nodes move.
+  int window = 8;
+  int local_iterations = 20;
+  int full_iterations = 100;
+  // Registration of each ASR against the previous one (across the exit).
+  double min_match_fraction = 0.3;
+  int min_matches = 20;
+  // Loop closure: stored ASRs whose centre lies within their two radii plus
+  // candidate_sigmas x the position uncertainty accumulated between them.
+  double candidate_sigmas = 3.0;
+  int max_candidates = 4;
+  double loop_min_agreement = 0.5;  // of each ASR's walls on the other's, after ICP
+  double loop_tolerance_m = 0.25;   // agreement distance
+  // Correlative search of the starting pose: positions within
+  // candidate_sigmas x the position uncertainty (at most max_search_m) every
+  // search_step_m, headings likewise; ICP from the three best distinct starts.
+  double max_search_m = 2.5;
+  double search_step_m = 0.25;
+  double max_search_rad = DegToRad(10.0);
+  double search_step_rad = DegToRad(2.5);
+  double ambiguity_ratio = 0.9;     // a distinct solution this close to the best: ambiguous
+  double gate_probability = 0.999;  // chi-square gate on the closure vs the prediction
+  // A revisit: both ASRs' walls agree on each other at least this much.
+  double same_room_agreement = 0.6;
+  // Uncertain ASRs (named in report.json, warned about).
+  double uncertain_theta_rad = DegToRad(3.0);
+  double uncertain_position_m = 0.5;
+};
+
+struct LoopClosure {
+  int from_asr = -1;  // the stored ASR
+  int to_asr = -1;    // the new one
+  Pose2 relative;     // to_asr's pose in from_asr's frame
+  double agreement = 0.0;
+  double rmse_m = 0.0;
+  double mahalanobis2 = 0.0;
+  bool accepted = false;
+  bool same_room = false;
+  std::string reason;  // why rejected, or "accepted"
+};
+
+struct AsrEstimate {
+  int asr_id = -1;
+  Pose2 pose;                      // world_from_local, optimised
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  bool has_covariance = false;
+  int room_id = -1;                // the physical room (the first visit's ASR id)
+  bool direction_factor = false;
+  double direction_residual_sigmas = 0.0;
+  bool uncertain = false;
+  std::vector<std::string> why;    // reasons it is uncertain
+};
+
+struct OptimizerResult {
+  std::vector<AsrEstimate> asrs;  // in closing order
+  std::vector<LoopClosure> closures;  // accepted and rejected candidates
+  // Which placement the map uses: "pose_graph", "pose_graph_without_closures"
+  // or "odometry" (every correction made the map less consistent).
+  std::string solution = "odometry";
+  int crossings_odometry = 0;  // robot path crossing another ASR's walls
+  int crossings_graph = 0;
+  int crossings_chosen = 0;
+  double chi2 = 0.0;
+  int chi2_dof = 0;
+  double chi2_p999 = 0.0;      // the 99.9 % quantile for chi2_dof
+  int registrations = 0;
+  int direction_factors = 0;
+  double drift_rate_rad_per_m = 0.0;      // mean of the estimated rates
+  double solve_seconds = 0.0;
+  double covariance_seconds = 0.0;
+  std::vector<std::string> warnings;
+};
+
+class MapOptimizer {
+ public:
+  explicit MapOptimizer(const MapOptimizerOptions& options = {});
+
+  // An ASR of an earlier run (--resume): held at its stored corrected pose.
+  void AddStored(const asr::Asr& stored, int room_id = -1);
+  // An ASR that has just closed, raw fields in the raw odometry frame: adds it
+  // to the graph, registers it against the previous ASR and any stored ASR it
+  // may overlap, solves locally (fully after a loop closure), and returns it
+  // with world_from_local_corrected, heading_correction_rad and
+  // heading_uncertainty_rad set.
+  asr::Asr Place(asr::Asr a);
+  // Full solve, consistency check against odometry, covariances.
+  OptimizerResult Finish();
+
+  // Current room identity of an ASR (-1 unknown).
+  int RoomOf(int asr_id) const;
+  const std::vector<LoopClosure>& closures() const { return closures_; }
+  int size() const { return static_cast<int>(nodes_.size()); }
+
+ private:
+  struct Node {
+    int asr_id;
+    Pose2 raw;                       // world_from_local_raw
+    std::vector<FacedSegment> faces; // local frame
+    std::vector<FacedPoint> samples; // local frame
+    std::vector<Vec2> path_local;    // robot path, local frame, every ~0.2 m
+    std::vector<Pose2> path_raw;     // raw path (world raw), for the odometry factor
+    Vec2 centre_local{0, 0};
+    double radius_m = 0.0;
+    bool stored = false;
+    bool direction = false;
+    double direction_local = 0.0, direction_sigma = 0.0;
+    double var_prefix = 0.0;         // accumulated position variance from the first node
+    double heading_var = 0.0;        // heading variance since the last direction factor
+    int room_id = -1;
+  };
+  Node MakeNode(const asr::Asr& a) const;
+  void TryLoopClosures(int n);
+  std::vector<int> CrossingsPerNode(const std::vector<Pose2>& poses) const;
+
+  MapOptimizerOptions options_;
+  localize::HeadingCorrector estimator_;
+  PoseGraph graph_;
+  std::vector<Node> nodes_;
+  std::map<int, int> node_of_asr_;
+  std::vector<LoopClosure> closures_;
+  std::vector<int> closure_factor_;  // per accepted closure: its AddRelative index
+  std::vector<int> closure_index_;   // per accepted closure: index into closures_
+  int registrations_ = 0;
+  double solve_seconds_ = 0.0;
+};
+
+}  // namespace cogmap::graph

@@ -1,0 +1,147 @@
+#include "cogmap/graph/map_optimizer.h"
+
+#include <gtest/gtest.h>
+
+namespace cogmap::graph {
+namespace {
+
+// Synthetic ASRs: each is a room (world polylines, truth) entered at a true
+// pose; the robot drives a straight line from its entry to the next room's
+// entry. The odometry turns an extra 'rate' per metre (systematic drift), so
+// the raw poses drift while every room's walls, mapped over a short path,
+// stay sharp in their own local frame.
+struct Visit {
+  std::vector<Polyline> walls_world;
+  Pose2 entry;  // true
+};
+
+std::vector<Polyline> Box(double x0, double y0, double x1, double y1, double gap_side_x = 1e9) {
+  // An open-ended box with a 1 m doorway in the middle of each side.
+  const double mx = 0.5 * (x0 + x1), my = 0.5 * (y0 + y1);
+  return {{Vec2(x0, y0), Vec2(mx - 0.5, y0)}, {Vec2(mx + 0.5, y0), Vec2(x1, y0), Vec2(x1, my - 0.5)},
+          {Vec2(x1, my + 0.5), Vec2(x1, y1), Vec2(mx + 0.5, y1)}, {Vec2(mx - 0.5, y1), Vec2(x0, y1), Vec2(x0, my + 0.5)},
+          {Vec2(x0, my - 0.5), Vec2(x0, y0)},
+          // A cabinet in one corner makes the room asymmetric.
+          {Vec2(x0, y0 + 1.0), Vec2(x0 + 0.6, y0 + 1.0), Vec2(x0 + 0.6, y0)}};
+}
+
+std::vector<asr::Asr> Simulate(const std::vector<Visit>& visits, double rate_rad_per_m) {
+  std::vector<asr::Asr> out;
+  Pose2 raw = visits[0].entry;
+  for (size_t i = 0; i < visits.size(); ++i) {
+    const Pose2 truth = visits[i].entry;
+    asr::Asr a;
+    a.id = static_cast<int>(i);
+    a.world_from_local_raw = raw;
+    a.world_from_local_corrected = raw;
+    a.walls_local = Transform(truth.inverse(), visits[i].walls_world);
+    // Path through the room towards the next entry (or 2 m ahead).
+    const Pose2 next = i + 1 < visits.size() ? visits[i + 1].entry : truth * Pose2{2.0, 0.0, 0.0};
+    const Pose2 rel = truth.inverse() * next;
+    const double len = std::hypot(rel.x, rel.y);
+    const int steps = std::max(1, static_cast<int>(len / 0.1));
+    Pose2 r = raw;
+    for (int k = 0; k <= steps; ++k) {
+      const Vec2 local = rel.translation() * (static_cast<double>(k) / steps);
+      a.path.push_back(raw * Pose2{local.x(), local.y(), 0.0});
+      a.true_path.push_back(truth * Pose2{local.x(), local.y(), 0.0});
+    }
+    // Drifted odometry to the next entry: heading gains rate x len, the
+    // translation follows the mid heading.
+    const double extra = rate_rad_per_m * len;
+    const Vec2 t = RotateAbout(rel.translation(), Vec2(0, 0), 0.5 * extra);
+    raw = raw * Pose2{t.x(), t.y(), rel.theta + extra};
+    (void)r;
+    out.push_back(a);
+  }
+  return out;
+}
+
+// Eight 4 x 4 m rooms around a block, then room 0 again.
+std::vector<Visit> SquareLoop() {
+  std::vector<Visit> v;
+  const std::vector<Vec2> centres = {Vec2(0, 0), Vec2(4, 0), Vec2(8, 0), Vec2(8, 4), Vec2(8, 8),
+                                     Vec2(4, 8), Vec2(0, 8), Vec2(0, 4), Vec2(0, 0)};
+  for (size_t i = 0; i < centres.size(); ++i) {
+    const Vec2 c = centres[i];
+    const Vec2 n = centres[(i + 1) % centres.size()];
+    const double heading = i + 1 < centres.size() ? std::atan2(n.y() - c.y(), n.x() - c.x()) : 0.0;
+    // Entry: the middle of the wall shared with the previous room.
+    const Vec2 p = i == 0 ? c : 0.5 * (c + centres[i - 1]);
+    v.push_back({Box(c.x() - 2, c.y() - 2, c.x() + 2, c.y() + 2), Pose2{p.x(), p.y(), heading}});
+  }
+  return v;
+}
+
+double PoseError(const Pose2& a, const Pose2& b) { return (a.translation() - b.translation()).norm(); }
+
+TEST(MapOptimizer, SquareLoopWithKnownDriftCloses) {
+  const auto visits = SquareLoop();
+  const auto asrs = Simulate(visits, DegToRad(2.0));
+  MapOptimizer opt;
+  for (const auto& a : asrs) opt.Place(a);
+  const OptimizerResult r = opt.Finish();
+  EXPECT_EQ(r.solution, "pose_graph");
+  int accepted = 0;
+  for (const auto& c : r.closures) accepted += c.accepted ? 1 : 0;
+  EXPECT_GE(accepted, 1);
+  // The last ASR revisits room 0: one physical room.
+  EXPECT_EQ(opt.RoomOf(8), opt.RoomOf(0));
+  double raw_err = 0.0;
+  for (size_t i = 0; i < asrs.size(); ++i) {
+    EXPECT_LT(PoseError(r.asrs[i].pose, visits[i].entry), 0.15) << i;
+    EXPECT_NEAR(AngleDiff(r.asrs[i].pose.theta, visits[i].entry.theta), 0.0, DegToRad(1.0)) << i;
+    raw_err = std::max(raw_err, PoseError(asrs[i].world_from_local_raw, visits[i].entry));
+    // The truth within 3 sigma (with a 5 cm floor for the synthetic walls' exactness).
+    const double sp = std::sqrt(r.asrs[i].covariance(0, 0) + r.asrs[i].covariance(1, 1));
+    EXPECT_LT(PoseError(r.asrs[i].pose, visits[i].entry), 3.0 * sp + 0.05) << i;
+  }
+  EXPECT_GT(raw_err, 1.0);  // the odometry alone is far off
+}
+
+TEST(MapOptimizer, IdenticalRoomsFarApartAreNotMerged) {
+  // Room A, a connecting room, then room C, identical to A, 8 m on. The
+  // odometry is declared so poor (0.5 m per sqrt(m)) that C is a candidate
+  // for A; the walls must not merge them.
+  std::vector<Visit> v;
+  for (int i = 0; i < 3; ++i) {
+    const double x = 4.0 * i;
+    v.push_back({Box(x - 2, -2, x + 2, 2), Pose2{i == 0 ? 0.0 : x - 2.0, 0.0, 0.0}});
+  }
+  const auto asrs = Simulate(v, DegToRad(1.0));
+  MapOptimizerOptions o;
+  o.odometry.trans_sigma_m_per_sqrt_m = 0.5;
+  MapOptimizer opt(o);
+  for (const auto& a : asrs) opt.Place(a);
+  const OptimizerResult r = opt.Finish();
+  bool candidate = false;
+  for (const auto& c : r.closures) {
+    candidate |= c.from_asr == 0 && c.to_asr == 2;
+    EXPECT_FALSE(c.accepted) << c.from_asr << "->" << c.to_asr << " " << c.reason;
+  }
+  EXPECT_TRUE(candidate);
+  EXPECT_NE(opt.RoomOf(2), opt.RoomOf(0));
+  for (size_t i = 0; i < v.size(); ++i) EXPECT_LT(PoseError(r.asrs[i].pose, v[i].entry), 0.2) << i;
+}
+
+TEST(MapOptimizer, QuarterTurnAmbiguousRoomNeverFlipsTheMap) {
+  // A chain of axis-aligned rooms with one diamond room (walls at 45 deg: its
+  // direction is exactly between two branches) in the middle.
+  std::vector<Visit> v;
+  for (int i = 0; i < 7; ++i) {
+    const double x = 4.0 * i;
+    Visit s{Box(x - 2, -2, x + 2, 2), Pose2{i == 0 ? 0.0 : x - 2.0, 0.0, 0.0}};
+    if (i == 3)
+      s.walls_world = {{Vec2(x - 2, 0), Vec2(x, 2), Vec2(x + 2, 0), Vec2(x, -2), Vec2(x - 2, 0)}};
+    v.push_back(s);
+  }
+  const auto asrs = Simulate(v, DegToRad(1.0));
+  MapOptimizer opt;
+  for (const auto& a : asrs) opt.Place(a);
+  const OptimizerResult r = opt.Finish();
+  for (size_t i = 0; i < v.size(); ++i)
+    EXPECT_NEAR(AngleDiff(r.asrs[i].pose.theta, v[i].entry.theta), 0.0, DegToRad(3.0)) << i;
+}
+
+}  // namespace
+}  // namespace cogmap::graph

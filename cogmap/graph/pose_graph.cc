@@ -1,0 +1,451 @@
+#include "cogmap/graph/pose_graph.h"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Dense>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+
+namespace cogmap::graph {
+namespace {
+
+constexpr double kQuarter = kPi / 2.0;
+
+inline double Value(double x) { return x; }
+template <typename T, int N>
+double Value(const ceres::Jet<T, N>& x) {
+  return x.a;
+}
+
+// Angle difference wrapped into [-pi, pi) by the value (the wrap is a constant
+// offset for the derivatives).
+template <typename T>
+T Wrap(const T& a) {
+  const double k = std::round(Value(a) / (2.0 * kPi));
+  return a - T(k * 2.0 * kPi);
+}
+
+Eigen::Matrix3d SqrtInformation(const Eigen::Matrix3d& covariance) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(0.5 * (covariance + covariance.transpose()));
+  Eigen::Vector3d inv_sqrt;
+  for (int i = 0; i < 3; ++i) inv_sqrt(i) = 1.0 / std::sqrt(std::max(es.eigenvalues()(i), 1e-12));
+  return inv_sqrt.asDiagonal() * es.eigenvectors().transpose();
+}
+
+// Residual of node j in node i's frame against a measured (mx, my, mth): the
+// error expressed in the measured pose's frame, whitened.
+template <typename T>
+void RelativeResidual(const T* pi, const T* pj, const T& mx, const T& my, const T& mth, const Eigen::Matrix3d& W,
+                      T* r) {
+  using std::cos;
+  using std::sin;
+  const T c = cos(pi[2]), s = sin(pi[2]);
+  const T dx = pj[0] - pi[0], dy = pj[1] - pi[1];
+  const T px = c * dx + s * dy, py = -s * dx + c * dy;
+  const T ex = px - mx, ey = py - my;
+  const T cm = cos(mth), sm = sin(mth);
+  const T e[3] = {cm * ex + sm * ey, -sm * ex + cm * ey, Wrap(pj[2] - pi[2] - mth)};
+  for (int a = 0; a < 3; ++a) r[a] = T(W(a, 0)) * e[0] + T(W(a, 1)) * e[1] + T(W(a, 2)) * e[2];
+}
+
+struct OdometryCost {
+  OdometryMeasurement m;
+  Eigen::Matrix3d W;
+  template <typename T>
+  bool operator()(const T* pi, const T* pj, const T* rate, T* r) const {
+    using std::cos;
+    using std::sin;
+    T mx(0.0), my(0.0);
+    for (const Eigen::Vector3d& st : m.steps) {
+      const T a = -rate[0] * T(st.z());
+      mx += cos(a) * T(st.x()) - sin(a) * T(st.y());
+      my += sin(a) * T(st.x()) + cos(a) * T(st.y());
+    }
+    const T mth = T(m.delta.theta) - rate[0] * T(m.distance_m);
+    RelativeResidual(pi, pj, mx, my, mth, W, r);
+    return true;
+  }
+};
+
+struct RelativeCost {
+  Pose2 z;
+  Eigen::Matrix3d W;
+  template <typename T>
+  bool operator()(const T* pi, const T* pj, T* r) const {
+    RelativeResidual(pi, pj, T(z.x), T(z.y), T(z.theta), W, r);
+    return true;
+  }
+};
+
+struct DirectionCost {
+  double d = 0.0, inv_sigma = 1.0;
+  template <typename T>
+  bool operator()(const T* pi, const T* phi, T* r) const {
+    const T v = pi[2] + T(d) - phi[0];
+    const double k = std::round(Value(v) / kQuarter);  // nearest of the four branches
+    r[0] = (v - T(k * kQuarter)) * T(inv_sigma);
+    return true;
+  }
+};
+
+struct RateWalkCost {
+  double inv_sigma = 1.0;
+  template <typename T>
+  bool operator()(const T* ri, const T* rj, T* r) const {
+    r[0] = (rj[0] - ri[0]) * T(inv_sigma);
+    return true;
+  }
+};
+
+struct RatePriorCost {
+  double inv_sigma = 1.0;
+  template <typename T>
+  bool operator()(const T* ri, T* r) const {
+    r[0] = ri[0] * T(inv_sigma);
+    return true;
+  }
+};
+
+}  // namespace
+
+const char* FactorKindName(FactorKind k) {
+  switch (k) {
+    case FactorKind::kOdometry: return "odometry";
+    case FactorKind::kDirection: return "wall_direction";
+    case FactorKind::kRegistration: return "registration";
+    case FactorKind::kLoopClosure: return "loop_closure";
+    case FactorKind::kRateWalk: return "rate_walk";
+    case FactorKind::kRatePrior: return "rate_prior";
+  }
+  return "?";
+}
+
+OdometryMeasurement MeasureOdometry(const std::vector<Pose2>& path, const OdometryNoiseOptions& o, int max_steps) {
+  OdometryMeasurement m;
+  if (path.empty()) {
+    m.covariance = Eigen::Vector3d(o.min_sigma_m * o.min_sigma_m, o.min_sigma_m * o.min_sigma_m,
+                                   o.min_sigma_rad * o.min_sigma_rad)
+                       .asDiagonal();
+    return m;
+  }
+  m.delta = path.back();
+  // Covariance of the robot pose in node i's frame, propagated step by step.
+  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
+  Pose2 prev{0.0, 0.0, path.front().theta};
+  std::vector<Eigen::Vector3d> fine;  // (dx, dy, s mid)
+  double s = 0.0;
+  auto step = [&](const Pose2& q) {
+    const Vec2 d = q.translation() - prev.translation();
+    const double ds = d.norm();
+    const double dth = NormalizeAngle(q.theta - prev.theta);
+    if (ds > 0.0) fine.emplace_back(d.x(), d.y(), s + 0.5 * ds);
+    Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+    F(0, 2) = -d.y();
+    F(1, 2) = d.x();
+    const Vec2 u = ds > 1e-9 ? Vec2(d / ds) : Vec2(std::cos(q.theta), std::sin(q.theta));
+    Eigen::Matrix<double, 3, 2> G = Eigen::Matrix<double, 3, 2>::Zero();
+    G(0, 0) = u.x();
+    G(1, 0) = u.y();
+    G(2, 1) = 1.0;
+    Eigen::Matrix2d Q = Eigen::Matrix2d::Zero();
+    Q(0, 0) = o.trans_sigma_m_per_sqrt_m * o.trans_sigma_m_per_sqrt_m * ds;
+    Q(1, 1) = o.heading_sigma_rad_per_sqrt_m * o.heading_sigma_rad_per_sqrt_m * ds +
+              o.rot_sigma_rad_per_sqrt_rad * o.rot_sigma_rad_per_sqrt_rad * std::abs(dth);
+    P = F * P * F.transpose() + G * Q * G.transpose();
+    s += ds;
+    m.turn_rad += std::abs(dth);
+    prev = q;
+  };
+  for (const Pose2& q : path) step(q);
+  m.distance_m = s;
+  // Merge the fine steps into at most max_steps (consecutive sums; the mid
+  // distance is the length-weighted mean).
+  const size_t n = fine.size();
+  const size_t per = std::max<size_t>(1, (n + max_steps - 1) / std::max(1, max_steps));
+  for (size_t i = 0; i < n; i += per) {
+    Eigen::Vector3d acc = Eigen::Vector3d::Zero();
+    double w = 0.0;
+    for (size_t k = i; k < std::min(n, i + per); ++k) {
+      acc.x() += fine[k].x();
+      acc.y() += fine[k].y();
+      const double len = std::hypot(fine[k].x(), fine[k].y());
+      acc.z() += len * fine[k].z();
+      w += len;
+    }
+    acc.z() = w > 0 ? acc.z() / w : 0.0;
+    m.steps.push_back(acc);
+  }
+  // The first path pose may sit off node i's origin: a step of its own.
+  if (path.front().translation().norm() > 0.0)
+    m.steps.insert(m.steps.begin(), Eigen::Vector3d(path.front().x, path.front().y, 0.0));
+  // Into the frame of the measured end pose.
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  const double c = std::cos(m.delta.theta), sn = std::sin(m.delta.theta);
+  R(0, 0) = c;
+  R(0, 1) = sn;
+  R(1, 0) = -sn;
+  R(1, 1) = c;
+  m.covariance = R * P * R.transpose();
+  m.covariance(0, 0) += o.min_sigma_m * o.min_sigma_m;
+  m.covariance(1, 1) += o.min_sigma_m * o.min_sigma_m;
+  m.covariance(2, 2) += o.min_sigma_rad * o.min_sigma_rad;
+  return m;
+}
+
+struct PoseGraph::Impl {
+  std::deque<std::array<double, 3>> nodes;
+  std::deque<double> rates;
+  std::vector<bool> fixed;
+  double phi = 0.0;
+  bool has_phi = false;
+  struct Factor {
+    FactorKind kind;
+    int i = -1, j = -1;
+    int dof = 0;
+    std::unique_ptr<ceres::CostFunction> cost;
+    std::unique_ptr<ceres::LossFunction> loss;  // may be null
+    std::vector<double*> params;
+    bool enabled = true;
+  };
+  std::vector<Factor> factors;
+  std::vector<int> relative_index;  // AddRelative index -> factors index
+
+  bool Free(int node, int first_free) const { return node >= first_free && !fixed[node]; }
+
+  void Build(ceres::Problem* problem, int first_free, bool all) {
+    for (Factor& f : factors) {
+      if (!f.enabled) continue;
+      // The drift rate of node i belongs to the edge leaving it: the rates
+      // from first_free - 1 on move (the edge into the window included),
+      // fixed (anchor) nodes' too.
+      const bool rate_factor = f.kind == FactorKind::kOdometry || f.kind == FactorKind::kRateWalk ||
+                               f.kind == FactorKind::kRatePrior;
+      const bool touches = all || (f.i >= 0 && Free(f.i, first_free)) || (f.j >= 0 && Free(f.j, first_free)) ||
+                           (rate_factor && f.i >= first_free - 1);
+      if (!touches) continue;
+      problem->AddResidualBlock(f.cost.get(), f.loss.get(), f.params);
+    }
+    for (size_t n = 0; n < nodes.size(); ++n) {
+      const bool free = Free(static_cast<int>(n), first_free);
+      if (problem->HasParameterBlock(nodes[n].data()) && !free) problem->SetParameterBlockConstant(nodes[n].data());
+      if (problem->HasParameterBlock(&rates[n]) && static_cast<int>(n) < first_free - 1)
+        problem->SetParameterBlockConstant(&rates[n]);
+    }
+  }
+};
+
+PoseGraph::PoseGraph() : impl_(std::make_unique<Impl>()) {}
+PoseGraph::~PoseGraph() = default;
+
+int PoseGraph::AddNode(const Pose2& initial, bool fixed) {
+  impl_->nodes.push_back({initial.x, initial.y, initial.theta});
+  impl_->rates.push_back(0.0);
+  impl_->fixed.push_back(fixed);
+  return static_cast<int>(impl_->nodes.size()) - 1;
+}
+
+int PoseGraph::size() const { return static_cast<int>(impl_->nodes.size()); }
+
+void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const OdometryNoiseOptions& noise) {
+  auto* c = new OdometryCost{m, SqrtInformation(m.covariance)};
+  Impl::Factor f;
+  f.kind = FactorKind::kOdometry;
+  f.i = i;
+  f.j = j;
+  f.dof = 3;
+  f.cost.reset(new ceres::AutoDiffCostFunction<OdometryCost, 3, 3, 3, 1>(c));
+  f.params = {impl_->nodes[i].data(), impl_->nodes[j].data(), &impl_->rates[i]};
+  impl_->factors.push_back(std::move(f));
+  // The drift rate: a random walk from node i to node j, and a prior on the
+  // first rate of a chain.
+  const double walk = noise.rate_walk_rad_per_m_per_sqrt_m * std::sqrt(std::max(m.distance_m, 0.1));
+  Impl::Factor w;
+  w.kind = FactorKind::kRateWalk;
+  w.i = i;
+  w.j = j;
+  w.dof = 1;
+  w.cost.reset(new ceres::AutoDiffCostFunction<RateWalkCost, 1, 1, 1>(new RateWalkCost{1.0 / walk}));
+  w.params = {&impl_->rates[i], &impl_->rates[j]};
+  impl_->factors.push_back(std::move(w));
+  bool has_prior = false;
+  for (const auto& g : impl_->factors)
+    if ((g.kind == FactorKind::kRatePrior) || (g.kind == FactorKind::kOdometry && g.j == i)) has_prior = true;
+  if (!has_prior) {
+    Impl::Factor p;
+    p.kind = FactorKind::kRatePrior;
+    p.i = i;
+    p.dof = 1;
+    p.cost.reset(new ceres::AutoDiffCostFunction<RatePriorCost, 1, 1>(
+        new RatePriorCost{1.0 / noise.rate_prior_sigma_rad_per_m}));
+    p.params = {&impl_->rates[i]};
+    impl_->factors.push_back(std::move(p));
+  }
+}
+
+void PoseGraph::AddDirection(int i, double d, double sigma, double cauchy_scale) {
+  if (!impl_->has_phi) {
+    // The building direction starts at this first room's wall direction.
+    impl_->phi = impl_->nodes[i][2] + d;
+    impl_->has_phi = true;
+  }
+  Impl::Factor f;
+  f.kind = FactorKind::kDirection;
+  f.i = i;
+  f.dof = 1;
+  f.cost.reset(new ceres::AutoDiffCostFunction<DirectionCost, 1, 3, 1>(new DirectionCost{d, 1.0 / sigma}));
+  f.loss.reset(new ceres::CauchyLoss(cauchy_scale));
+  f.params = {impl_->nodes[i].data(), &impl_->phi};
+  impl_->factors.push_back(std::move(f));
+}
+
+int PoseGraph::AddRelative(int i, int j, const Pose2& z, const Eigen::Matrix3d& cov, FactorKind kind,
+                           double cauchy_scale) {
+  Impl::Factor f;
+  f.kind = kind;
+  f.i = i;
+  f.j = j;
+  f.dof = 3;
+  f.cost.reset(new ceres::AutoDiffCostFunction<RelativeCost, 3, 3, 3>(new RelativeCost{z, SqrtInformation(cov)}));
+  if (cauchy_scale > 0) f.loss.reset(new ceres::CauchyLoss(cauchy_scale));
+  f.params = {impl_->nodes[i].data(), impl_->nodes[j].data()};
+  impl_->factors.push_back(std::move(f));
+  impl_->relative_index.push_back(static_cast<int>(impl_->factors.size()) - 1);
+  return static_cast<int>(impl_->relative_index.size()) - 1;
+}
+
+void PoseGraph::SetRelativeEnabled(int k, bool enabled) {
+  impl_->factors[impl_->relative_index[k]].enabled = enabled;
+}
+
+PoseGraph::SolveSummary PoseGraph::Solve(int first_free, int max_iterations) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SolveSummary out;
+  ceres::Problem::Options po;
+  po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(po);
+  impl_->Build(&problem, first_free, false);
+  for (int n = first_free; n < size(); ++n) out.free_nodes += impl_->fixed[n] ? 0 : 1;
+  if (problem.NumResidualBlocks() == 0) {
+    out.usable = true;
+    return out;
+  }
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  so.max_num_iterations = max_iterations;
+  so.num_threads = 1;
+  so.logging_type = ceres::SILENT;
+  so.minimizer_progress_to_stdout = false;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  if (std::getenv("COGMAP_CERES_DEBUG")) std::fprintf(stderr, "%s\n", summary.FullReport().c_str());
+  for (auto& n : impl_->nodes) n[2] = NormalizeAngle(n[2]);
+  out.iterations = static_cast<int>(summary.iterations.size());
+  out.initial_cost = summary.initial_cost;
+  out.final_cost = summary.final_cost;
+  out.usable = summary.IsSolutionUsable();
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+Pose2 PoseGraph::pose(int i) const {
+  const auto& n = impl_->nodes[i];
+  return {n[0], n[1], NormalizeAngle(n[2])};
+}
+void PoseGraph::set_pose(int i, const Pose2& p) { impl_->nodes[i] = {p.x, p.y, p.theta}; }
+double PoseGraph::rate(int i) const { return impl_->rates[i]; }
+bool PoseGraph::has_direction() const { return impl_->has_phi; }
+double PoseGraph::building_direction() const { return impl_->phi; }
+
+std::vector<Eigen::Matrix3d> PoseGraph::Covariances() const {
+  ceres::Problem::Options po;
+  po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(po);
+  impl_->Build(&problem, 0, true);
+  for (size_t n = 0; n < impl_->nodes.size(); ++n)
+    if (impl_->fixed[n] && problem.HasParameterBlock(impl_->nodes[n].data()))
+      problem.SetParameterBlockConstant(impl_->nodes[n].data());
+  ceres::Covariance::Options co;
+  co.algorithm_type = ceres::SPARSE_QR;
+  co.num_threads = 1;
+  ceres::Covariance cov(co);
+  std::vector<std::pair<const double*, const double*>> blocks;
+  for (size_t n = 0; n < impl_->nodes.size(); ++n)
+    if (!impl_->fixed[n] && problem.HasParameterBlock(impl_->nodes[n].data()))
+      blocks.emplace_back(impl_->nodes[n].data(), impl_->nodes[n].data());
+  std::vector<Eigen::Matrix3d> out(impl_->nodes.size(), Eigen::Matrix3d::Zero());
+  if (blocks.empty()) return out;
+  if (!cov.Compute(blocks, &problem)) return {};
+  for (size_t n = 0; n < impl_->nodes.size(); ++n) {
+    if (impl_->fixed[n] || !problem.HasParameterBlock(impl_->nodes[n].data())) continue;
+    double c[9];
+    cov.GetCovarianceBlock(impl_->nodes[n].data(), impl_->nodes[n].data(), c);
+    out[n] = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(c);
+  }
+  return out;
+}
+
+std::vector<PoseGraph::FactorResidual> PoseGraph::Residuals() const {
+  std::vector<FactorResidual> out;
+  std::vector<int> rel_of(impl_->factors.size(), -1);
+  for (size_t k = 0; k < impl_->relative_index.size(); ++k) rel_of[impl_->relative_index[k]] = static_cast<int>(k);
+  for (size_t k = 0; k < impl_->factors.size(); ++k) {
+    const auto& f = impl_->factors[k];
+    double r[3] = {0, 0, 0};
+    f.cost->Evaluate(f.params.data(), r, nullptr);
+    double chi2 = 0.0;
+    for (int a = 0; a < f.dof; ++a) chi2 += r[a] * r[a];
+    out.push_back({f.kind, f.i, f.j, rel_of[k], chi2, f.dof, f.enabled});
+  }
+  return out;
+}
+
+namespace {
+// Regularised lower incomplete gamma P(a, x): the power series below a + 1,
+// the continued fraction (modified Lentz) above.
+double GammaP(double a, double x) {
+  if (x <= 0.0) return 0.0;
+  const double lg = std::lgamma(a);
+  if (x < a + 1.0) {
+    double term = 1.0 / a, sum = term;
+    for (int n = 1; n < 500; ++n) {
+      term *= x / (a + n);
+      sum += term;
+      if (std::abs(term) < std::abs(sum) * 1e-15) break;
+    }
+    return sum * std::exp(-x + a * std::log(x) - lg);
+  }
+  double b = x + 1.0 - a, c = 1e300, d = 1.0 / b, h = d;
+  for (int i = 1; i < 500; ++i) {
+    const double an = -i * (i - a);
+    b += 2.0;
+    d = an * d + b;
+    if (std::abs(d) < 1e-300) d = 1e-300;
+    c = b + an / c;
+    if (std::abs(c) < 1e-300) c = 1e-300;
+    d = 1.0 / d;
+    const double del = d * c;
+    h *= del;
+    if (std::abs(del - 1.0) < 1e-15) break;
+  }
+  return 1.0 - std::exp(-x + a * std::log(x) - lg) * h;
+}
+}  // namespace
+
+double ChiSquareQuantile(double p, int dof) {
+  // Bisection on the chi-square CDF P(k/2, x/2).
+  const double k = std::max(1, dof);
+  double lo = 0.0, hi = k + 50.0 * std::sqrt(2.0 * k) + 50.0;
+  for (int it = 0; it < 200; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (GammaP(0.5 * k, 0.5 * mid) < p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+}  // namespace cogmap::graph

@@ -1,0 +1,123 @@
+#pragma once
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cogmap/core/angles.h"
+#include "cogmap/core/pose2.h"
+
+namespace cogmap::graph {
+
+// Odometry noise between two ASR poses (default mode; not in the thesis).
+// Wheel odometry errs in two ways: a random part that grows with the distance
+// driven and the angle turned (this model: per step of length ds and turn
+// dtheta, along-track variance trans^2 ds, heading variance heading^2 ds +
+// rot^2 |dtheta|, propagated through the path so the heading error turns into
+// lateral error), and a systematic heading drift (so many degrees per metre,
+// SPEC 5) that the pose graph estimates as a variable of its own (a rate per
+// ASR, a random walk from one to the next). The defaults are the simulator's
+// random noise (docs/simulator.md) times two, for real robots whose wheels
+// slip more than the simulated ones.
+struct OdometryNoiseOptions {
+  double trans_sigma_m_per_sqrt_m = 0.02;
+  double heading_sigma_rad_per_sqrt_m = DegToRad(0.35);
+  double rot_sigma_rad_per_sqrt_rad = DegToRad(0.6);
+  double min_sigma_m = 0.01;
+  double min_sigma_rad = DegToRad(0.1);
+  // Drift rate: prior 1-sigma (mean 0) and random walk per sqrt(metre).
+  double rate_prior_sigma_rad_per_m = DegToRad(3.0);
+  double rate_walk_rad_per_m_per_sqrt_m = DegToRad(0.05);
+};
+
+// The odometry between two nodes: the raw relative pose of node j in node i's
+// frame, its covariance from the noise model, and the path steps needed to
+// re-integrate it under a drift rate r (each step's displacement turned by
+// -r x the distance driven before it).
+struct OdometryMeasurement {
+  Pose2 delta;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
+  double distance_m = 0.0;
+  double turn_rad = 0.0;
+  std::vector<Eigen::Vector3d> steps;  // (dx, dy, s at the step's middle), node i frame
+};
+
+// 'path_i' are the raw poses from node i's origin to node j's, in node i's
+// frame (the first near the identity, the last = delta). Steps are merged to
+// at most max_steps for the rate model (exact for the drift-free part).
+OdometryMeasurement MeasureOdometry(const std::vector<Pose2>& path_i, const OdometryNoiseOptions& options = {},
+                                    int max_steps = 24);
+
+enum class FactorKind { kOdometry, kDirection, kRegistration, kLoopClosure, kRateWalk, kRatePrior };
+const char* FactorKindName(FactorKind k);
+
+// A pose graph over ASR poses (x, y, theta), solved with Ceres:
+//  - odometry factors between consecutive ASRs (Gaussian, with the node's
+//    drift rate re-integrating the measured path);
+//  - wall-direction factors: the dominant wall direction of an ASR is known
+//    only modulo a quarter turn, so the factor ties theta_i + d_i to one
+//    building direction phi (a variable) modulo 90 degrees: a max-mixture over
+//    the four branches (the nearest branch at every evaluation) with a Cauchy
+//    tail for rooms whose walls are not the building's;
+//  - relative-pose factors from registration (consecutive ASRs and loop
+//    closures), Gaussian with a Cauchy tail;
+//  - the drift-rate random walk and prior.
+// Node 0 (or any node added as fixed) anchors the map.
+class PoseGraph {
+ public:
+  PoseGraph();
+  ~PoseGraph();
+  PoseGraph(const PoseGraph&) = delete;
+  PoseGraph& operator=(const PoseGraph&) = delete;
+
+  int AddNode(const Pose2& initial, bool fixed = false);
+  int size() const;
+  void AddOdometry(int i, int j, const OdometryMeasurement& m, const OdometryNoiseOptions& noise = {});
+  void AddDirection(int i, double local_direction_rad, double sigma_rad, double cauchy_scale = 2.0);
+  // Pose of node j in node i's frame, with its covariance.
+  int AddRelative(int i, int j, const Pose2& j_in_i, const Eigen::Matrix3d& covariance, FactorKind kind,
+                  double cauchy_scale = 2.0);
+  void SetRelativeEnabled(int factor, bool enabled);
+
+  struct SolveSummary {
+    int iterations = 0;
+    double initial_cost = 0.0;
+    double final_cost = 0.0;
+    double seconds = 0.0;
+    int free_nodes = 0;
+    bool usable = false;
+  };
+  // Optimises the nodes with index >= first_free (0: all), the others held.
+  SolveSummary Solve(int first_free = 0, int max_iterations = 50);
+
+  Pose2 pose(int i) const;
+  void set_pose(int i, const Pose2& p);
+  double rate(int i) const;
+  bool has_direction() const;
+  double building_direction() const;
+
+  // Marginal covariances of every node's (x, y, theta), the fixed nodes held
+  // (zero for them). Empty when the computation fails (rank deficient).
+  std::vector<Eigen::Matrix3d> Covariances() const;
+
+  // Per factor: its whitened squared residual (chi^2 without the robust loss)
+  // and its dimension, at the current estimate.
+  struct FactorResidual {
+    FactorKind kind;
+    int i = -1, j = -1;
+    int factor = -1;  // AddRelative index, else -1
+    double chi2 = 0.0;
+    int dof = 0;
+    bool enabled = true;
+  };
+  std::vector<FactorResidual> Residuals() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Chi-square quantile (exact, by bisection on the regularised gamma), dof >= 1.
+double ChiSquareQuantile(double p, int dof);
+
+}  // namespace cogmap::graph

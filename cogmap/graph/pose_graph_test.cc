@@ -1,0 +1,71 @@
+#include "cogmap/graph/pose_graph.h"
+
+#include <gtest/gtest.h>
+
+
+namespace cogmap::graph {
+namespace {
+
+std::vector<Pose2> Straight(double length_m, double step_m = 0.1) {
+  std::vector<Pose2> p;
+  for (double s = 0; s <= length_m + 1e-9; s += step_m) p.push_back({s, 0.0, 0.0});
+  return p;
+}
+
+TEST(OdometryModel, VarianceGrowsWithDistanceAndHeadingTurnsLateral) {
+  OdometryNoiseOptions o;
+  const auto m2 = MeasureOdometry(Straight(2.0), o);
+  const auto m8 = MeasureOdometry(Straight(8.0), o);
+  EXPECT_NEAR(m8.distance_m, 8.0, 1e-9);
+  EXPECT_GT(m8.covariance(0, 0), 3.0 * m2.covariance(0, 0));
+  // Lateral variance grows with the cube of the distance (heading random walk).
+  EXPECT_GT(m8.covariance(1, 1), 20.0 * m2.covariance(1, 1));
+  EXPECT_NEAR(m8.covariance(2, 2),
+              o.heading_sigma_rad_per_sqrt_m * o.heading_sigma_rad_per_sqrt_m * 8.0 + o.min_sigma_rad * o.min_sigma_rad,
+              1e-9);
+}
+
+TEST(PoseGraph, DriftRateIsRecoveredFromWallDirections) {
+  // A straight run of 10 rooms 4 m apart; the odometry turns 2 deg/m to the
+  // left; every room's walls are axis-aligned in truth.
+  const double rate = DegToRad(2.0);
+  PoseGraph g;
+  Pose2 raw;
+  g.AddNode(raw, true);
+  g.AddDirection(0, 0.0, DegToRad(1.0));
+  for (int i = 1; i <= 10; ++i) {
+    // Raw path of 4 m turning left by rate per metre.
+    std::vector<Pose2> path;
+    Pose2 p;
+    for (int k = 0; k <= 40; ++k) {
+      path.push_back(p);
+      p = p * Pose2{0.1, 0.0, rate * 0.1};
+    }
+    const auto m = MeasureOdometry(path);
+    raw = raw * m.delta;
+    g.AddNode(raw);
+    g.AddOdometry(i - 1, i, m);
+    // Each room's walls are axis-aligned in its own (true) local frame; its
+    // raw pose carries the drift.
+    g.AddDirection(i, 0.0, DegToRad(1.0));
+    g.Solve(0);
+  }
+  for (int i = 0; i <= 10; ++i) {
+    EXPECT_NEAR(g.pose(i).theta, 0.0, DegToRad(0.5)) << i;
+    EXPECT_NEAR(g.pose(i).y, 0.0, 0.1) << i;
+    EXPECT_NEAR(g.pose(i).x, 4.0 * i, 0.1) << i;
+  }
+  EXPECT_NEAR(g.rate(5), rate, DegToRad(0.2));
+  const auto cov = g.Covariances();
+  ASSERT_EQ(cov.size(), 11u);
+  EXPECT_GT(cov[10](1, 1), cov[1](1, 1));
+}
+
+TEST(PoseGraph, ChiSquareQuantileMatchesTables) {
+  EXPECT_NEAR(ChiSquareQuantile(0.999, 3), 16.27, 0.15);
+  EXPECT_NEAR(ChiSquareQuantile(0.95, 1), 3.84, 0.15);
+  EXPECT_NEAR(ChiSquareQuantile(0.999, 100), 149.4, 0.5);
+}
+
+}  // namespace
+}  // namespace cogmap::graph

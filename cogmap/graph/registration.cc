@@ -1,0 +1,178 @@
+#include "cogmap/graph/registration.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace cogmap::graph {
+namespace {
+
+Vec2 Perp(const Vec2& v) { return {-v.y(), v.x()}; }
+
+bool SegmentsIntersect(const Vec2& p1, const Vec2& p2, const Vec2& q1, const Vec2& q2) {
+  auto cross = [](const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); };
+  const Vec2 r = p2 - p1, s = q2 - q1;
+  const double den = cross(r, s);
+  if (std::abs(den) < 1e-12) return false;  // parallel: a touch, not a crossing
+  const double t = cross(q1 - p1, s) / den;
+  const double u = cross(q1 - p1, r) / den;
+  return t > 0.0 && t < 1.0 && u > 0.0 && u < 1.0;
+}
+
+// Nearest target face to p (normal n) within max_d whose normal agrees;
+// returns its index or -1, and the signed point-to-line residual.
+int NearestFace(const std::vector<FacedSegment>& target, const Vec2& p, const Vec2& n, double max_d, double cos_max,
+                double* residual) {
+  int best = -1;
+  double best_d = max_d;
+  for (size_t k = 0; k < target.size(); ++k) {
+    const FacedSegment& f = target[k];
+    if (f.normal.dot(n) < cos_max) continue;
+    const double d = PointSegmentDistance(p, f.a, f.b);
+    if (d < best_d) {
+      best_d = d;
+      best = static_cast<int>(k);
+    }
+  }
+  if (best >= 0) *residual = target[best].normal.dot(p - target[best].a);
+  return best;
+}
+
+}  // namespace
+
+std::vector<FacedSegment> FaceWalls(const std::vector<Polyline>& walls, const std::vector<Vec2>& free_points,
+                                    double min_length_m) {
+  std::vector<FacedSegment> out;
+  for (const Polyline& line : walls) {
+    for (size_t i = 1; i < line.size(); ++i) {
+      const Vec2 a = line[i - 1], b = line[i];
+      const double len = (b - a).norm();
+      if (len < min_length_m) continue;
+      Vec2 n = Perp((b - a) / len);
+      const Vec2 mid = 0.5 * (a + b);
+      // The free side: where the nearest path point is.
+      double best = std::numeric_limits<double>::infinity();
+      Vec2 nearest = mid + n;
+      for (const Vec2& q : free_points) {
+        const double d = PointSegmentDistance(q, a, b);
+        if (d < best) {
+          best = d;
+          nearest = q;
+        }
+      }
+      if (n.dot(nearest - mid) < 0.0) n = -n;
+      out.push_back({a, b, n});
+    }
+  }
+  return out;
+}
+
+std::vector<FacedPoint> SampleFaces(const std::vector<FacedSegment>& faces, double step_m) {
+  std::vector<FacedPoint> out;
+  for (const FacedSegment& f : faces) {
+    const double len = f.length();
+    const int n = std::max(1, static_cast<int>(std::floor(len / step_m)));
+    for (int i = 0; i < n; ++i) {
+      const double t = (i + 0.5) / n;
+      out.push_back({f.a + t * (f.b - f.a), f.normal});
+    }
+  }
+  return out;
+}
+
+Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::vector<FacedSegment>& source,
+                           const Pose2& initial, const RegistrationOptions& o) {
+  Registration r;
+  r.target_from_source = initial;
+  const std::vector<FacedPoint> samples = SampleFaces(source, o.sample_step_m);
+  r.samples = static_cast<int>(samples.size());
+  if (target.empty() || samples.size() < static_cast<size_t>(o.min_matches)) return r;
+  const double cos_max = std::cos(o.max_normal_angle_rad);
+  Pose2 T = initial;
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  double sum_w_e2 = 0.0, sum_w = 0.0;
+  int matches = 0;
+  for (int it = 0; it < o.iterations; ++it) {
+    const double frac = o.iterations > 1 ? static_cast<double>(it) / (o.iterations - 1) : 1.0;
+    const double max_d = o.max_correspondence_m + frac * (o.final_correspondence_m - o.max_correspondence_m);
+    const double c = std::cos(T.theta), s = std::sin(T.theta);
+    H.setZero();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    sum_w_e2 = sum_w = 0.0;
+    matches = 0;
+    for (const FacedPoint& fp : samples) {
+      const Vec2 q = T * fp.p;
+      const Vec2 n(c * fp.normal.x() - s * fp.normal.y(), s * fp.normal.x() + c * fp.normal.y());
+      double e = 0.0;
+      const int k = NearestFace(target, q, n, max_d, cos_max, &e);
+      if (k < 0) continue;
+      const Vec2& nt = target[k].normal;
+      const Vec2 dq(-(q.y() - T.y), q.x() - T.x);  // d(T p)/d theta
+      const Eigen::Vector3d J(nt.x(), nt.y(), nt.dot(dq));
+      const double w = std::abs(e) <= o.huber_m ? 1.0 : o.huber_m / std::abs(e);
+      H += w * J * J.transpose();
+      g += w * J * e;
+      sum_w_e2 += w * e * e;
+      sum_w += w;
+      ++matches;
+    }
+    r.iterations = it + 1;
+    if (matches < o.min_matches) {
+      r.matches = matches;
+      return r;
+    }
+    // Levenberg damping keeps degenerate directions (a corridor) where they are.
+    Eigen::Matrix3d A = H;
+    for (int i = 0; i < 3; ++i) A(i, i) += 1e-6 + 1e-3 * H(i, i);
+    const Eigen::Vector3d dx = -A.ldlt().solve(g);
+    T = Pose2{T.x + dx(0), T.y + dx(1), NormalizeAngle(T.theta + dx(2))};
+    if (dx.head<2>().norm() < 1e-5 && std::abs(dx(2)) < 1e-6 && frac >= 1.0) break;
+  }
+  r.target_from_source = T;
+  r.matches = matches;
+  r.match_fraction = r.samples > 0 ? static_cast<double>(matches) / r.samples : 0.0;
+  r.rmse_m = sum_w > 0 ? std::sqrt(sum_w_e2 / sum_w) : 0.0;
+  const double dof = std::max(1, matches - 3);
+  const double sigma2 = std::max(o.min_sigma_m * o.min_sigma_m, sum_w_e2 / dof);
+  const double inflate = std::max(1.0, o.correlation_length_m / o.sample_step_m);
+  // Pseudo-inverse on the eigen-decomposition: a direction without
+  // information gets a large variance, not a NaN.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(H);
+  Eigen::Vector3d inv = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 3; ++i) inv(i) = es.eigenvalues()(i) > 1e-9 ? 1.0 / es.eigenvalues()(i) : 1e9;
+  r.covariance = sigma2 * inflate * es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
+  r.converged = true;
+  return r;
+}
+
+double AgreementFraction(const std::vector<FacedSegment>& target, const std::vector<FacedPoint>& points,
+                         double tolerance_m, double max_normal_angle_rad) {
+  if (points.empty()) return 0.0;
+  const double cos_max = std::cos(max_normal_angle_rad);
+  int ok = 0;
+  for (const FacedPoint& p : points) {
+    double e = 0.0;
+    if (NearestFace(target, p.p, p.normal, tolerance_m, cos_max, &e) >= 0) ++ok;
+  }
+  return static_cast<double>(ok) / points.size();
+}
+
+int PathWallCrossings(const std::vector<FacedSegment>& walls, const std::vector<Vec2>& path, double max_gap_m) {
+  int n = 0;
+  for (size_t i = 1; i < path.size(); ++i) {
+    const Vec2 &p = path[i - 1], &q = path[i];
+    if ((q - p).norm() > max_gap_m) continue;
+    const double xmin = std::min(p.x(), q.x()), xmax = std::max(p.x(), q.x());
+    const double ymin = std::min(p.y(), q.y()), ymax = std::max(p.y(), q.y());
+    for (const FacedSegment& w : walls) {
+      if (std::max(w.a.x(), w.b.x()) < xmin || std::min(w.a.x(), w.b.x()) > xmax ||
+          std::max(w.a.y(), w.b.y()) < ymin || std::min(w.a.y(), w.b.y()) > ymax)
+        continue;
+      if (SegmentsIntersect(p, q, w.a, w.b)) ++n;
+    }
+  }
+  return n;
+}
+
+}  // namespace cogmap::graph

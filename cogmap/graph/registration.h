@@ -1,0 +1,79 @@
+#pragma once
+#include <Eigen/Core>
+#include <vector>
+
+#include "cogmap/core/geometry.h"
+
+namespace cogmap::graph {
+
+// A wall segment with the side it was seen from: 'normal' is the unit normal
+// pointing into the free space the robot mapped it from. Two rooms that see
+// the two faces of one thick wall give segments 0.1-0.3 m apart with opposite
+// normals; registration and fusion match only faces with agreeing normals.
+struct FacedSegment {
+  Vec2 a{0, 0};
+  Vec2 b{0, 0};
+  Vec2 normal{0, 1};
+  double length() const { return (b - a).norm(); }
+};
+
+// The faced segments of an ASR's walls (its local frame): each segment's free
+// side is the side of the nearest of 'free_points' (the robot's path through
+// the room, local frame). Segments shorter than min_length_m are dropped.
+std::vector<FacedSegment> FaceWalls(const std::vector<Polyline>& walls, const std::vector<Vec2>& free_points,
+                                    double min_length_m = 0.05);
+
+struct RegistrationOptions {
+  double sample_step_m = 0.1;          // source walls sampled every this far
+  double max_correspondence_m = 0.6;   // first iterations
+  double final_correspondence_m = 0.3; // last iterations (shrinks linearly)
+  double max_normal_angle_rad = 0.5;   // ~30 deg between matched faces
+  double huber_m = 0.1;                // Huber weight on point-to-line residuals
+  int iterations = 30;
+  // Residuals of neighbouring samples along one wall are correlated (one
+  // polyline edge): the covariance is inflated by correlation_length_m /
+  // sample_step_m, the number of samples that carry one independent error.
+  double correlation_length_m = 0.5;
+  double min_sigma_m = 0.02;           // floor of the residual 1-sigma
+  int min_matches = 12;
+};
+
+// The pose of a source frame in a target frame, found by point-to-line ICP
+// (Gauss-Newton on SE(2), Huber-weighted) of the source walls' samples onto
+// the target walls, face-aware.
+struct Registration {
+  bool converged = false;
+  Pose2 target_from_source;
+  // 3x3 covariance of (x, y, theta) of target_from_source: sigma^2 H^-1 with the
+  // residual variance sigma^2 and the correlation inflation. Degenerate
+  // directions (a corridor's length) get large variances.
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity() * 1e6;
+  int samples = 0;           // source samples
+  int matches = 0;           // samples with a correspondence at the end
+  double match_fraction = 0; // matches / samples
+  double rmse_m = 0.0;       // of the matched point-to-line residuals
+  int iterations = 0;
+};
+
+Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::vector<FacedSegment>& source,
+                           const Pose2& initial_target_from_source, const RegistrationOptions& options = {});
+
+// Samples of faced segments every 'step_m' (point, normal).
+struct FacedPoint {
+  Vec2 p;
+  Vec2 normal;
+};
+std::vector<FacedPoint> SampleFaces(const std::vector<FacedSegment>& faces, double step_m);
+
+// Fraction of 'points' (already in the target frame) that lie within
+// 'tolerance_m' of a target face whose normal agrees within max_normal_angle_rad.
+double AgreementFraction(const std::vector<FacedSegment>& target, const std::vector<FacedPoint>& points,
+                         double tolerance_m, double max_normal_angle_rad);
+
+// Number of crossings of the path polyline 'path' (target frame) by target
+// walls: a path that runs through a wall means the placement is wrong (the
+// robot drove there). Consecutive path points farther apart than max_gap_m are
+// not joined.
+int PathWallCrossings(const std::vector<FacedSegment>& walls, const std::vector<Vec2>& path, double max_gap_m = 1.0);
+
+}  // namespace cogmap::graph

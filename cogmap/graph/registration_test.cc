@@ -1,0 +1,66 @@
+#include "cogmap/graph/registration.h"
+
+#include <gtest/gtest.h>
+
+namespace cogmap::graph {
+namespace {
+
+// A 4 x 3 m room with an L-shaped alcove (not symmetric), seen from inside.
+std::vector<Polyline> Room() {
+  return {{Vec2(0, 0), Vec2(4, 0), Vec2(4, 2), Vec2(3, 2), Vec2(3, 3), Vec2(0, 3), Vec2(0, 0)}};
+}
+std::vector<Vec2> Inside() { return {Vec2(1, 1), Vec2(2, 1.5), Vec2(3.5, 1)}; }
+
+TEST(Registration, FacesPointIntoTheRoom) {
+  const auto faces = FaceWalls(Room(), Inside());
+  ASSERT_EQ(faces.size(), 6u);
+  EXPECT_NEAR(faces[0].normal.y(), 1.0, 1e-12);   // floor wall: free side +y
+  EXPECT_NEAR(faces[1].normal.x(), -1.0, 1e-12);  // right wall: free side -x
+}
+
+TEST(Registration, RecoversAKnownPose) {
+  const Pose2 truth{0.3, -0.2, DegToRad(4.0)};
+  const auto target = FaceWalls(Room(), Inside());
+  // The same room seen from a frame placed at 'truth' in the target frame.
+  const auto source = FaceWalls(Transform(truth.inverse(), Room()), [&] {
+    std::vector<Vec2> p;
+    for (const auto& q : Inside()) p.push_back(truth.inverse() * q);
+    return p;
+  }());
+  const Registration r = RegisterWalls(target, source, Pose2{}, {});
+  ASSERT_TRUE(r.converged);
+  EXPECT_NEAR(r.target_from_source.x, truth.x, 1e-4);
+  EXPECT_NEAR(r.target_from_source.y, truth.y, 1e-4);
+  EXPECT_NEAR(r.target_from_source.theta, truth.theta, 1e-5);
+  EXPECT_GT(r.match_fraction, 0.95);
+  EXPECT_LT(r.covariance(0, 0), 1e-3);
+}
+
+TEST(Registration, CorridorLengthIsUncertain) {
+  // Two long parallel walls: nothing fixes the position along them.
+  const std::vector<Polyline> walls = {{Vec2(0, 0), Vec2(10, 0)}, {Vec2(0, 2), Vec2(10, 2)}};
+  const std::vector<Vec2> inside = {Vec2(1, 1), Vec2(9, 1)};
+  const auto faces = FaceWalls(walls, inside);
+  const Registration r = RegisterWalls(faces, faces, Pose2{0.0, 0.05, 0.0}, {});
+  ASSERT_TRUE(r.converged);
+  EXPECT_NEAR(r.target_from_source.y, 0.0, 1e-4);
+  EXPECT_GT(r.covariance(0, 0), 100.0 * r.covariance(1, 1));
+}
+
+TEST(Registration, TwoFacesOfAThickWallDoNotMatch) {
+  // Room A sees the wall's face at y = 0 from below; room B the face at y = 0.25 from above.
+  const auto a = FaceWalls({{Vec2(0, 0), Vec2(5, 0)}}, {Vec2(2.5, -1)});
+  const auto b = FaceWalls({{Vec2(0, 0.25), Vec2(5, 0.25)}}, {Vec2(2.5, 1.25)});
+  const Registration r = RegisterWalls(a, b, Pose2{}, {});
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.matches, 0);
+}
+
+TEST(Registration, PathThroughWallIsCounted) {
+  const auto faces = FaceWalls({{Vec2(0, 0), Vec2(0, 4)}}, {Vec2(-1, 2)});
+  EXPECT_EQ(PathWallCrossings(faces, {Vec2(-0.4, 1), Vec2(0.4, 1), Vec2(0.4, 1.8), Vec2(-0.4, 1.8)}), 2);
+  EXPECT_EQ(PathWallCrossings(faces, {Vec2(-1, 1), Vec2(-1, 3)}), 0);
+}
+
+}  // namespace
+}  // namespace cogmap::graph
