@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -349,6 +350,7 @@ int RunEval(const EvalArgs& a) {
   std::optional<asr::RoomMetrics> rooms;
   std::optional<localize::HeadingErrorStats> headings;
   std::optional<eval::TrajectoryMetrics> trajectory;
+  std::optional<eval::PoseCalibration> calibration;
   const std::filesystem::path store_path = std::filesystem::is_directory(dir) ? dir / "map.sqlite" : dir.parent_path() / "map.sqlite";
   if (std::filesystem::exists(store_path)) {
     // Read only: works on a read-only folder or copy, and changes nothing.
@@ -373,6 +375,16 @@ int RunEval(const EvalArgs& a) {
     const eval::AsrTrajectories traj = eval::PairAsrTrajectories(asrs);
     trajectory = eval::ComputeTrajectoryMetrics(traj);
     for (const auto& [key, value] : eval::TrajectoryEvalKeys(*trajectory)) {
+      if (value) j[key] = *value;
+      else j[key] = nullptr;
+    }
+    // Calibration of the pose graph's covariances (issue 10): the ASRs the
+    // graph placed with a covariance, against their true frame poses.
+    std::map<int, Eigen::Matrix3d> covariances;
+    for (const auto& one : asrs)
+      if (const auto p = store->GetPlacement(one.id)) covariances[one.id] = p->covariance;
+    calibration = eval::ComputePoseCalibration(asrs, covariances);
+    for (const auto& [key, value] : eval::PoseCalibrationEvalKeys(*calibration)) {
       if (value) j[key] = *value;
       else j[key] = nullptr;
     }
@@ -429,13 +441,19 @@ int RunEval(const EvalArgs& a) {
       line.pop_back();
       std::printf("%s\n", line.c_str());
     }
+    if (calibration && calibration->checked() > 0) {
+      const auto& c = *calibration;
+      std::printf("  pose calibration: %d of %d placed ASRs within 3 sigma of the truth (position %d, heading %d; "
+                  "relative to ASR %d)\n",
+                  c.within(), c.checked(), c.position_within(), c.heading_within(), c.reference_asr);
+    }
   }
   return 0;
 }
 
 std::function<int()> SetupEval(CLI::App& sub) {
   auto a = std::make_shared<EvalArgs>();
-  sub.add_option("OUTDIR", a->dir, "A folder written by cogmap vectorize or cogmap map (or its walls.json); with a map.sqlite beside it, also ASR count, room precision/recall, heading errors and the trajectory errors (ATE, RPE over 1/5/20 m; corrected and raw odometry)")->required();
+  sub.add_option("OUTDIR", a->dir, "A folder written by cogmap vectorize or cogmap map (or its walls.json); with a map.sqlite beside it, also ASR count, room precision/recall, heading errors, the trajectory errors (ATE, RPE over 1/5/20 m; corrected and raw odometry) and, for a map placed by the pose graph, the calibration of its covariances (pose_calibration_3sigma: share of placed ASRs whose true pose, relative to the first ASR, is within 3 sigma)")->required();
   sub.add_option("--world", a->world,
                  "The world the log was driven in (ARIA 2D-Map or PNG); without it only the heading errors "
                  "(against the log's reference poses) and the sizes are reported");

@@ -304,5 +304,165 @@ TEST(TrajectoryEvalKeys, NamesAndNulls) {
   EXPECT_FALSE(keys["rpe_1m_trans_m_raw"]);
 }
 
+// --- Calibration of the placements (issue 10). ---
+
+// An ASR whose true frame is 'true_frame' and whose raw frame is 'raw_frame'
+// (odometry's error), with five path poses along its local x axis; the map
+// placed it at 'map_from_truth' * true_frame moved by (ex, ey, eth) in the
+// map's world frame. No truth when 'with_truth' is false.
+asr::Asr PlacedAsr(int id, const Pose2& true_frame, const Pose2& raw_frame, const Pose2& map_from_truth, double ex,
+                   double ey, double eth, bool with_truth = true) {
+  asr::Asr a;
+  a.id = id;
+  a.world_from_local_raw = raw_frame;
+  for (int k = 0; k < 5; ++k) {
+    const Pose2 local{0.3 * k, 0.1 * k, 0.05 * k};
+    a.path.push_back(raw_frame * local);
+    if (with_truth) a.true_path.push_back(true_frame * local);
+  }
+  const Pose2 placed = map_from_truth * true_frame;
+  a.world_from_local_corrected = {placed.x + ex, placed.y + ey, NormalizeAngle(placed.theta + eth)};
+  return a;
+}
+
+Eigen::Matrix3d Cov(double var_x, double var_y, double sigma_theta_deg) {
+  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+  c(0, 0) = var_x;
+  c(1, 1) = var_y;
+  c(2, 2) = std::pow(DegToRad(sigma_theta_deg), 2);
+  c(0, 1) = c(1, 0) = 0.001;  // off-diagonal terms do not enter the bounds
+  return c;
+}
+
+// Five ASRs in a map whose frame differs from the truth's by a rigid motion
+// (the anchor, ASR 0, was placed at its raw pose), with known errors:
+//   1: 0.5 m off, 3 sigma = 0.45 m       -> position out; 1 deg off, 3 sigma 3 deg -> in
+//   2: 0.5 m off, 3 sigma = 0.6 m        -> in;          -2 deg off, 3 sigma 3 deg -> in
+//   3: 0.1 m off, 3 sigma = 0.6 m        -> in;           5 deg off, 3 sigma 3 deg -> out
+//   4: no truth, 5: zero covariance (not placed), 0: no covariance (the anchor) -> not checked
+std::vector<asr::Asr> CalibrationAsrs(std::map<int, Eigen::Matrix3d>* covariances) {
+  const Pose2 map_from_truth{2.0, -1.0, DegToRad(30.0)};
+  std::vector<asr::Asr> asrs;
+  const double d = DegToRad(1.0);
+  asrs.push_back(PlacedAsr(0, {1.0, 1.0, 0.2}, {1.5, 0.8, 0.1}, map_from_truth, 0, 0, 0));
+  asrs.push_back(PlacedAsr(1, {5.0, 1.0, 0.3}, {5.4, 1.9, 0.5}, map_from_truth, 0.3, 0.4, 1.0 * d));
+  asrs.push_back(PlacedAsr(2, {9.0, 2.0, -0.4}, {9.8, 3.1, 0.1}, map_from_truth, -0.3, 0.4, -2.0 * d));
+  asrs.push_back(PlacedAsr(3, {9.0, 7.0, 1.6}, {11.0, 8.0, 2.0}, map_from_truth, 0.0, -0.1, 5.0 * d));
+  asrs.push_back(PlacedAsr(4, {5.0, 7.0, 3.0}, {6.0, 9.0, 3.1}, map_from_truth, 3.0, 3.0, 0.0, false));
+  asrs.push_back(PlacedAsr(5, {1.0, 7.0, -3.0}, {2.0, 9.0, 3.1}, map_from_truth, 3.0, 3.0, 0.0));
+  (*covariances)[1] = Cov(0.01, 0.0125, 1.0);
+  (*covariances)[2] = Cov(0.02, 0.02, 1.0);
+  (*covariances)[3] = Cov(0.02, 0.02, 1.0);
+  (*covariances)[4] = Cov(0.02, 0.02, 1.0);
+  (*covariances)[5] = Eigen::Matrix3d::Zero();
+  return asrs;
+}
+
+void ExpectCalibrationCase(const PoseCalibration& c) {
+  EXPECT_EQ(c.reference_asr, 0);
+  ASSERT_EQ(c.checked(), 3);
+  EXPECT_EQ(c.items[0].asr_id, 1);
+  EXPECT_EQ(c.items[1].asr_id, 2);
+  EXPECT_EQ(c.items[2].asr_id, 3);
+  EXPECT_NEAR(c.items[0].position_error_m, 0.5, 1e-9);
+  EXPECT_NEAR(c.items[1].position_error_m, 0.5, 1e-9);
+  EXPECT_NEAR(c.items[2].position_error_m, 0.1, 1e-9);
+  EXPECT_NEAR(RadToDeg(c.items[0].heading_error_rad), 1.0, 1e-9);
+  EXPECT_NEAR(RadToDeg(c.items[1].heading_error_rad), -2.0, 1e-9);
+  EXPECT_NEAR(RadToDeg(c.items[2].heading_error_rad), 5.0, 1e-9);
+  EXPECT_NEAR(c.items[0].sigma_position_m, 0.15, 1e-12);
+  EXPECT_NEAR(c.items[1].sigma_position_m, 0.2, 1e-12);
+  EXPECT_FALSE(c.items[0].position_within);
+  EXPECT_TRUE(c.items[0].heading_within);
+  EXPECT_TRUE(c.items[1].within());
+  EXPECT_TRUE(c.items[2].position_within);
+  EXPECT_FALSE(c.items[2].heading_within);
+  EXPECT_EQ(c.within(), 1);
+  EXPECT_EQ(c.position_within(), 2);
+  EXPECT_EQ(c.heading_within(), 2);
+  std::map<std::string, std::optional<double>> keys;
+  for (const auto& [k, v] : PoseCalibrationEvalKeys(c)) keys[k] = v;
+  EXPECT_NEAR(keys["pose_calibration_3sigma"].value(), 1.0 / 3.0, 1e-12);
+  EXPECT_NEAR(keys["pose_calibration_position_3sigma"].value(), 2.0 / 3.0, 1e-12);
+  EXPECT_NEAR(keys["pose_calibration_heading_3sigma"].value(), 2.0 / 3.0, 1e-12);
+  EXPECT_EQ(keys["pose_calibration_asrs"], 3.0);
+}
+
+TEST(PoseCalibration, KnownErrorsAndCovariances) {
+  std::map<int, Eigen::Matrix3d> cov;
+  const auto asrs = CalibrationAsrs(&cov);
+  ExpectCalibrationCase(ComputePoseCalibration(asrs, cov));
+}
+
+TEST(PoseCalibration, CovariancesReadBackFromAStore) {
+  std::map<int, Eigen::Matrix3d> cov;
+  const auto asrs = CalibrationAsrs(&cov);
+  const std::string path = testing_util::TestTempPath("calibration.sqlite");
+  {
+    auto store = asr::SqliteAsrStore::Open(path, asr::SqliteAsrStore::OpenMode::kReplace);
+    std::vector<asr::Placement> placements;
+    for (const auto& a : asrs) {
+      store->Put(a);
+      if (!cov.count(a.id)) continue;
+      asr::Placement p;
+      p.asr_id = a.id;
+      p.room_id = a.id;
+      p.covariance = cov[a.id];
+      placements.push_back(p);
+    }
+    store->PutPlacements(asrs, placements, {});
+  }
+  auto store = asr::SqliteAsrStore::Open(path, asr::SqliteAsrStore::OpenMode::kOpenExisting);
+  std::vector<asr::Asr> back;
+  std::map<int, Eigen::Matrix3d> cov_back;
+  for (int id : store->Ids()) {
+    back.push_back(*store->Get(id));
+    if (const auto p = store->GetPlacement(id)) cov_back[id] = p->covariance;
+  }
+  EXPECT_FALSE(cov_back.count(0));
+  ExpectCalibrationCase(ComputePoseCalibration(back, cov_back));
+}
+
+TEST(PoseCalibration, NoTruthOrNoCovarianceChecksNothing) {
+  std::map<int, Eigen::Matrix3d> cov;
+  auto asrs = CalibrationAsrs(&cov);
+  const PoseCalibration none = ComputePoseCalibration(asrs, {});
+  EXPECT_EQ(none.checked(), 0);
+  EXPECT_EQ(none.reference_asr, 0);
+  std::map<std::string, std::optional<double>> keys;
+  for (const auto& [k, v] : PoseCalibrationEvalKeys(none)) keys[k] = v;
+  EXPECT_FALSE(keys["pose_calibration_3sigma"]);
+  EXPECT_EQ(keys["pose_calibration_asrs"], 0.0);
+  for (auto& a : asrs) a.true_path.clear();
+  const PoseCalibration no_truth = ComputePoseCalibration(asrs, cov);
+  EXPECT_EQ(no_truth.checked(), 0);
+  EXPECT_EQ(no_truth.reference_asr, -1);
+}
+
+TEST(PoseCalibration, AnchorWithoutTruthMakesTheFirstWithTruthTheReference) {
+  std::map<int, Eigen::Matrix3d> cov;
+  auto asrs = CalibrationAsrs(&cov);
+  asrs[0].true_path.clear();
+  // ASR 1 is now the reference: its own error is removed and moves the others'.
+  const PoseCalibration c = ComputePoseCalibration(asrs, cov);
+  EXPECT_EQ(c.reference_asr, 1);
+  ASSERT_EQ(c.checked(), 3);
+  EXPECT_NEAR(c.items[0].position_error_m, 0.0, 1e-9);
+  EXPECT_NEAR(c.items[0].heading_error_rad, 0.0, 1e-12);
+  EXPECT_NEAR(RadToDeg(c.items[1].heading_error_rad), -3.0, 1e-9);
+}
+
+TEST(PoseCalibration, KSigmaNamesTheKeys) {
+  std::map<int, Eigen::Matrix3d> cov;
+  const auto asrs = CalibrationAsrs(&cov);
+  const PoseCalibration c = ComputePoseCalibration(asrs, cov, 2.0);
+  // 2 sigma: ASR 2's 0.5 m against 0.4 m is out too.
+  EXPECT_EQ(c.within(), 0);
+  std::map<std::string, std::optional<double>> keys;
+  for (const auto& [k, v] : PoseCalibrationEvalKeys(c)) keys[k] = v;
+  EXPECT_TRUE(keys.count("pose_calibration_2sigma"));
+  EXPECT_EQ(keys["pose_calibration_2sigma"], 0.0);
+}
+
 }  // namespace
 }  // namespace cogmap::eval
