@@ -210,9 +210,13 @@ std::unique_ptr<OutputFolder> OutputFolder::Open(const std::string& dir) {
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
     if (name.rfind(kStagingPrefix, 0) != 0 || !e.is_directory()) continue;
+    std::error_code rec;
+    if (fs::is_empty(e.path(), rec) && !rec) {  // a commit killed after its last rename
+      fs::remove(e.path(), rec);
+      continue;
+    }
     struct stat st {};
     const std::time_t t = ::stat(e.path().c_str(), &st) == 0 ? st.st_mtime : std::time(nullptr);
-    std::error_code rec;
     fs::rename(e.path(), FreeFailedName(dir, t, name.substr(std::strlen(kStagingPrefix)) + "-killed"), rec);
   }
 

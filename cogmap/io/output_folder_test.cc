@@ -131,6 +131,15 @@ TEST(OutputFolder, KilledRunsStagingIsSetAsideByTheNextOpen) {
   EXPECT_EQ(Read(dir + "/map.sqlite"), "store one");
 }
 
+TEST(OutputFolder, EmptyStagingOfAFinishedCommitIsRemovedNotKept) {
+  const std::string dir = Fresh("empty-staging");
+  FinishedRun(dir, "one");
+  fs::create_directories(dir + "/.staging-999997");
+  auto f = OutputFolder::Open(dir);
+  EXPECT_FALSE(fs::exists(dir + "/.staging-999997"));
+  EXPECT_TRUE(Named(dir, "failed-run-").empty());
+}
+
 TEST(OutputFolder, CommitKilledHalfWayIsFinishedByTheNextOpen) {
   const std::string dir = Fresh("halfway");
   FinishedRun(dir, "one", /*with_extra=*/true);
