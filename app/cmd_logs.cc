@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "app/command.h"
+#include "app/log_warnings.h"
 #include "app/progress.h"
 #include "cogmap/core/error.h"
 #include "cogmap/io/atomic_file.h"
@@ -69,6 +70,7 @@ int RunLogInfo(const std::string& path, const std::string& format) {
     if (records % 1024 == 0) bar.Update(reader->progress());
   }
   bar.Finish();
+  WarnSkipped(*reader);
   std::printf("log:            %s\n", path.c_str());
   std::printf("format:         %s\n", detected.c_str());
   std::printf("robot hint:     %s\n", robot ? RobotSummary(*robot).c_str() : "none (give --robot)");
@@ -121,6 +123,7 @@ int RunConvert(const std::string& path, const std::string& format, const std::st
     }
   });
   bar.Finish();
+  WarnSkipped(*reader);
   std::printf("wrote %s: %ld records, %ld readings, robot %s%s\n", out_path.c_str(), records, readings,
               sonar ? sonar->name.c_str() : robot.name.c_str(),
               sonar ? (" (sonar readings derived from " + robot.name + ")").c_str() : "");

@@ -18,6 +18,7 @@
 
 #include "app/cli_util.h"
 #include "app/command.h"
+#include "app/log_warnings.h"
 #include "app/progress.h"
 #include "cogmap/asr/mapper.h"
 #include "cogmap/asr/room_metrics.h"
@@ -288,6 +289,7 @@ int RunMap(const MapArgs& a) {
       if (++records % 256 == 0) bar.Update(log->progress(), std::to_string(closed) + " ASRs");
     }
     mapper.Finish();
+    WarnSkipped(*log);
   } catch (...) {
     // Every ASR closed before the bad line is in the staging store (one
     // transaction each); SetAsideOnFailure keeps it under failed-run-*. A new
@@ -433,7 +435,7 @@ int RunMap(const MapArgs& a) {
   const double total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double duration = t_last - t_first;
   nlohmann::json report = {
-      {"log", fs::absolute(a.log).string()},
+      {"log", a.log == "-" ? std::string("stdin") : fs::absolute(a.log).string()},
       {"format", a.format},
       {"robot", robot.name},
       {"mode", a.mode},
@@ -508,6 +510,7 @@ int RunMap(const MapArgs& a) {
                             {"chi2", graph_result.chi2},
                             {"chi2_dof", graph_result.chi2_dof},
                             {"chi2_p999", graph_result.chi2_p999},
+                            {"variance_factor", graph_result.variance_factor},
                             {"path_wall_crossings_odometry", graph_result.crossings_odometry},
                             {"path_wall_crossings_graph", graph_result.crossings_graph},
                             {"path_wall_crossings_chosen", graph_result.crossings_chosen},

@@ -433,13 +433,19 @@ OptimizerResult MapOptimizer::Finish() {
       ++rate_n;
     }
   res.drift_rate_rad_per_m = rate_n ? rate_sum / rate_n : 0.0;
-  // Covariances, inflated by the chi-square per dof when the factors
-  // disagree more than their covariances say (calibration).
+  // Covariances scaled by the a-posteriori variance factor chi2 / dof (the
+  // variance of unit weight of least-squares adjustment): the factors'
+  // sigmas are priors for robots in general, the residuals say how good this
+  // run's were. Shrinking is limited to a factor of 2 in sigma and needs at
+  // least min_dof_to_shrink degrees of freedom.
   t0 = std::chrono::steady_clock::now();
   std::vector<Eigen::Matrix3d> cov;
   if (res.solution != "odometry") cov = graph_.Covariances();
   res.covariance_seconds = Seconds(t0);
-  const double inflate = std::max(1.0, res.chi2 / res.chi2_dof);
+  const double factor = res.chi2 / res.chi2_dof;
+  const double inflate =
+      res.chi2_dof >= options_.min_dof_to_shrink ? std::max(options_.min_variance_factor, factor) : std::max(1.0, factor);
+  res.variance_factor = inflate;
   std::vector<double> dir_resid(N, 0.0);
   for (const auto& r : graph_.Residuals())
     if (r.kind == FactorKind::kDirection && r.enabled) dir_resid[r.i] = std::sqrt(r.chi2);

@@ -51,6 +51,9 @@ struct MapOptimizerOptions {
   // Uncertain ASRs (named in report.json, warned about).
   double uncertain_theta_rad = DegToRad(3.0);
   double uncertain_position_m = 0.5;
+  // A-posteriori variance factor on the covariances (see Finish).
+  int min_dof_to_shrink = 10;
+  double min_variance_factor = 0.25;
 };
 
 struct LoopClosure {
@@ -89,6 +92,7 @@ struct OptimizerResult {
   double chi2 = 0.0;
   int chi2_dof = 0;
   double chi2_p999 = 0.0;      // the 99.9 % quantile for chi2_dof
+  double variance_factor = 1.0;  // applied to every covariance
   int registrations = 0;
   int direction_factors = 0;
   double drift_rate_rad_per_m = 0.0;      // mean of the estimated rates
