@@ -65,6 +65,13 @@ def graph_summary(report):
     pl = pg.get("placements")
     if isinstance(pl, list):
         out["placements"] = len(pl)
+        pos = sorted((p["sigma_x_m"] ** 2 + p["sigma_y_m"] ** 2) ** 0.5 for p in pl if isinstance(p, dict)
+                     and finite(p.get("sigma_x_m")) and finite(p.get("sigma_y_m")))
+        rot = sorted(p["sigma_theta_deg"] for p in pl if isinstance(p, dict) and finite(p.get("sigma_theta_deg")))
+        if pos:
+            out["sigma_position_median_m"] = pos[len(pos) // 2]
+        if rot:
+            out["sigma_theta_median_deg"] = rot[len(rot) // 2]
     return out
 
 
@@ -485,7 +492,9 @@ def _sim_table(rep, sims, drift, shortfalls, met):
     out = [f"### Simulated, 16 sonars, {drift:g} °/m, {len(seeds)} seed{'s' if len(seeds) != 1 else ''}", "",
            "Median [min–max] over the seeds. *rooms*: the physical rooms of report.json's `pose_graph` "
            "(ASRs of one room merged by revisits); *loop closures*: accepted closure edges per run; "
-           "*solution*: which solution `cogmap map` kept, in how many runs.", "",
+           "*solution*: which solution `cogmap map` kept, in how many runs; *calibration*: placed ASRs "
+           "within 3σ, pooled, with the median over runs of each run's median placement σ (position "
+           "sqrt(σx² + σy²), heading): wide σ make calibration easy, so read the two together.", "",
            "| world | map | wall prec. p95 m | wall recall | ATE m | RPE 5 m, m | RPE 5 m, ° | heading median ° | "
            "ASRs | rooms | loop closures | calibration 3σ | solution |",
            "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
@@ -501,7 +510,10 @@ def _sim_table(rep, sims, drift, shortfalls, met):
             cal = "—"
             if is_graph:
                 w, n = _calibration(g)
-                cal = f"{w}/{n} ({100 * w / n:.0f} %)" if n else rep.na(
+                sp, st = _graph_vals(g, "sigma_position_median_m"), _graph_vals(g, "sigma_theta_median_deg")
+                sig = (f"; σ {fmt_num(summary(sp)['median'])} m, {fmt_num(summary(st)['median'], 2)}°"
+                       if sp and st else "")
+                cal = f"{w}/{n} ({100 * w / n:.0f} %{sig})" if n else rep.na(
                     "no placed ASR with a covariance (`pose_calibration_asrs` is 0 or missing: the map has no "
                     "pose graph placements, or eval does not give the key)")
             out.append("| " + " | ".join([
@@ -681,8 +693,8 @@ def _revisits(rep, carmen, shortfalls, met):
             str(gr.get("revisits", "n/a")),
             f"{gr.get('closures_accepted', 'n/a')} / {gr.get('closure_candidates', 'n/a')}",
             f"{rooms / n:.2f}" if finite(n) and n and finite(rooms) else "n/a"]) + " |")
-        if sensor == "laser" and d == 0 and finite(n) and finite(rooms):
-            text = f"intel's ASR count falls towards its spaces: {int(n)} ASRs -> {rooms} rooms (laser, 0 °/m)"
+        if d == 0 and finite(n) and finite(rooms):
+            text = f"intel's ASR count falls towards its spaces: {int(n)} ASRs -> {rooms} rooms ({sensor}, 0 °/m)"
             (met if rooms < n else shortfalls).append(text)
     out.append("")
     return out
@@ -715,7 +727,12 @@ def _cost(rep, cost, carmen, shortfalls, met):
                                + " |")
                     continue
                 if r.get("na", {}).get("all"):
-                    out.append(f"| {label} | " + " | ".join([rep.na(r['na']['all'])] * 10) + " |")
+                    # A failed command still has its time and peak memory.
+                    st = r.get("steps", {}).get("map", {})
+                    why = rep.na(r["na"]["all"])
+                    out.append(f"| {label} | " + " | ".join(
+                        [why] * 3 + [f"failed after {fmt_num(st['wall_s'])} s" if st else why, why,
+                                     fmt_num(st["peak_rss_mib"]) if st else why] + [why] * 4) + " |")
                     continue
                 m, gr = r["metrics"], r.get("graph") or {}
                 n = m.get("asr_count", m.get("report_asr_count"))
@@ -728,6 +745,13 @@ def _cost(rep, cost, carmen, shortfalls, met):
                     gr.get("solution", "—")]) + " |")
             a, b = cost["runs"].get("10/graph"), cost["runs"].get("100/graph")
             out.append("")
+            for key, r in (("100 %", b), (f"{100 * p['share']:.0f} %", a)):
+                if r and r.get("na", {}).get("all"):
+                    st = r.get("steps", {}).get("map", {})
+                    shortfalls.append(
+                        f"cost: the pose graph's `cogmap map` of {key} of the {p['rooms']}-room building failed"
+                        + (f" after {fmt_num(st['wall_s'])} s at {fmt_num(st['peak_rss_mib'])} MiB peak" if st else "")
+                        + f" ({r['na']['all']}), so time and memory at 100 % against 10 % are not measured")
             if a and b and not a.get("na", {}).get("all") and not b.get("na", {}).get("all"):
                 ma, mb = a["metrics"], b["metrics"]
                 if finite(ma.get("seconds_per_asr")) and finite(mb.get("seconds_per_asr")):
