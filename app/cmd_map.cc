@@ -319,11 +319,14 @@ int RunMap(const MapArgs& a) {
       p.room_id = e.room_id;
       p.covariance = e.covariance;
       p.uncertain = e.uncertain;
+      p.drift_rate_rad_per_m = e.drift_rate_rad_per_m;
+      p.corrected_path = e.corrected_path;
       for (const auto& w : e.why) p.why += (p.why.empty() ? "" : "; ") + w;
       placements.push_back(p);
       auto x = store->Get(e.asr_id);
       if (!x) continue;
       x->world_from_local_corrected = e.pose;
+      if (!e.corrected_walls.empty() || x->walls_local.empty()) x->walls_local = e.corrected_walls;
       x->heading_correction_rad = localize::CorrectionOf(*x).theta;
       if (e.has_covariance)
         x->heading_uncertainty_rad = std::sqrt(std::max(0.0, e.covariance(2, 2)));

@@ -372,7 +372,10 @@ int RunEval(const EvalArgs& a) {
     // ATE/RPE of the corrected and the raw trajectories against the log's
     // reference poses (the same with or without a world: ATE aligns once, RPE
     // is frame-free).
-    const eval::AsrTrajectories traj = eval::PairAsrTrajectories(asrs);
+    std::map<int, std::vector<Pose2>> corrected_paths;
+    for (const auto& x : asrs)
+      if (auto p = store->GetPlacement(x.id)) corrected_paths[x.id] = std::move(p->corrected_path);
+    const eval::AsrTrajectories traj = eval::PairAsrTrajectories(asrs, corrected_paths);
     trajectory = eval::ComputeTrajectoryMetrics(traj);
     for (const auto& [key, value] : eval::TrajectoryEvalKeys(*trajectory)) {
       if (value) j[key] = *value;

@@ -70,4 +70,12 @@ struct Asr {
   }
 };
 
+// The robot's path through an ASR as the pose graph places it: the raw path
+// in the ASR's local frame (world_from_local_raw^-1), re-integrated with the
+// odometry's heading drift removed (each step turned by -rate x the distance
+// driven from the ASR's origin to the step's middle, each heading by -rate x
+// the distance to it), then placed by world_from_local_corrected. With rate 0
+// this is world_from_local_corrected * world_from_local_raw^-1 * path.
+std::vector<Pose2> CorrectedPath(const Asr& asr, double drift_rate_rad_per_m);
+
 }  // namespace cogmap::asr

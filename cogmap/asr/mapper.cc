@@ -144,6 +144,9 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
   c.grid.reset();  // the room's grid is gone from here on
 
   Asr out = corrector_ ? corrector_(std::move(a)) : std::move(a);
+  // The placer sees the ASR in the frame its walls were built in (the
+  // pre-corrected one when the odometry is filtered).
+  if (placer_) out = placer_(std::move(out));
   if (odometry_filter_) {
     // Back to the raw odometry frame (see SetOdometryFilter).
     const Pose2 raw_from_pre = BestRigidFit(out.path, c.raw_path);
@@ -153,7 +156,6 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
     out.path = std::move(c.raw_path);
     out.heading_correction_rad = (out.world_from_local_corrected * out.world_from_local_raw.inverse()).theta;
   }
-  if (placer_) out = placer_(std::move(out));
   current_.reset();
   if (store_) {
     store_->Put(out, {{kMetaLastRawPose, PoseText(last_raw_pose_)},

@@ -85,9 +85,10 @@ class CognitiveMapper {
   // corrected - raw. Before the first Push.
   using OdometryFilter = std::function<Pose2(const Pose2& raw_odom, double time_s)>;
   void SetOdometryFilter(OdometryFilter filter) { odometry_filter_ = std::move(filter); }
-  // Placement of a closed ASR after its raw fields are in the raw odometry
-  // frame and before it is stored (graph::MapOptimizer::Place, default mode):
-  // sets world_from_local_corrected. Runs after the corrector.
+  // Placement of a closed ASR (graph::MapOptimizer::Place, default mode):
+  // sets world_from_local_corrected. Runs after the corrector, before the raw
+  // fields are re-expressed in the raw odometry frame: it sees the ASR in the
+  // frame its walls were built in (pre-corrected when filtered).
   void SetPlacer(Corrector placer) { placer_ = std::move(placer); }
   // Before the first Push.
   void Resume(const MapperResume& resume);

@@ -257,7 +257,8 @@ CREATE INDEX IF NOT EXISTS edge_to ON edge(to_asr);
 const char* kSchemaV2 = R"sql(
 CREATE TABLE IF NOT EXISTS placement(
   asr_id INTEGER PRIMARY KEY, room_id INTEGER NOT NULL,
-  cov BLOB NOT NULL, uncertain INTEGER NOT NULL, why TEXT NOT NULL);
+  cov BLOB NOT NULL, uncertain INTEGER NOT NULL, why TEXT NOT NULL, drift_rate REAL NOT NULL,
+  corrected_path BLOB NOT NULL);
 CREATE TABLE IF NOT EXISTS closure(
   from_asr INTEGER NOT NULL, to_asr INTEGER NOT NULL,
   rel_x REAL NOT NULL, rel_y REAL NOT NULL, rel_theta REAL NOT NULL,
@@ -715,7 +716,7 @@ void SqliteAsrStore::PutPlacements(const std::vector<Asr>& asrs, const std::vect
     for (const Asr& a : asrs) Put(a);
     sqlite3* db = Db(db_);
     for (const Placement& p : placements) {
-      Stmt s(db, "INSERT OR REPLACE INTO placement VALUES(?,?,?,?,?)");
+      Stmt s(db, "INSERT OR REPLACE INTO placement VALUES(?,?,?,?,?,?,?)");
       sqlite3_bind_int(s.get(), 1, p.asr_id);
       sqlite3_bind_int(s.get(), 2, p.room_id);
       double c[9];
@@ -723,6 +724,8 @@ void SqliteAsrStore::PutPlacements(const std::vector<Asr>& asrs, const std::vect
       sqlite3_bind_blob(s.get(), 3, c, sizeof c, SQLITE_TRANSIENT);
       sqlite3_bind_int(s.get(), 4, p.uncertain ? 1 : 0);
       sqlite3_bind_text(s.get(), 5, p.why.c_str(), -1, SQLITE_TRANSIENT);
+      sqlite3_bind_double(s.get(), 6, p.drift_rate_rad_per_m);
+      s.BindBlob(7, EncodePoses(p.corrected_path));
       if (s.Step() != SQLITE_DONE) Fail("write placement");
     }
     for (const ClosureRecord& c : closures) {
@@ -752,7 +755,7 @@ void SqliteAsrStore::PutPlacements(const std::vector<Asr>& asrs, const std::vect
 std::optional<Placement> SqliteAsrStore::GetPlacement(int id) const {
   sqlite3* db = Db(db_);
   if (!HasTable(db, "placement")) return std::nullopt;  // a version-1 store read as it is
-  Stmt s(db, "SELECT room_id, cov, uncertain, why FROM placement WHERE asr_id=?");
+  Stmt s(db, "SELECT room_id, cov, uncertain, why, drift_rate, corrected_path FROM placement WHERE asr_id=?");
   sqlite3_bind_int(s.get(), 1, id);
   if (!s.ok() || s.Step() != SQLITE_ROW) return std::nullopt;
   Placement p;
@@ -766,6 +769,12 @@ std::optional<Placement> SqliteAsrStore::GetPlacement(int id) const {
   }
   p.uncertain = s.Int(2) != 0;
   p.why = s.Text(3);
+  p.drift_rate_rad_per_m = s.Double(4);
+  {
+    const void* b = sqlite3_column_blob(s.get(), 5);
+    const int n = sqlite3_column_bytes(s.get(), 5);
+    p.corrected_path = DecodePoses(std::string(b ? static_cast<const char*>(b) : "", b ? n : 0));
+  }
   return p;
 }
 

@@ -20,6 +20,8 @@ struct Placement {
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // of (x, y, theta); zero: unknown
   bool uncertain = false;
   std::string why;  // reasons it is uncertain, "; "-separated
+  double drift_rate_rad_per_m = 0.0;  // the odometry drift the graph estimated on the way out (CorrectedPath)
+  std::vector<Pose2> corrected_path;  // the robot's path as placed (world), one pose per Asr::path pose
 };
 
 // A loop-closure candidate and its verdict.

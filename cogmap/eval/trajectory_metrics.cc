@@ -102,18 +102,22 @@ std::optional<RpeStats> RelativePoseError(const std::vector<Pose2>& estimate, co
   return st;
 }
 
-AsrTrajectories PairAsrTrajectories(const std::vector<asr::Asr>& asrs) {
+AsrTrajectories PairAsrTrajectories(const std::vector<asr::Asr>& asrs,
+                                    const std::map<int, std::vector<Pose2>>& corrected_paths) {
   AsrTrajectories t;
   for (const auto& a : asrs) {
     const size_t n = a.path.size(), nt = a.true_path.size();
     const size_t m = std::min(n, nt);
     if (m == 0) continue;
-    const Pose2 correction = a.world_from_local_corrected * a.world_from_local_raw.inverse();
+    const auto placed = corrected_paths.find(a.id);
+    const std::vector<Pose2> corrected = placed != corrected_paths.end() && placed->second.size() == n
+                                             ? placed->second
+                                             : asr::CorrectedPath(a, 0.0);
     // Paired from the ends: the leading extra poses have no partner.
     for (size_t k = 0; k < m; ++k) {
       const Pose2& p = a.path[n - m + k];
       t.raw.push_back(p);
-      t.corrected.push_back(correction * p);
+      t.corrected.push_back(corrected[n - m + k]);
       t.reference.push_back(a.true_path[nt - m + k]);
     }
     t.unpaired_poses += static_cast<int>(n - m);

@@ -72,7 +72,11 @@ struct AsrTrajectories {
 // counted in unpaired_poses; when the true path is the longer (not written by
 // this mapper), its leading extra poses are dropped likewise. ASRs without a
 // true path add nothing.
-AsrTrajectories PairAsrTrajectories(const std::vector<asr::Asr>& asrs);
+// 'corrected_paths' (ASR id -> the store's placement path, one pose per path
+// pose): the corrected trajectory of those ASRs as the pose graph placed it;
+// the others' raw path moved rigidly with the ASR.
+AsrTrajectories PairAsrTrajectories(const std::vector<asr::Asr>& asrs,
+                                    const std::map<int, std::vector<Pose2>>& corrected_paths = {});
 
 struct TrajectoryMetrics {
   AteStats ate, ate_raw;

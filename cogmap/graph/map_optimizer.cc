@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace cogmap::graph {
@@ -65,6 +66,7 @@ MapOptimizer::Node MapOptimizer::MakeNode(const asr::Asr& a) const {
   if (!a.path.empty() && n.path_local.back() != local_from_world * a.path.back().translation())
     n.path_local.push_back(local_from_world * a.path.back().translation());
   n.path_raw = a.path;
+  n.walls = a.walls_local;
   n.faces = FaceWalls(a.walls_local, n.path_local);
   n.samples = SampleFaces(n.faces, options_.registration.sample_step_m);
   // Centre and radius of everything the ASR holds (walls and path).
@@ -149,7 +151,13 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
       }
     }
   }
-  if (node.direction) graph_.AddDirection(idx, node.direction_local, node.direction_sigma);
+  if (node.direction) {
+    // The walls were seen along the whole path: on average half-way.
+    double len = 0.0;
+    for (size_t k = 1; k < node.path_raw.size(); ++k)
+      len += (node.path_raw[k].translation() - node.path_raw[k - 1].translation()).norm();
+    graph_.AddDirection(idx, node.direction_local, node.direction_sigma, 0.5 * len);
+  }
   node_of_asr_[a.id] = idx;
   nodes_.push_back(std::move(node));
 
@@ -456,6 +464,15 @@ OptimizerResult MapOptimizer::Finish() {
     e.asr_id = nodes_[i].asr_id;
     e.pose = chosen[i];
     e.room_id = nodes_[i].room_id;
+    e.drift_rate_rad_per_m = res.solution == "odometry" ? 0.0 : graph_.rate(i);
+    {
+      asr::Asr view;
+      view.world_from_local_raw = nodes_[i].raw;
+      view.world_from_local_corrected = chosen[i];
+      view.path = nodes_[i].path_raw;
+      e.corrected_path = asr::CorrectedPath(view, e.drift_rate_rad_per_m);
+      e.corrected_walls = BendWalls(nodes_[i], e.drift_rate_rad_per_m);
+    }
     e.direction_factor = nodes_[i].direction;
     e.direction_residual_sigmas = dir_resid[i];
     if (!cov.empty()) {
@@ -484,6 +501,43 @@ OptimizerResult MapOptimizer::Finish() {
                            " ASRs are uncertain (report.json: pose_graph.uncertain_asrs)");
   res.closures = closures_;
   return res;
+}
+
+std::vector<Polyline> MapOptimizer::BendWalls(const Node& n, double rate) const {
+  if (rate == 0.0 || n.path_raw.empty()) return n.walls;
+  // The path in the local frame, as mapped (q) and with the drift removed (c),
+  // with the distance driven to each pose.
+  const Pose2 local_from_world = n.raw.inverse();
+  asr::Asr view;
+  view.world_from_local_raw = n.raw;
+  view.world_from_local_corrected = n.raw;
+  view.path = n.path_raw;
+  const std::vector<Pose2> c = asr::CorrectedPath(view, rate);  // local frame placed at n.raw: back to local below
+  std::vector<Vec2> q(n.path_raw.size());
+  std::vector<Pose2> cl(n.path_raw.size());
+  std::vector<double> s(n.path_raw.size(), 0.0);
+  for (size_t k = 0; k < n.path_raw.size(); ++k) {
+    q[k] = local_from_world * n.path_raw[k].translation();
+    cl[k] = local_from_world * c[k];
+    const Vec2 prev = k == 0 ? Vec2(0, 0) : q[k - 1];
+    s[k] = (k == 0 ? 0.0 : s[k - 1]) + (q[k] - prev).norm();
+  }
+  std::vector<Polyline> out = n.walls;
+  for (Polyline& line : out) {
+    for (Vec2& p : line) {
+      size_t best = 0;
+      double bd = std::numeric_limits<double>::infinity();
+      for (size_t k = 0; k < q.size(); ++k) {
+        const double d = (q[k] - p).squaredNorm();
+        if (d < bd) {
+          bd = d;
+          best = k;
+        }
+      }
+      p = cl[best].translation() + RotateAbout(p - q[best], Vec2(0, 0), -rate * s[best]);
+    }
+  }
+  return out;
 }
 
 int MapOptimizer::RoomOf(int asr_id) const {

@@ -74,6 +74,13 @@ struct AsrEstimate {
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   bool has_covariance = false;
   int room_id = -1;                // the physical room (the first visit's ASR id)
+  double drift_rate_rad_per_m = 0.0;  // estimated on the way out of it (0: odometry solution)
+  // The robot's path through the ASR as the graph places it (world), the
+  // drift rate removed inside the ASR (asr::CorrectedPath).
+  std::vector<Pose2> corrected_path;
+  // The ASR's walls (local frame) with the same drift removed: each vertex
+  // moves with the path pose nearest to it (the robot saw it from there).
+  std::vector<Polyline> corrected_walls;
   bool direction_factor = false;
   double direction_residual_sigmas = 0.0;
   bool uncertain = false;
@@ -107,7 +114,8 @@ class MapOptimizer {
 
   // An ASR of an earlier run (--resume): held at its stored corrected pose.
   void AddStored(const asr::Asr& stored, int room_id = -1);
-  // An ASR that has just closed, raw fields in the raw odometry frame: adds it
+  // An ASR that has just closed, its raw fields in the odometry frame its walls
+  // were built in (CognitiveMapper::SetPlacer): adds it
   // to the graph, registers it against the previous ASR and any stored ASR it
   // may overlap, solves locally (fully after a loop closure), and returns it
   // with world_from_local_corrected, heading_correction_rad and
@@ -129,6 +137,7 @@ class MapOptimizer {
     std::vector<FacedPoint> samples; // local frame
     std::vector<Vec2> path_local;    // robot path, local frame, every ~0.2 m
     std::vector<Pose2> path_raw;     // raw path (world raw), for the odometry factor
+    std::vector<Polyline> walls;     // local frame, as mapped
     Vec2 centre_local{0, 0};
     double radius_m = 0.0;
     bool stored = false;
@@ -139,6 +148,7 @@ class MapOptimizer {
     int room_id = -1;
   };
   Node MakeNode(const asr::Asr& a) const;
+  std::vector<Polyline> BendWalls(const Node& n, double rate) const;
   void TryLoopClosures(int n);
   std::vector<int> CrossingsPerNode(const std::vector<Pose2>& poses) const;
 

@@ -82,10 +82,13 @@ struct RelativeCost {
 };
 
 struct DirectionCost {
-  double d = 0.0, inv_sigma = 1.0;
+  double d = 0.0, inv_sigma = 1.0, s_mean = 0.0;
   template <typename T>
-  bool operator()(const T* pi, const T* phi, T* r) const {
-    const T v = pi[2] + T(d) - phi[0];
+  bool operator()(const T* pi, const T* phi, const T* rate, T* r) const {
+    // Walls seen after driving s from the ASR's origin were placed with a
+    // heading that had drifted by rate x s more: they lean by +rate x s in the
+    // ASR's frame. The measured direction is corrected by the mean.
+    const T v = pi[2] + T(d) - rate[0] * T(s_mean) - phi[0];
     const double k = std::round(Value(v) / kQuarter);  // nearest of the four branches
     r[0] = (v - T(k * kQuarter)) * T(inv_sigma);
     return true;
@@ -223,7 +226,7 @@ struct PoseGraph::Impl {
       // from first_free - 1 on move (the edge into the window included),
       // fixed (anchor) nodes' too.
       const bool rate_factor = f.kind == FactorKind::kOdometry || f.kind == FactorKind::kRateWalk ||
-                               f.kind == FactorKind::kRatePrior;
+                               f.kind == FactorKind::kRatePrior || f.kind == FactorKind::kDirection;
       const bool touches = all || (f.i >= 0 && Free(f.i, first_free)) || (f.j >= 0 && Free(f.j, first_free)) ||
                            (rate_factor && f.i >= first_free - 1);
       if (!touches) continue;
@@ -286,7 +289,7 @@ void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const Od
   }
 }
 
-void PoseGraph::AddDirection(int i, double d, double sigma, double cauchy_scale) {
+void PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, double cauchy_scale) {
   if (!impl_->has_phi) {
     // The building direction starts at this first room's wall direction.
     impl_->phi = impl_->nodes[i][2] + d;
@@ -296,9 +299,10 @@ void PoseGraph::AddDirection(int i, double d, double sigma, double cauchy_scale)
   f.kind = FactorKind::kDirection;
   f.i = i;
   f.dof = 1;
-  f.cost.reset(new ceres::AutoDiffCostFunction<DirectionCost, 1, 3, 1>(new DirectionCost{d, 1.0 / sigma}));
+  f.cost.reset(
+      new ceres::AutoDiffCostFunction<DirectionCost, 1, 3, 1, 1>(new DirectionCost{d, 1.0 / sigma, s_mean_m}));
   f.loss.reset(new ceres::CauchyLoss(cauchy_scale));
-  f.params = {impl_->nodes[i].data(), &impl_->phi};
+  f.params = {impl_->nodes[i].data(), &impl_->phi, &impl_->rates[i]};
   impl_->factors.push_back(std::move(f));
 }
 

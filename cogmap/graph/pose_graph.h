@@ -55,7 +55,8 @@ const char* FactorKindName(FactorKind k);
 //  - odometry factors between consecutive ASRs (Gaussian, with the node's
 //    drift rate re-integrating the measured path);
 //  - wall-direction factors: the dominant wall direction of an ASR is known
-//    only modulo a quarter turn, so the factor ties theta_i + d_i to one
+//    only modulo a quarter turn, so the factor ties theta_i + d_i (+ the
+//    node's drift rate x the mean distance driven while the walls were seen) to one
 //    building direction phi (a variable) modulo 90 degrees: a max-mixture over
 //    the four branches (the nearest branch at every evaluation) with a Cauchy
 //    tail for rooms whose walls are not the building's;
@@ -73,7 +74,10 @@ class PoseGraph {
   int AddNode(const Pose2& initial, bool fixed = false);
   int size() const;
   void AddOdometry(int i, int j, const OdometryMeasurement& m, const OdometryNoiseOptions& noise = {});
-  void AddDirection(int i, double local_direction_rad, double sigma_rad, double cauchy_scale = 2.0);
+  // 's_mean_m': mean distance driven from the node's origin while its walls
+  // were seen (the node's drift rate times it leans them).
+  void AddDirection(int i, double local_direction_rad, double sigma_rad, double s_mean_m = 0.0,
+                    double cauchy_scale = 2.0);
   // Pose of node j in node i's frame, with its covariance.
   int AddRelative(int i, int j, const Pose2& j_in_i, const Eigen::Matrix3d& covariance, FactorKind kind,
                   double cauchy_scale = 2.0);
