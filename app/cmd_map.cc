@@ -221,7 +221,11 @@ int RunMap(const MapArgs& a) {
   localize::HeadingCorrector corrector(hc_options);
   // Default mode: drift-rate estimation with odometry pre-correction
   // (docs/heading-correction.md); paper mode corrects one rotation per ASR.
-  const bool drift_filter = !a.no_correct && !a.no_drift_filter && a.mode == "default";
+  // Default mode: the pose graph over ASRs (docs/pose-graph.md) places every
+  // ASR and estimates the drift itself, in the raw odometry frame; the drift
+  // filter's pre-correction is used without it (--no-graph).
+  const bool use_graph = !a.no_correct && !a.no_graph && a.mode == "default";
+  const bool drift_filter = !a.no_correct && !a.no_drift_filter && a.mode == "default" && !use_graph;
   localize::DriftHeadingCorrector drift_corrector(hc_options);
   Pose2 carried;  // raw -> corrected at the end of the stored run (identity on a new run)
   if (a.resume) {
@@ -259,10 +263,6 @@ int RunMap(const MapArgs& a) {
     });
   }
 
-  // Default mode: the pose graph over ASRs (docs/pose-graph.md) places every
-  // ASR; the drift filter above still pre-corrects the odometry each room's
-  // grid is built from.
-  const bool use_graph = !a.no_correct && !a.no_graph && a.mode == "default";
   graph::MapOptimizerOptions graph_options;
   graph_options.heading = hc_options;
   graph::MapOptimizer optimizer(graph_options);
@@ -514,9 +514,14 @@ int RunMap(const MapArgs& a) {
                             {"chi2_dof", graph_result.chi2_dof},
                             {"chi2_p999", graph_result.chi2_p999},
                             {"variance_factor", graph_result.variance_factor},
+                            {"sigma_factors", {{"odometry", graph_result.odometry_sigma_factor},
+                                               {"wall_direction", graph_result.direction_sigma_factor},
+                                               {"registration", graph_result.registration_sigma_factor}}},
                             {"path_wall_crossings_odometry", graph_result.crossings_odometry},
                             {"path_wall_crossings_graph", graph_result.crossings_graph},
                             {"path_wall_crossings_chosen", graph_result.crossings_chosen},
+                            {"path_overlap_odometry_m", graph_result.overlap_odometry_m},
+                            {"path_overlap_graph_m", graph_result.overlap_graph_m},
                             {"solve_seconds", graph_result.solve_seconds},
                             {"covariance_seconds", graph_result.covariance_seconds},
                             {"uncertain_asrs", uncertain},
@@ -589,12 +594,13 @@ std::function<int()> SetupMap(CLI::App& sub) {
       ->capture_default_str();
   sub.add_flag("--no-correct", a->no_correct, "Skip the heading correction (ASRs placed by odometry)");
   sub.add_flag("--no-smooth", a->no_smooth,
-               "Default mode: keep the corrections as computed while mapping (no revision at the end of the run)");
+               "With --no-graph: keep the corrections as computed while mapping (no revision at the end of the run)");
   sub.add_flag("--no-graph", a->no_graph,
-               "Default mode without the pose graph (docs/pose-graph.md): the drift filter's heading "
-               "correction and smoothing only, as before issue 10");
+               "Default mode without the pose graph (docs/pose-graph.md): the drift filter's odometry "
+               "pre-correction, heading correction and smoothing only (the default before the pose graph)");
   sub.add_flag("--no-drift-filter", a->no_drift_filter,
-               "Default mode without the drift-rate filter: one EM rotation per ASR, odometry used as it comes");
+               "With --no-graph: without the drift-rate filter (one EM rotation per ASR, odometry used as it "
+               "comes). The pose graph estimates the drift itself and never uses the filter");
   sub.add_option("--add-drift-deg-per-m", a->add_drift_deg_per_m,
                  "Add a systematic heading drift to the log's odometry, degrees per metre driven (CCW positive; "
                  "the log's ground truth stays): to test the correction on a real log")

@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <cstdio>
+#include <cstdlib>
 #include <numeric>
 
 namespace cogmap::graph {
@@ -309,40 +311,90 @@ void MapOptimizer::TryLoopClosures(int n) {
   }
 }
 
-std::vector<int> MapOptimizer::CrossingsPerNode(const std::vector<Pose2>& poses) const {
-  // World walls and paths; pairs tested only where their boxes overlap.
+MapOptimizer::Consistency MapOptimizer::MapConsistency(const std::vector<Pose2>& poses,
+                                                       const std::vector<double>& rates) const {
+  // World walls and paths; pairs tested only where their boxes overlap (a
+  // uniform grid of the boxes keeps this linear in the map's size).
   const size_t N = nodes_.size();
   std::vector<std::vector<FacedSegment>> walls(N);
   std::vector<std::vector<Vec2>> paths(N);
-  std::vector<Eigen::Vector4d> box(N);
+  std::vector<Eigen::Vector4d> box(N);  // of the walls
   for (size_t i = 0; i < N; ++i) {
-    walls[i] = TransformFaces(poses[i], nodes_[i].faces);
-    paths[i] = TransformPath(poses[i], nodes_[i].path_local);
-    const Vec2 c = poses[i] * nodes_[i].centre_local;
-    const double r = nodes_[i].radius_m;
-    box[i] = Eigen::Vector4d(c.x() - r, c.y() - r, c.x() + r, c.y() + r);
+    // With a drift rate, the walls and path as the placement has them
+    // (re-integrated inside the ASR); the faces keep the sides they had.
+    const double r = rates.empty() ? 0.0 : rates[i];
+    if (r != 0.0 && !nodes_[i].stored) {
+      const std::vector<Vec2> path_local = LocalCorrectedPath(nodes_[i], r);
+      walls[i] = TransformFaces(poses[i], FaceWalls(BendWalls(nodes_[i], r), path_local));
+      paths[i] = TransformPath(poses[i], path_local);
+    } else {
+      walls[i] = TransformFaces(poses[i], nodes_[i].faces);
+      paths[i] = TransformPath(poses[i], nodes_[i].path_local);
+    }
+    Eigen::Vector4d b(1e18, 1e18, -1e18, -1e18);
+    for (const auto& f : walls[i])
+      for (const Vec2& p : {f.a, f.b}) b = Eigen::Vector4d(std::min(b(0), p.x()), std::min(b(1), p.y()),
+                                                           std::max(b(2), p.x()), std::max(b(3), p.y()));
+    for (const auto& p : paths[i]) b = Eigen::Vector4d(std::min(b(0), p.x()), std::min(b(1), p.y()),
+                                                       std::max(b(2), p.x()), std::max(b(3), p.y()));
+    box[i] = b;
   }
-  // A uniform grid of the boxes keeps this linear in the map's size.
   const double cell = 5.0;
+  auto cells = [&](const Eigen::Vector4d& b, auto&& f) {
+    for (long gx = static_cast<long>(std::floor(b(0) / cell)); gx <= static_cast<long>(std::floor(b(2) / cell)); ++gx)
+      for (long gy = static_cast<long>(std::floor(b(1) / cell)); gy <= static_cast<long>(std::floor(b(3) / cell)); ++gy)
+        f(gx, gy);
+  };
   std::map<std::pair<long, long>, std::vector<int>> grid;
   for (size_t i = 0; i < N; ++i)
-    for (long gx = static_cast<long>(std::floor(box[i](0) / cell)); gx <= std::floor(box[i](2) / cell); ++gx)
-      for (long gy = static_cast<long>(std::floor(box[i](1) / cell)); gy <= std::floor(box[i](3) / cell); ++gy)
-        grid[{gx, gy}].push_back(static_cast<int>(i));
-  std::vector<int> out(N, 0);
+    if (box[i](0) <= box[i](2)) cells(box[i], [&](long x, long y) { grid[{x, y}].push_back(static_cast<int>(i)); });
+  Consistency out;
   for (size_t i = 0; i < N; ++i) {
+    if (box[i](0) > box[i](2)) continue;
     std::vector<int> others;
-    for (long gx = static_cast<long>(std::floor(box[i](0) / cell)); gx <= std::floor(box[i](2) / cell); ++gx)
-      for (long gy = static_cast<long>(std::floor(box[i](1) / cell)); gy <= std::floor(box[i](3) / cell); ++gy)
-        if (auto it = grid.find({gx, gy}); it != grid.end()) others.insert(others.end(), it->second.begin(), it->second.end());
+    cells(box[i], [&](long x, long y) {
+      if (auto it = grid.find({x, y}); it != grid.end()) others.insert(others.end(), it->second.begin(), it->second.end());
+    });
     std::sort(others.begin(), others.end());
     others.erase(std::unique(others.begin(), others.end()), others.end());
-    for (int j : others) {
-      if (j == static_cast<int>(i)) continue;
-      out[i] += PathWallCrossings(walls[j], paths[i]);
+    others.erase(std::remove(others.begin(), others.end(), static_cast<int>(i)), others.end());
+    for (int j : others) out.crossings += PathWallCrossings(walls[j], paths[i]);
+    // Path inside another ASR's box: where its walls could contradict it.
+    for (size_t k = 1; k < paths[i].size(); ++k) {
+      const Vec2 m = 0.5 * (paths[i][k] + paths[i][k - 1]);
+      for (int j : others)
+        if (m.x() >= box[j](0) && m.x() <= box[j](2) && m.y() >= box[j](1) && m.y() <= box[j](3)) {
+          out.overlap_m += (paths[i][k] - paths[i][k - 1]).norm();
+          break;
+        }
     }
   }
   return out;
+}
+
+std::vector<Vec2> MapOptimizer::LocalCorrectedPath(const Node& n, double rate) const {
+  asr::Asr view;
+  view.world_from_local_raw = n.raw;
+  view.world_from_local_corrected = Pose2{};
+  view.path = n.path_raw;
+  std::vector<Vec2> out;
+  Vec2 last(1e18, 1e18);
+  for (const Pose2& p : asr::CorrectedPath(view, rate))
+    if ((p.translation() - last).norm() >= 0.2) {
+      out.push_back(p.translation());
+      last = p.translation();
+    }
+  return out;
+}
+
+bool MapOptimizer::LessConsistent(const Consistency& a, const Consistency& b) {
+  // Crossings per metre of path that overlaps another ASR: a map spread out
+  // by drift overlaps little and crosses little, a compact one overlaps much.
+  // 'a' is worse when its count exceeds b's rate over a's overlap by more
+  // than 3 Poisson sigmas.
+  const double rate = (b.crossings + 1.0) / std::max(b.overlap_m, 1.0);
+  const double expected = rate * std::max(a.overlap_m, 1.0);
+  return a.crossings > expected + 3.0 * std::sqrt(expected);
 }
 
 OptimizerResult MapOptimizer::Finish() {
@@ -350,8 +402,12 @@ OptimizerResult MapOptimizer::Finish() {
   const int N = static_cast<int>(nodes_.size());
   if (N == 0) return res;
   auto t0 = std::chrono::steady_clock::now();
+  FitVarianceComponents();
   graph_.Solve(0, options_.full_iterations);
-  // A closure the whole graph contradicts is dropped and the graph re-solved.
+  res.odometry_sigma_factor = graph_.SigmaFactor(FactorKind::kOdometry);
+  res.direction_sigma_factor = graph_.SigmaFactor(FactorKind::kDirection);
+  res.registration_sigma_factor = graph_.SigmaFactor(FactorKind::kRegistration);
+    // A closure the whole graph contradicts is dropped and the graph re-solved.
   const double gate3 = ChiSquareQuantile(options_.gate_probability, 3);
   for (int round = 0; round < 3; ++round) {
     bool dropped = false;
@@ -380,24 +436,28 @@ OptimizerResult MapOptimizer::Finish() {
   // Consistency: how often the robot's path runs through another ASR's
   // walls. Counts are noisy (sonar walls, door jambs): the graph is rejected
   // only when its count exceeds odometry's by more than 3 Poisson sigmas.
-  const std::vector<int> c_graph = CrossingsPerNode(graph_poses);
-  const std::vector<int> c_odo = CrossingsPerNode(odo_poses);
-  res.crossings_graph = std::accumulate(c_graph.begin(), c_graph.end(), 0);
-  res.crossings_odometry = std::accumulate(c_odo.begin(), c_odo.end(), 0);
-  auto worse = [](int a, int b) { return a > b + 3.0 * std::sqrt(b + 1.0); };
+  std::vector<double> rates(N, 0.0);
+  for (int i = 0; i < N; ++i) rates[i] = graph_.rate(i);
+  const Consistency c_graph = MapConsistency(graph_poses, rates);
+  const Consistency c_odo = MapConsistency(odo_poses, {});
+  res.crossings_graph = c_graph.crossings;
+  res.crossings_odometry = c_odo.crossings;
+  res.overlap_graph_m = c_graph.overlap_m;
+  res.overlap_odometry_m = c_odo.overlap_m;
   std::vector<Pose2> chosen = graph_poses;
   res.solution = "pose_graph";
   res.crossings_chosen = res.crossings_graph;
-  if (worse(res.crossings_graph, res.crossings_odometry)) {
+  if (LessConsistent(c_graph, c_odo)) {
     // Without the closures (the likeliest wrong factors), then odometry.
     for (size_t k = 0; k < closure_factor_.size(); ++k)
       if (closures_[closure_index_[k]].accepted) graph_.SetRelativeEnabled(closure_factor_[k], false);
     graph_.Solve(0, options_.full_iterations);
     std::vector<Pose2> no_loop(N);
     for (int i = 0; i < N; ++i) no_loop[i] = graph_.pose(i);
-    const std::vector<int> c_nl = CrossingsPerNode(no_loop);
-    const int total_nl = std::accumulate(c_nl.begin(), c_nl.end(), 0);
-    if (!worse(total_nl, res.crossings_odometry)) {
+    for (int i = 0; i < N; ++i) rates[i] = graph_.rate(i);
+    const Consistency c_nl = MapConsistency(no_loop, rates);
+    const int total_nl = c_nl.crossings;
+    if (!LessConsistent(c_nl, c_odo)) {
       chosen = no_loop;
       res.solution = "pose_graph_without_closures";
       res.crossings_chosen = total_nl;
@@ -418,9 +478,15 @@ OptimizerResult MapOptimizer::Finish() {
                            std::to_string(res.crossings_graph) + " vs " + std::to_string(res.crossings_odometry) +
                            "); using " + res.solution);
   }
+  // Room identities from the closures that stand (a dropped closure no
+  // longer makes its ASR a revisit).
+  for (auto& n : nodes_)
+    if (!n.stored) n.room_id = n.asr_id;
+  for (const LoopClosure& lc : closures_)
+    if (lc.accepted && lc.same_room) nodes_[node_of_asr_[lc.to_asr]].room_id = nodes_[node_of_asr_[lc.from_asr]].room_id;
   res.solve_seconds = solve_seconds_ + Seconds(t0);
   // Chi-square of the solved graph.
-  for (const auto& r : graph_.Residuals()) {
+    for (const auto& r : graph_.Residuals()) {
     if (!r.enabled) continue;
     res.chi2 += r.chi2;
     res.chi2_dof += r.dof;
@@ -501,6 +567,37 @@ OptimizerResult MapOptimizer::Finish() {
                            " ASRs are uncertain (report.json: pose_graph.uncertain_asrs)");
   res.closures = closures_;
   return res;
+}
+
+void MapOptimizer::FitVarianceComponents() {
+  const FactorKind kinds[] = {FactorKind::kOdometry, FactorKind::kDirection, FactorKind::kRegistration};
+  for (int round = 0; round < options_.variance_rounds; ++round) {
+    graph_.Solve(0, options_.full_iterations);
+    const auto rs = graph_.Residuals();
+    int dims = 0;
+    for (const auto& r : rs) dims += r.enabled ? r.dof : 0;
+    // Parameters: 3 per moving node, a rate per node, phi.
+    int params = 1;
+    for (const auto& n : nodes_) params += n.stored ? 0 : 4;
+    const double redundancy = std::clamp(static_cast<double>(dims - params) / std::max(1, dims), 0.1, 1.0);
+    bool changed = false;
+    for (FactorKind kind : kinds) {
+      std::vector<double> q;
+      for (const auto& r : rs) {
+        const bool match = r.kind == kind || (kind == FactorKind::kRegistration && r.kind == FactorKind::kLoopClosure);
+        if (r.enabled && match) q.push_back(r.chi2 / ChiSquareQuantile(0.5, r.dof));
+      }
+      if (static_cast<int>(q.size()) < options_.min_factors_for_variance) continue;
+      std::nth_element(q.begin(), q.begin() + q.size() / 2, q.end());
+      const double s2 = std::max(1e-6, q[q.size() / 2] / redundancy);
+      const double now = graph_.SigmaFactor(kind);
+      const double next = std::clamp(now * std::sqrt(s2), 0.1, 10.0);
+      if (std::abs(next / now - 1.0) > 0.05) changed = true;
+      graph_.SetSigmaFactor(kind, next);
+      if (kind == FactorKind::kRegistration) graph_.SetSigmaFactor(FactorKind::kLoopClosure, next);
+    }
+    if (!changed) break;
+  }
 }
 
 std::vector<Polyline> MapOptimizer::BendWalls(const Node& n, double rate) const {

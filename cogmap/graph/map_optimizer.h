@@ -51,6 +51,14 @@ struct MapOptimizerOptions {
   // Uncertain ASRs (named in report.json, warned about).
   double uncertain_theta_rad = DegToRad(3.0);
   double uncertain_position_m = 0.5;
+  // Variance components (Finish): the sigmas of the odometry, wall-direction
+  // and registration factors are priors for robots in general; at the end of
+  // a run each kind's sigmas are scaled by the median of its whitened
+  // residuals (robust), corrected by the graph's redundancy, iterated this
+  // many rounds, each factor within [1/10, 10] of the prior. A kind needs
+  // min_factors_for_variance factors to be fitted.
+  int variance_rounds = 4;
+  int min_factors_for_variance = 10;
   // A-posteriori variance factor on the covariances (see Finish).
   int min_dof_to_shrink = 10;
   double min_variance_factor = 0.25;
@@ -96,10 +104,14 @@ struct OptimizerResult {
   int crossings_odometry = 0;  // robot path crossing another ASR's walls
   int crossings_graph = 0;
   int crossings_chosen = 0;
+  double overlap_odometry_m = 0.0;  // path inside another ASR's box (the crossings' opportunity)
+  double overlap_graph_m = 0.0;
   double chi2 = 0.0;
   int chi2_dof = 0;
   double chi2_p999 = 0.0;      // the 99.9 % quantile for chi2_dof
   double variance_factor = 1.0;  // applied to every covariance
+  // Fitted sigma factors per kind of factor (variance components).
+  double odometry_sigma_factor = 1.0, direction_sigma_factor = 1.0, registration_sigma_factor = 1.0;
   int registrations = 0;
   int direction_factors = 0;
   double drift_rate_rad_per_m = 0.0;      // mean of the estimated rates
@@ -150,7 +162,15 @@ class MapOptimizer {
   Node MakeNode(const asr::Asr& a) const;
   std::vector<Polyline> BendWalls(const Node& n, double rate) const;
   void TryLoopClosures(int n);
-  std::vector<int> CrossingsPerNode(const std::vector<Pose2>& poses) const;
+  struct Consistency {
+    int crossings = 0;       // robot path segments crossing another ASR's walls
+    double overlap_m = 0.0;  // path length inside another ASR's box
+  };
+  // 'rates': per node, the drift removed inside it (empty: none).
+  Consistency MapConsistency(const std::vector<Pose2>& poses, const std::vector<double>& rates) const;
+  std::vector<Vec2> LocalCorrectedPath(const Node& n, double rate) const;
+  static bool LessConsistent(const Consistency& a, const Consistency& b);
+  void FitVarianceComponents();
 
   MapOptimizerOptions options_;
   localize::HeadingCorrector estimator_;

@@ -55,6 +55,7 @@ void RelativeResidual(const T* pi, const T* pj, const T& mx, const T& my, const 
 struct OdometryCost {
   OdometryMeasurement m;
   Eigen::Matrix3d W;
+  double scale = 1.0;  // 1 / the variance component's sigma factor
   template <typename T>
   bool operator()(const T* pi, const T* pj, const T* rate, T* r) const {
     using std::cos;
@@ -67,6 +68,7 @@ struct OdometryCost {
     }
     const T mth = T(m.delta.theta) - rate[0] * T(m.distance_m);
     RelativeResidual(pi, pj, mx, my, mth, W, r);
+    for (int a = 0; a < 3; ++a) r[a] *= T(scale);
     return true;
   }
 };
@@ -74,15 +76,18 @@ struct OdometryCost {
 struct RelativeCost {
   Pose2 z;
   Eigen::Matrix3d W;
+  double scale = 1.0;
   template <typename T>
   bool operator()(const T* pi, const T* pj, T* r) const {
     RelativeResidual(pi, pj, T(z.x), T(z.y), T(z.theta), W, r);
+    for (int a = 0; a < 3; ++a) r[a] *= T(scale);
     return true;
   }
 };
 
 struct DirectionCost {
   double d = 0.0, inv_sigma = 1.0, s_mean = 0.0;
+  double scale = 1.0;
   template <typename T>
   bool operator()(const T* pi, const T* phi, const T* rate, T* r) const {
     // Walls seen after driving s from the ASR's origin were placed with a
@@ -90,7 +95,7 @@ struct DirectionCost {
     // ASR's frame. The measured direction is corrected by the mean.
     const T v = pi[2] + T(d) - rate[0] * T(s_mean) - phi[0];
     const double k = std::round(Value(v) / kQuarter);  // nearest of the four branches
-    r[0] = (v - T(k * kQuarter)) * T(inv_sigma);
+    r[0] = (v - T(k * kQuarter)) * T(inv_sigma * scale);
     return true;
   }
 };
@@ -182,9 +187,8 @@ OdometryMeasurement MeasureOdometry(const std::vector<Pose2>& path, const Odomet
     acc.z() = w > 0 ? acc.z() / w : 0.0;
     m.steps.push_back(acc);
   }
-  // The first path pose may sit off node i's origin: a step of its own.
-  if (path.front().translation().norm() > 0.0)
-    m.steps.insert(m.steps.begin(), Eigen::Vector3d(path.front().x, path.front().y, 0.0));
+  // (The first path pose may sit off node i's origin: the first fine step
+  // runs from the origin to it.)
   // Into the frame of the measured end pose.
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   const double c = std::cos(m.delta.theta), sn = std::sin(m.delta.theta);
@@ -213,6 +217,7 @@ struct PoseGraph::Impl {
     std::unique_ptr<ceres::LossFunction> loss;  // may be null
     std::vector<double*> params;
     bool enabled = true;
+    double* scale = nullptr;  // the functor's scale (variance components), when it has one
   };
   std::vector<Factor> factors;
   std::vector<int> relative_index;  // AddRelative index -> factors index
@@ -256,6 +261,7 @@ int PoseGraph::size() const { return static_cast<int>(impl_->nodes.size()); }
 void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const OdometryNoiseOptions& noise) {
   auto* c = new OdometryCost{m, SqrtInformation(m.covariance)};
   Impl::Factor f;
+  f.scale = &c->scale;
   f.kind = FactorKind::kOdometry;
   f.i = i;
   f.j = j;
@@ -299,8 +305,9 @@ void PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, dou
   f.kind = FactorKind::kDirection;
   f.i = i;
   f.dof = 1;
-  f.cost.reset(
-      new ceres::AutoDiffCostFunction<DirectionCost, 1, 3, 1, 1>(new DirectionCost{d, 1.0 / sigma, s_mean_m}));
+  auto* c = new DirectionCost{d, 1.0 / sigma, s_mean_m};
+  f.scale = &c->scale;
+  f.cost.reset(new ceres::AutoDiffCostFunction<DirectionCost, 1, 3, 1, 1>(c));
   f.loss.reset(new ceres::CauchyLoss(cauchy_scale));
   f.params = {impl_->nodes[i].data(), &impl_->phi, &impl_->rates[i]};
   impl_->factors.push_back(std::move(f));
@@ -313,12 +320,25 @@ int PoseGraph::AddRelative(int i, int j, const Pose2& z, const Eigen::Matrix3d& 
   f.i = i;
   f.j = j;
   f.dof = 3;
-  f.cost.reset(new ceres::AutoDiffCostFunction<RelativeCost, 3, 3, 3>(new RelativeCost{z, SqrtInformation(cov)}));
+  auto* c = new RelativeCost{z, SqrtInformation(cov)};
+  f.scale = &c->scale;
+  f.cost.reset(new ceres::AutoDiffCostFunction<RelativeCost, 3, 3, 3>(c));
   if (cauchy_scale > 0) f.loss.reset(new ceres::CauchyLoss(cauchy_scale));
   f.params = {impl_->nodes[i].data(), impl_->nodes[j].data()};
   impl_->factors.push_back(std::move(f));
   impl_->relative_index.push_back(static_cast<int>(impl_->factors.size()) - 1);
   return static_cast<int>(impl_->relative_index.size()) - 1;
+}
+
+void PoseGraph::SetSigmaFactor(FactorKind kind, double factor) {
+  for (auto& f : impl_->factors)
+    if (f.kind == kind && f.scale) *f.scale = 1.0 / factor;
+}
+
+double PoseGraph::SigmaFactor(FactorKind kind) const {
+  for (const auto& f : impl_->factors)
+    if (f.kind == kind && f.scale) return 1.0 / *f.scale;
+  return 1.0;
 }
 
 void PoseGraph::SetRelativeEnabled(int k, bool enabled) {
@@ -346,7 +366,6 @@ PoseGraph::SolveSummary PoseGraph::Solve(int first_free, int max_iterations) {
   so.minimizer_progress_to_stdout = false;
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
-  if (std::getenv("COGMAP_CERES_DEBUG")) std::fprintf(stderr, "%s\n", summary.FullReport().c_str());
   for (auto& n : impl_->nodes) n[2] = NormalizeAngle(n[2]);
   out.iterations = static_cast<int>(summary.iterations.size());
   out.initial_cost = summary.initial_cost;

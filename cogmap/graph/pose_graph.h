@@ -27,7 +27,7 @@ struct OdometryNoiseOptions {
   double min_sigma_rad = DegToRad(0.1);
   // Drift rate: prior 1-sigma (mean 0) and random walk per sqrt(metre).
   double rate_prior_sigma_rad_per_m = DegToRad(3.0);
-  double rate_walk_rad_per_m_per_sqrt_m = DegToRad(0.05);
+  double rate_walk_rad_per_m_per_sqrt_m = DegToRad(0.005);
 };
 
 // The odometry between two nodes: the raw relative pose of node j in node i's
@@ -82,6 +82,10 @@ class PoseGraph {
   int AddRelative(int i, int j, const Pose2& j_in_i, const Eigen::Matrix3d& covariance, FactorKind kind,
                   double cauchy_scale = 2.0);
   void SetRelativeEnabled(int factor, bool enabled);
+  // Multiplies every sigma of one kind of factor (variance components: the
+  // prior sigmas fitted to a run's residuals). 1 = as given.
+  void SetSigmaFactor(FactorKind kind, double factor);
+  double SigmaFactor(FactorKind kind) const;
 
   struct SolveSummary {
     int iterations = 0;
