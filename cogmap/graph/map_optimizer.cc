@@ -84,6 +84,8 @@ MapOptimizer::Node MapOptimizer::MakeNode(const asr::Asr& a) const {
   for (const auto& p : n.path_local) grow(p);
   if (lo.x() > hi.x()) lo = hi = Vec2(0, 0);
   n.centre_local = 0.5 * (lo + hi);
+  n.box_lo = lo;
+  n.box_hi = hi;
   n.radius_m = 0.5 * (hi - lo).norm();
   return n;
 }
@@ -180,6 +182,16 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
   return a;
 }
 
+std::vector<FacedPoint> MapOptimizer::InBox(const std::vector<FacedPoint>& pts, const Node& n) const {
+  std::vector<FacedPoint> out;
+  const double m = 0.5;
+  for (const auto& p : pts)
+    if (p.p.x() >= n.box_lo.x() - m && p.p.x() <= n.box_hi.x() + m && p.p.y() >= n.box_lo.y() - m &&
+        p.p.y() <= n.box_hi.y() + m)
+      out.push_back(p);
+  return out;
+}
+
 void MapOptimizer::TryLoopClosures(int n) {
   Node& cur = nodes_[n];
   if (cur.samples.size() < static_cast<size_t>(options_.min_matches)) return;
@@ -238,8 +250,9 @@ void MapOptimizer::TryLoopClosures(int n) {
           const Vec2 c = guess * cur.centre_local;
           const Pose2 rot = Pose2{c.x(), c.y(), dth} * Pose2{-c.x(), -c.y(), 0.0};
           const Pose2 start = Pose2{dx, dy, 0.0} * rot * guess;
-          const double score =
-              AgreementFraction(o.faces, TransformPoints(start, coarse), options_.loop_tolerance_m, cos_max);
+          // Matched samples (not a fraction): two long ASRs overlap only in part.
+          const double score = AgreementFraction(o.faces, TransformPoints(start, coarse), options_.loop_tolerance_m,
+                                                 cos_max) * static_cast<double>(coarse.size());
           starts.push_back({start, score});
         }
       }
@@ -258,8 +271,11 @@ void MapOptimizer::TryLoopClosures(int n) {
     for (const Pose2& start : chosen) {
       Registration reg = RegisterWalls(o.faces, cur.faces, start, options_.registration);
       if (!reg.converged || reg.matches < options_.min_matches) continue;
-      const auto pts_in_o = TransformPoints(reg.target_from_source, cur.samples);
-      const auto o_in_cur = TransformPoints(reg.target_from_source.inverse(), o.samples);
+      // Agreement where the two overlap: the samples of each that fall in the
+      // other's box (walls the other could have seen).
+      const auto pts_in_o = InBox(TransformPoints(reg.target_from_source, cur.samples), o);
+      const auto o_in_cur = InBox(TransformPoints(reg.target_from_source.inverse(), o.samples), cur);
+      if (static_cast<int>(std::min(pts_in_o.size(), o_in_cur.size())) < options_.min_matches) continue;
       const double a1 = AgreementFraction(o.faces, pts_in_o, options_.loop_tolerance_m, cos_max);
       const double a2 = AgreementFraction(cur.faces, o_in_cur, options_.loop_tolerance_m, cos_max);
       sols.push_back({reg, std::min(a1, a2)});

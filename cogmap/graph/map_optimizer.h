@@ -151,6 +151,7 @@ class MapOptimizer {
     std::vector<Pose2> path_raw;     // raw path (world raw), for the odometry factor
     std::vector<Polyline> walls;     // local frame, as mapped
     Vec2 centre_local{0, 0};
+    Vec2 box_lo{0, 0}, box_hi{0, 0};  // of walls and path, local frame
     double radius_m = 0.0;
     bool stored = false;
     bool direction = false;
@@ -162,6 +163,8 @@ class MapOptimizer {
   Node MakeNode(const asr::Asr& a) const;
   std::vector<Polyline> BendWalls(const Node& n, double rate) const;
   void TryLoopClosures(int n);
+  // The points (in n's local frame) inside n's box, 0.5 m margin.
+  std::vector<FacedPoint> InBox(const std::vector<FacedPoint>& pts, const Node& n) const;
   struct Consistency {
     int crossings = 0;       // robot path segments crossing another ASR's walls
     double overlap_m = 0.0;  // path length inside another ASR's box
