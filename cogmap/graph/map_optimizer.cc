@@ -419,7 +419,23 @@ OptimizerResult MapOptimizer::Finish() {
   if (N == 0) return res;
   auto t0 = std::chrono::steady_clock::now();
   FitVarianceComponents();
-  graph_.Solve(0, options_.full_iterations);
+  const PoseGraph::SolveSummary with_drift = graph_.Solve(0, options_.full_iterations);
+  // Is there drift at all? The graph with every rate held at zero is the
+  // nested model; the rates stay only if they lower the (robust) cost by
+  // more than the 99 % chi-square quantile of one degree of freedom
+  // (likelihood-ratio test). A few wall directions far apart, each known
+  // modulo a quarter turn, can otherwise fit a confident wrong drift.
+  {
+    const PoseGraph::State drift_state = graph_.Save();
+    graph_.SetRatesFixedAtZero(true);
+    const PoseGraph::SolveSummary no_drift = graph_.Solve(0, options_.full_iterations);
+    res.drift_test_chi2 = 2.0 * (no_drift.final_cost - with_drift.final_cost);
+    res.drift_detected = res.drift_test_chi2 > ChiSquareQuantile(options_.drift_test_probability, 1);
+    if (res.drift_detected) {
+      graph_.SetRatesFixedAtZero(false);
+      graph_.Restore(drift_state);
+    }
+  }
   res.odometry_sigma_factor = graph_.SigmaFactor(FactorKind::kOdometry);
   res.direction_sigma_factor = graph_.SigmaFactor(FactorKind::kDirection);
   res.registration_sigma_factor = graph_.SigmaFactor(FactorKind::kRegistration);
@@ -530,7 +546,14 @@ OptimizerResult MapOptimizer::Finish() {
   // least min_dof_to_shrink degrees of freedom.
   t0 = std::chrono::steady_clock::now();
   std::vector<Eigen::Matrix3d> cov;
-  if (res.solution != "odometry") cov = graph_.Covariances();
+  if (res.solution != "odometry") {
+    // With the rates free even when the test kept them at zero: an
+    // undetected drift is still a possible one, and the sigmas must say so.
+    const bool zero = !res.drift_detected;
+    if (zero) graph_.SetRatesFixedAtZero(false);
+    cov = graph_.Covariances();
+    if (zero) graph_.SetRatesFixedAtZero(true);
+  }
   res.covariance_seconds = Seconds(t0);
   const double factor = res.chi2 / res.chi2_dof;
   const double inflate =

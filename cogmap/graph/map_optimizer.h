@@ -46,6 +46,7 @@ struct MapOptimizerOptions {
   double search_step_rad = DegToRad(2.5);
   double ambiguity_ratio = 0.9;     // a distinct solution this close to the best: ambiguous
   double gate_probability = 0.999;  // chi-square gate on the closure vs the prediction
+  double drift_test_probability = 0.99;  // likelihood-ratio test of a drift rate (Finish)
   // A revisit: both ASRs' walls agree on each other at least this much.
   double same_room_agreement = 0.6;
   // Uncertain ASRs (named in report.json, warned about).
@@ -110,6 +111,9 @@ struct OptimizerResult {
   int chi2_dof = 0;
   double chi2_p999 = 0.0;      // the 99.9 % quantile for chi2_dof
   double variance_factor = 1.0;  // applied to every covariance
+  // Likelihood-ratio test of a drift rate against none (Finish).
+  bool drift_detected = false;
+  double drift_test_chi2 = 0.0;
   // Fitted sigma factors per kind of factor (variance components).
   double odometry_sigma_factor = 1.0, direction_sigma_factor = 1.0, registration_sigma_factor = 1.0;
   int registrations = 0;

@@ -221,6 +221,7 @@ struct PoseGraph::Impl {
   };
   std::vector<Factor> factors;
   std::vector<int> relative_index;  // AddRelative index -> factors index
+  bool rates_zero = false;
 
   bool Free(int node, int first_free) const { return node >= first_free && !fixed[node]; }
 
@@ -240,7 +241,7 @@ struct PoseGraph::Impl {
     for (size_t n = 0; n < nodes.size(); ++n) {
       const bool free = Free(static_cast<int>(n), first_free);
       if (problem->HasParameterBlock(nodes[n].data()) && !free) problem->SetParameterBlockConstant(nodes[n].data());
-      if (problem->HasParameterBlock(&rates[n]) && static_cast<int>(n) < first_free - 1)
+      if (problem->HasParameterBlock(&rates[n]) && (rates_zero || static_cast<int>(n) < first_free - 1))
         problem->SetParameterBlockConstant(&rates[n]);
     }
   }
@@ -373,6 +374,26 @@ PoseGraph::SolveSummary PoseGraph::Solve(int first_free, int max_iterations) {
   out.usable = summary.IsSolutionUsable();
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+void PoseGraph::SetRatesFixedAtZero(bool fixed) {
+  impl_->rates_zero = fixed;
+  if (fixed)
+    for (double& r : impl_->rates) r = 0.0;
+}
+
+PoseGraph::State PoseGraph::Save() const {
+  State s;
+  for (int i = 0; i < size(); ++i) s.poses.push_back(pose(i));
+  s.rates.assign(impl_->rates.begin(), impl_->rates.end());
+  s.phi = impl_->phi;
+  return s;
+}
+
+void PoseGraph::Restore(const State& s) {
+  for (size_t i = 0; i < s.poses.size(); ++i) set_pose(static_cast<int>(i), s.poses[i]);
+  for (size_t i = 0; i < s.rates.size(); ++i) impl_->rates[i] = s.rates[i];
+  impl_->phi = s.phi;
 }
 
 Pose2 PoseGraph::pose(int i) const {

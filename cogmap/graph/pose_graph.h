@@ -98,6 +98,17 @@ class PoseGraph {
   // Optimises the nodes with index >= first_free (0: all), the others held.
   SolveSummary Solve(int first_free = 0, int max_iterations = 50);
 
+  // Holds every drift rate at zero (true) or lets them move again (false).
+  void SetRatesFixedAtZero(bool fixed);
+  // Snapshot of all poses and rates, and its restoration.
+  struct State {
+    std::vector<Pose2> poses;
+    std::vector<double> rates;
+    double phi = 0.0;
+  };
+  State Save() const;
+  void Restore(const State& s);
+
   Pose2 pose(int i) const;
   void set_pose(int i, const Pose2& p);
   double rate(int i) const;
