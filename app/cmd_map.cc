@@ -171,6 +171,11 @@ int RunMap(const MapArgs& a) {
   // The heading estimate of the ASR that has just closed (set once the
   // corrector is chosen below; null without correction).
   std::function<const localize::DirectionEstimate*()> last_estimate = [] { return nullptr; };
+  // The grid orientation serves the heading correction's grid refinement,
+  // which is for sonar robots only (below): not computed for a laser.
+  options.grid_orientation = !std::all_of(robot.sensors.begin(), robot.sensors.end(), [](const auto& s) {
+    return s.kind == sensors::SensorKind::kLaser;
+  });
   asr::CognitiveMapper mapper(robot, options, store.get(), [&](const asr::Asr& x) {
     ++closed;
     nlohmann::json heading = nullptr;

@@ -131,7 +131,7 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
   a.seconds.extract = v.seconds.extract;
   a.seconds.simplify = v.seconds.simplify;
   a.seconds.fit = v.seconds.fit;
-  {
+  if (options_.grid_orientation) {
     // The orientation of the occupied cells, for the heading correction.
     const auto& g = c.grid->values();
     std::vector<Vec2> cells;

@@ -24,6 +24,10 @@ struct MapperOptions {
   BoundaryOptions boundary;            // where ASRs end (SPEC 4, fig. 3.4)
   double path_step_m = 0.05;           // the stored path keeps a pose every this far
   size_t max_replay_records = 4096;    // bound of the doorway replay buffer
+  // The dominant orientation of each room's occupied cells (Asr::grid_orientation),
+  // used by the heading correction's grid refinement (sonar robots only):
+  // off, it is not computed.
+  bool grid_orientation = true;
 };
 
 // Continuing a run into an existing store (cogmap map --resume).

@@ -20,8 +20,9 @@ std::vector<FacedPoint> TransformPoints(const Pose2& T, const std::vector<FacedP
   std::vector<FacedPoint> out;
   out.reserve(pts.size());
   const double c = std::cos(T.theta), s = std::sin(T.theta);
-  for (const auto& p : pts) out.push_back({T * p.p, Vec2(c * p.normal.x() - s * p.normal.y(),
-                                                         s * p.normal.x() + c * p.normal.y())});
+  for (const auto& p : pts)
+    out.push_back({Vec2(T.x + c * p.p.x() - s * p.p.y(), T.y + s * p.p.x() + c * p.p.y()),
+                   Vec2(c * p.normal.x() - s * p.normal.y(), s * p.normal.x() + c * p.normal.y())});
   return out;
 }
 
@@ -71,6 +72,7 @@ MapOptimizer::Node MapOptimizer::MakeNode(const asr::Asr& a) const {
   n.walls = a.walls_local;
   n.faces = FaceWalls(a.walls_local, n.path_local);
   n.samples = SampleFaces(n.faces, options_.registration.sample_step_m);
+  n.index = FaceIndex(n.faces, std::max(0.5, options_.loop_tolerance_m));
   // Centre and radius of everything the ASR holds (walls and path).
   Vec2 lo(1e18, 1e18), hi(-1e18, -1e18);
   auto grow = [&](const Vec2& p) {
@@ -251,8 +253,9 @@ void MapOptimizer::TryLoopClosures(int n) {
           const Pose2 rot = Pose2{c.x(), c.y(), dth} * Pose2{-c.x(), -c.y(), 0.0};
           const Pose2 start = Pose2{dx, dy, 0.0} * rot * guess;
           // Matched samples (not a fraction): two long ASRs overlap only in part.
-          const double score = AgreementFraction(o.faces, TransformPoints(start, coarse), options_.loop_tolerance_m,
-                                                 cos_max) * static_cast<double>(coarse.size());
+          const double score =
+              o.index.Agreement(o.faces, TransformPoints(start, coarse), options_.loop_tolerance_m, cos_max) *
+              static_cast<double>(coarse.size());
           starts.push_back({start, score});
         }
       }

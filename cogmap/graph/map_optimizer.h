@@ -41,9 +41,9 @@ struct MapOptimizerOptions {
   // candidate_sigmas x the position uncertainty (at most max_search_m) every
   // search_step_m, headings likewise; ICP from the three best distinct starts.
   double max_search_m = 2.5;
-  double search_step_m = 0.25;
+  double search_step_m = 0.4;
   double max_search_rad = DegToRad(10.0);
-  double search_step_rad = DegToRad(2.5);
+  double search_step_rad = DegToRad(4.0);
   double ambiguity_ratio = 0.9;     // a distinct solution this close to the best: ambiguous
   double gate_probability = 0.999;  // chi-square gate on the closure vs the prediction
   double drift_test_probability = 0.99;  // likelihood-ratio test of a drift rate (Finish)
@@ -151,6 +151,7 @@ class MapOptimizer {
     Pose2 raw;                       // world_from_local_raw
     std::vector<FacedSegment> faces; // local frame
     std::vector<FacedPoint> samples; // local frame
+    FaceIndex index;                 // of faces, for the loop-closure search
     std::vector<Vec2> path_local;    // robot path, local frame, every ~0.2 m
     std::vector<Pose2> path_raw;     // raw path (world raw), for the odometry factor
     std::vector<Polyline> walls;     // local frame, as mapped

@@ -70,6 +70,23 @@ std::vector<FacedPoint> SampleFaces(const std::vector<FacedSegment>& faces, doub
 double AgreementFraction(const std::vector<FacedSegment>& target, const std::vector<FacedPoint>& points,
                          double tolerance_m, double max_normal_angle_rad);
 
+// A uniform grid over faced segments (each segment listed in every cell its
+// box touches), for nearest-face queries within a small distance.
+class FaceIndex {
+ public:
+  FaceIndex() = default;
+  FaceIndex(const std::vector<FacedSegment>& faces, double cell_m);
+  // The same as AgreementFraction on the indexed faces, for tolerance_m <= cell_m.
+  double Agreement(const std::vector<FacedSegment>& faces, const std::vector<FacedPoint>& points, double tolerance_m,
+                   double max_normal_angle_rad) const;
+
+ private:
+  double cell_m_ = 1.0;
+  Vec2 origin_{0, 0};
+  int w_ = 0, h_ = 0;
+  std::vector<std::vector<int>> cells_;
+};
+
 // Number of crossings of the path polyline 'path' (target frame) by target
 // walls: a path that runs through a wall means the placement is wrong (the
 // robot drove there). Consecutive path points farther apart than max_gap_m are

@@ -64,3 +64,18 @@ TEST(Registration, PathThroughWallIsCounted) {
 
 }  // namespace
 }  // namespace cogmap::graph
+
+namespace cogmap::graph {
+namespace {
+TEST(Registration, FaceIndexAgreesWithTheBruteForce) {
+  const auto faces = FaceWalls(Room(), Inside());
+  const FaceIndex index(faces, 0.5);
+  std::vector<FacedPoint> pts = SampleFaces(faces, 0.1);
+  for (auto& p : pts) p.p += Vec2(0.13, -0.07);  // some within 0.25 m, none exact
+  pts.push_back({Vec2(10, 10), Vec2(0, 1)});
+  pts.push_back({Vec2(-3, 1), Vec2(1, 0)});
+  for (double tol : {0.05, 0.15, 0.25})
+    EXPECT_DOUBLE_EQ(index.Agreement(faces, pts, tol, 0.5), AgreementFraction(faces, pts, tol, 0.5)) << tol;
+}
+}  // namespace
+}  // namespace cogmap::graph
