@@ -53,6 +53,7 @@ struct MapArgs {
   bool no_correct = false;
   bool no_drift_filter = false;
   bool no_graph = false;
+  std::string outputs = "default";
   bool no_smooth = false;
   double add_drift_deg_per_m = 0.0;
   bool resume = false;
@@ -94,6 +95,40 @@ class DriftAdder {
   Pose2 out_;
 };
 
+// `--outputs`: which files beside map.sqlite, walls.json and report.json.
+struct OutputChoice {
+  io::MasterMapOutputs map;
+  bool compare = false;  // map_compare.svg/.png
+  bool heading = false;  // heading_error.png
+};
+OutputChoice ParseOutputs(const std::string& text) {
+  OutputChoice c;
+  c.map = io::MasterMapOutputs{false, false, false, false, false};
+  std::stringstream in(text);
+  std::string item;
+  bool any = false;
+  while (std::getline(in, item, ',')) {
+    any = true;
+    if (item == "all") {
+      c.map = io::MasterMapOutputs{};
+      c.compare = c.heading = true;
+    } else if (item == "default") {
+      c.map.svg = c.map.geojson = c.map.aria = true;
+    } else if (item == "svg") c.map.svg = true;
+    else if (item == "png") c.map.png = true;
+    else if (item == "pgm") c.map.pgm = true;
+    else if (item == "geojson") c.map.geojson = true;
+    else if (item == "aria") c.map.aria = true;
+    else if (item == "compare") c.compare = true;
+    else if (item == "heading") c.heading = true;
+    else
+      throw InputError("--outputs " + text + ": unknown output '" + item +
+                       "' (expected default, all, svg, png, pgm, geojson, aria, compare, heading)");
+  }
+  if (!any) throw InputError("--outputs: empty list");
+  return c;
+}
+
 std::optional<Pose2> ParsePose(const std::optional<std::string>& text) {
   if (!text) return std::nullopt;
   std::istringstream in(*text);
@@ -111,6 +146,7 @@ int RunMap(const MapArgs& a) {
   if (a.mode != "paper" && a.mode != "default") throw InputError("--mode " + a.mode + ": expected paper or default");
   if (!std::isfinite(a.add_drift_deg_per_m) || std::abs(a.add_drift_deg_per_m) > 90.0)
     throw InputError("--add-drift-deg-per-m " + Num(a.add_drift_deg_per_m) + ": must be in [-90, 90]");
+  const OutputChoice outputs = ParseOutputs(a.outputs);
   if (a.boundary != "doorway" && a.boundary != "fixed")
     throw InputError("--boundary " + a.boundary + ": expected doorway or fixed");
 
@@ -367,10 +403,12 @@ int RunMap(const MapArgs& a) {
   std::vector<asr::Asr> all;
   for (int id : store->Ids()) all.push_back(*store->Get(id));
   const io::MasterMap master = io::BuildMasterMap(all, !a.raw);
-  const auto files = io::WriteMasterMapFiles(folder->staging(), master);
+  std::vector<std::string> written = {"map.sqlite"};
+  for (const auto& f : io::WriteMasterMapFiles(folder->staging(), master, {}, 0.05, outputs.map))
+    written.push_back(fs::path(f).filename().string());
 
   // Before / after correction side by side, and the heading error per ASR.
-  {
+  if (outputs.compare) {
     const io::MasterMap raw_map = io::BuildMasterMap(all, false);
     const io::MasterMap cor_map = a.raw ? io::BuildMasterMap(all, true) : master;
     auto style_for = [](const io::MasterMap& m) {
@@ -382,14 +420,17 @@ int RunMap(const MapArgs& a) {
     // With pre-correction each ASR's walls were mapped on corrected odometry:
     // the left picture places them by odometry (the true raw map: --no-correct).
     const std::string lt = drift_filter ? "BEFORE: ASRS AT THEIR ODOMETRY POSES" : "BEFORE: ODOMETRY";
-    const std::string rt =
-        a.no_correct ? "AFTER: NOT CORRECTED (--NO-CORRECT)" : "AFTER: HEADING CORRECTION (" + a.mode + ")";
+    const std::string rt = a.no_correct ? "AFTER: NOT CORRECTED (--NO-CORRECT)"
+                           : use_graph  ? std::string("AFTER: POSE GRAPH (DEFAULT)")
+                                        : "AFTER: HEADING CORRECTION (" + a.mode + ")";
     io::WriteFileAtomically((fs::path(folder->staging()) / "map_compare.svg").string(),
                             localize::SideBySideSvg(io::FormatMapSvg(raw_map, style_for(raw_map)), lt,
                                                     io::FormatMapSvg(cor_map, style_for(cor_map)), rt));
     io::WritePng((fs::path(folder->staging()) / "map_compare.png").string(),
                  localize::SideBySide(io::RenderMap(raw_map, style_for(raw_map)), lt,
                                       io::RenderMap(cor_map, style_for(cor_map)), rt));
+    written.push_back("map_compare.svg");
+    written.push_back("map_compare.png");
   }
   const localize::HeadingErrorStats heading = localize::ComputeHeadingErrors(all);
   // Per ASR of this run: its heading error against the truth (one global
@@ -400,8 +441,10 @@ int RunMap(const MapArgs& a) {
         j["heading_error_deg"] = RadToDeg(e.corrected_rad);
         j["heading_error_raw_deg"] = RadToDeg(e.raw_rad);
       }
-  if (heading.asrs > 0)
+  if (outputs.heading && heading.asrs > 0) {
     io::WritePng((fs::path(folder->staging()) / "heading_error.png").string(), localize::PlotHeadingErrors(heading));
+    written.push_back("heading_error.png");
+  }
 
   // walls.json for `cogmap eval` (the master map's walls; map frame = the raw
   // odometry frame of the first run, placed in the truth's world when known).
@@ -469,7 +512,10 @@ int RunMap(const MapArgs& a) {
       {"mapping_seconds", mapping_seconds},
       {"total_seconds", total_seconds},
       {"log_duration_s", duration},
-      {"times_real_time", mapping_seconds > 0 ? duration / mapping_seconds : 0.0},
+      // The whole command up to this report (reading, mapping, every output
+      // file); mapping_times_real_time: before the output files.
+      {"times_real_time", total_seconds > 0 ? duration / total_seconds : 0.0},
+      {"mapping_times_real_time", mapping_seconds > 0 ? duration / mapping_seconds : 0.0},
       {"peak_grid_cells", mapper.stats().peak_grid_cells},
       {"max_rss_kb_mapping", rss_mapping_kb},
       {"store", store_path},
@@ -554,7 +600,7 @@ int RunMap(const MapArgs& a) {
               "(%.1fx real time)\n",
               a.log.c_str(), records, static_cast<int>(all.size()), closed, master.exits.size(),
               bytes_all.grid / 1024.0, bytes_all.polylines / 1024.0, total_seconds,
-              mapping_seconds > 0 ? duration / mapping_seconds : 0.0);
+              total_seconds > 0 ? duration / total_seconds : 0.0);
   if (truth_plan)
     std::printf("rooms: precision %.3f recall %.3f\n", report["room_precision"].get<double>(),
                 report["room_recall"].get<double>());
@@ -571,9 +617,9 @@ int RunMap(const MapArgs& a) {
   } else if (drift_filter)
     std::printf("estimated heading drift: %.3f +- %.3f deg/m\n", RadToDeg(drift_corrector.odometry().rate_rad_per_m()),
                 RadToDeg(drift_corrector.odometry().rate_sigma_rad_per_m()));
-  std::printf("outputs in %s: map.sqlite map.svg map.png map.pgm map.yaml map.geojson map.map map_compare.svg "
-              "map_compare.png%s walls.json report.json\n",
-              a.output.c_str(), heading.asrs > 0 ? " heading_error.png" : "");
+  std::string listed;
+  for (const auto& w : written) listed += w + " ";
+  std::printf("outputs in %s: %swalls.json report.json\n", a.output.c_str(), listed.c_str());
   return 0;
 }
 
@@ -611,6 +657,11 @@ std::function<int()> SetupMap(CLI::App& sub) {
   sub.add_option("--add-drift-deg-per-m", a->add_drift_deg_per_m,
                  "Add a systematic heading drift to the log's odometry, degrees per metre driven (CCW positive; "
                  "the log's ground truth stays): to test the correction on a real log")
+      ->capture_default_str();
+  sub.add_option("--outputs", a->outputs,
+                 "Files to write beside map.sqlite, walls.json and report.json, comma-separated: svg, png, pgm "
+                 "(map_server PGM + YAML), geojson, aria (map.map), compare (map_compare.svg/.png), heading "
+                 "(heading_error.png); default = svg,geojson,aria; all = every one")
       ->capture_default_str();
   sub.add_flag("--raw", a->raw, "Draw the master map at the raw odometry poses (the store keeps both)");
   sub.add_flag("--resume", a->resume,

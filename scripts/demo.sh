@@ -4,9 +4,9 @@
 #   1. simulates a Pioneer 3-DX with its 16-sonar ring driving nine_rooms.map
 #      with 1 degree/metre of heading drift (the thesis's test environment);
 #   2. draws the world with the true and the odometry paths;
-#   3. builds the cognitive map (ASRs, exits, EM heading correction) with all
+#   3. builds the cognitive map (ASRs, exits, the pose graph) with all
 #      its outputs: map.sqlite, map.svg, map.png, map.pgm/.yaml, map.geojson,
-#      map.map (ARIA 2D-Map), map_compare.svg/.png (before | after the heading
+#      map.map (ARIA 2D-Map), map_compare.svg/.png (before | after the pose
 #      correction), heading_error.png, report.json;
 #   4. scores it against the floor plan (cogmap eval);
 #   5. also vectorizes the whole run as one space (stages.png) and draws the
@@ -26,7 +26,7 @@ $C simulate "$WORLD" --robot pioneer16 --route --seed 1 --drift-deg-per-m 1.0 -o
 $C render-world "$WORLD" --log "$OUT/nine_rooms.log" -o "$OUT/world.png"
 
 echo "== cognitive map"
-$C map "$OUT/nine_rooms.log" -o "$OUT/map"
+$C map "$OUT/nine_rooms.log" -o "$OUT/map" --outputs all
 $C eval "$OUT/map" --world "$WORLD" | tee "$OUT/eval.txt"
 
 echo "== whole run as one space (stages of SPEC 3)"

@@ -322,14 +322,32 @@ FloorPlan MapFloorPlan(const MasterMap& map) {
 }
 
 std::vector<std::string> WriteMasterMapFiles(const std::string& dir, const MasterMap& map,
-                                             const MasterMapStyle& style, double raster_cell_m) {
+                                             const MasterMapStyle& style, double raster_cell_m,
+                                             const MasterMapOutputs& outputs) {
   const std::string base = (std::filesystem::path(dir) / "map").string();
-  WriteFileAtomically(base + ".svg", FormatMapSvg(map, style));
-  WritePng(base + ".png", RenderMap(map, style));
-  WriteMapServer(base, RasterizeMap(map, raster_cell_m, style.margin_m));
-  WriteFileAtomically(base + ".geojson", FormatMapGeoJson(map));
-  WriteAriaMap(base + ".map", MapFloorPlan(map));
-  return {base + ".svg", base + ".png", base + ".pgm", base + ".yaml", base + ".geojson", base + ".map"};
+  std::vector<std::string> written;
+  if (outputs.svg) {
+    WriteFileAtomically(base + ".svg", FormatMapSvg(map, style));
+    written.push_back(base + ".svg");
+  }
+  if (outputs.png) {
+    WritePng(base + ".png", RenderMap(map, style));
+    written.push_back(base + ".png");
+  }
+  if (outputs.pgm) {
+    WriteMapServer(base, RasterizeMap(map, raster_cell_m, style.margin_m));
+    written.push_back(base + ".pgm");
+    written.push_back(base + ".yaml");
+  }
+  if (outputs.geojson) {
+    WriteFileAtomically(base + ".geojson", FormatMapGeoJson(map));
+    written.push_back(base + ".geojson");
+  }
+  if (outputs.aria) {
+    WriteAriaMap(base + ".map", MapFloorPlan(map));
+    written.push_back(base + ".map");
+  }
+  return written;
 }
 
 }  // namespace cogmap::io

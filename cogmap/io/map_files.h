@@ -70,9 +70,18 @@ FloorPlan MapFloorPlan(const MasterMap& map);
 
 // Writes map.svg, map.png, map.pgm + map.yaml, map.geojson and map.map into
 // 'dir' (each file atomically). Returns the paths written.
+// Which of the master map's files to write (`cogmap map --outputs`).
+struct MasterMapOutputs {
+  bool svg = true;      // map.svg
+  bool png = true;      // map.png
+  bool pgm = true;      // map.pgm + map.yaml (ROS map_server)
+  bool geojson = true;  // map.geojson
+  bool aria = true;     // map.map (ARIA 2D-Map)
+};
+
 std::vector<std::string> WriteMasterMapFiles(const std::string& dir, const MasterMap& map,
                                              const MasterMapStyle& style = {},
-                                             double raster_cell_m = 0.05);
+                                             double raster_cell_m = 0.05, const MasterMapOutputs& outputs = {});
 
 // The convex hull (counter-clockwise, no repeat) of points.
 std::vector<Vec2> ConvexHull(std::vector<Vec2> points);
