@@ -296,7 +296,18 @@ int RunEval(const EvalArgs& a) {
     throw InputError(wf.log_path, 0, "the log has no ground-truth poses: eval needs a run with truth "
                                      "(e.g. from cogmap simulate, or a corrected CARMEN log)");
   std::vector<Vec2> true_path;
-  if (have_world) {
+  // The true path from the folder's store when there is one (the folder is
+  // then self-contained: moved or copied, it evaluates without the log);
+  // else (cogmap vectorize's folder) from the log.
+  const std::filesystem::path folder_store =
+      std::filesystem::is_directory(dir) ? dir / "map.sqlite" : dir.parent_path() / "map.sqlite";
+  if (have_world && std::filesystem::exists(folder_store)) {
+    auto store = asr::SqliteAsrStore::Open(folder_store.string(), asr::SqliteAsrStore::OpenMode::kReadOnly);
+    for (int id : store->Ids())
+      if (auto x = store->Get(id))
+        for (const auto& p : x->true_path) true_path.push_back(p.translation());
+  }
+  if (have_world && true_path.empty()) {
     auto log = io::OpenLog(wf.log_path, wf.log_format);
     sensors::LogRecord rec;
     while (log->Next(&rec))
