@@ -146,6 +146,74 @@ TEST(SqliteAsrStore, ReopenKeepsEverythingAndUsesWal) {
   sqlite3_close(db);
 }
 
+TEST(SqliteAsrStore, PlacementsAndClosuresRoundTrip) {
+  const std::string path = TempDir("placements") + "/map.sqlite";
+  auto s = SqliteAsrStore::Open(path);
+  for (int i = 0; i < 3; ++i) s->Put(MakeAsr(i));
+  Asr moved = MakeAsr(2);
+  moved.world_from_local_corrected = {1.5, -2.0, 0.25};
+  Placement p;
+  p.asr_id = 2;
+  p.room_id = 0;
+  p.covariance = Eigen::Matrix3d::Identity() * 0.04;
+  p.covariance(0, 1) = p.covariance(1, 0) = 0.01;
+  p.uncertain = true;
+  p.why = "position 1-sigma 0.6 m";
+  p.drift_rate_rad_per_m = 0.0175;
+  p.corrected_path = {{1.0, 2.0, 0.5}, {1.5, 2.0, 0.5}};
+  ClosureRecord c{0, 2, Pose2{0.1, -0.2, 0.03}, 0.8, 0.05, 2.5, true, true, "accepted"};
+  s->PutPlacements({moved}, {p}, {c});
+  EXPECT_EQ(s->Get(2)->world_from_local_corrected.theta, 0.25);
+  EXPECT_EQ(s->RoomOf(2), 0);
+  EXPECT_EQ(s->RoomOf(1), 1);  // never placed: its own room
+  const auto q = s->GetPlacement(2);
+  ASSERT_TRUE(q);
+  EXPECT_EQ(q->covariance, p.covariance);
+  EXPECT_TRUE(q->uncertain);
+  EXPECT_EQ(q->why, p.why);
+  EXPECT_EQ(q->drift_rate_rad_per_m, 0.0175);
+  ASSERT_EQ(q->corrected_path.size(), 2u);
+  EXPECT_EQ(q->corrected_path[1].x, 1.5);
+  const auto cl = s->Closures();
+  ASSERT_EQ(cl.size(), 1u);
+  EXPECT_EQ(cl[0].to_asr, 2);
+  EXPECT_TRUE(cl[0].same_room);
+  EXPECT_EQ(cl[0].reason, "accepted");
+  EXPECT_EQ(s->IntegrityCheck(), "ok");
+}
+
+TEST(SqliteAsrStore, VersionOneStoreIsMigrated) {
+  const std::string path = TempDir("v1") + "/map.sqlite";
+  {
+    auto s = SqliteAsrStore::Open(path);
+    for (int i = 0; i < 2; ++i) s->Put(MakeAsr(i));
+  }
+  // Back to what version 1 wrote: no placement / closure tables.
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, "DROP TABLE placement; DROP TABLE closure; PRAGMA user_version=1; "
+                             "UPDATE meta SET value='1' WHERE key='schema_version'",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  {
+    // Read-only: read as it is.
+    auto r = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
+    EXPECT_EQ(r->Count(), 2);
+    EXPECT_FALSE(r->GetPlacement(1));
+    EXPECT_EQ(r->RoomOf(1), 1);
+    EXPECT_TRUE(r->Closures().empty());
+  }
+  auto s = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kOpenExisting);
+  ExpectSame(*s->Get(1), MakeAsr(1));
+  EXPECT_EQ(*s->GetMeta("schema_version"), std::to_string(kStoreSchemaVersion));
+  Placement p;
+  p.asr_id = 1;
+  p.room_id = 0;
+  s->PutPlacements({}, {p}, {});
+  EXPECT_EQ(s->RoomOf(1), 0);
+}
+
 TEST(SqliteAsrStore, ReplaceStartsEmpty) {
   const std::string path = TempDir("replace") + "/map.sqlite";
   SqliteAsrStore::Open(path)->Put(MakeAsr(0));
