@@ -432,7 +432,10 @@ int RunMap(const MapArgs& a) {
     written.push_back("map_compare.svg");
     written.push_back("map_compare.png");
   }
-  const localize::HeadingErrorStats heading = localize::ComputeHeadingErrors(all);
+  std::map<int, std::vector<Pose2>> placed_paths;
+  for (int id : store->Ids())
+    if (auto p = store->GetPlacement(id)) placed_paths[id] = std::move(p->corrected_path);
+  const localize::HeadingErrorStats heading = localize::ComputeHeadingErrors(all, placed_paths);
   // Per ASR of this run: its heading error against the truth (one global
   // rotation removed), when the log has ground truth.
   for (const auto& e : heading.per_asr)

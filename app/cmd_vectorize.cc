@@ -378,7 +378,10 @@ int RunEval(const EvalArgs& a) {
       j["room_precision"] = nullptr;  // the world has no ground-truth Room areas
       j["room_recall"] = nullptr;
     }
-    headings = localize::ComputeHeadingErrors(asrs);
+    std::map<int, std::vector<Pose2>> placed_paths;
+    for (const auto& x : asrs)
+      if (auto p = store->GetPlacement(x.id)) placed_paths[x.id] = std::move(p->corrected_path);
+    headings = localize::ComputeHeadingErrors(asrs, placed_paths);
     for (const auto& [key, value] : localize::HeadingErrorEvalKeys(*headings)) j[key] = value;
     // ATE/RPE of the corrected and the raw trajectories against the log's
     // reference poses (the same with or without a world: ATE aligns once, RPE

@@ -46,20 +46,25 @@ double Median(std::vector<double> v) {
 
 }  // namespace
 
-HeadingErrorStats ComputeHeadingErrors(const std::vector<asr::Asr>& asrs) {
+HeadingErrorStats ComputeHeadingErrors(const std::vector<asr::Asr>& asrs,
+                                       const std::map<int, std::vector<Pose2>>& corrected_paths) {
   HeadingErrorStats st;
   std::vector<double> raw, cor;
   for (const auto& a : asrs) {
     const size_t n = a.path.size(), nt = a.true_path.size();
     if (n == 0 || nt == 0) continue;
     const Pose2 correction = CorrectionOf(a);
+    const auto placed = corrected_paths.find(a.id);
+    const std::vector<Pose2>* path_placed =
+        placed != corrected_paths.end() && placed->second.size() == n ? &placed->second : nullptr;
     std::vector<double> er, ec;
-    auto add = [&](const Pose2& p, const Pose2& t) {
+    auto add = [&](size_t k, const Pose2& t) {
+      const Pose2& p = a.path[k];
       er.push_back(AngleDiff(p.theta, t.theta));
-      ec.push_back(AngleDiff((correction * p).theta, t.theta));
+      ec.push_back(AngleDiff(path_placed ? (*path_placed)[k].theta : (correction * p).theta, t.theta));
     };
     if (n == nt) {
-      for (size_t i = 0; i < n; ++i) add(a.path[i], a.true_path[i]);
+      for (size_t i = 0; i < n; ++i) add(i, a.true_path[i]);
     } else {
       // Different sampling (e.g. truth only on laser records): each pose of the
       // sparser sequence pairs with the pose of the denser one at the nearest
@@ -70,8 +75,8 @@ HeadingErrorStats ComputeHeadingErrors(const std::vector<asr::Asr>& asrs) {
       const std::vector<double> fs = DistanceFractions(sparse), fd = DistanceFractions(dense);
       for (size_t i = 0; i < sparse.size(); ++i) {
         const size_t j = Nearest(fd, fs[i]);
-        if (path_sparse) add(sparse[i], dense[j]);
-        else add(dense[j], sparse[i]);
+        if (path_sparse) add(i, dense[j]);
+        else add(j, sparse[i]);
       }
     }
     AsrHeadingError e;

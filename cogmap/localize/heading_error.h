@@ -1,4 +1,5 @@
 #pragma once
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,7 +35,12 @@ struct HeadingErrorStats {
 // of a raw pose p is CorrectionOf(asr) * p. One global rotation (the circular
 // mean of the per-ASR errors) is removed separately from the raw and the
 // corrected errors, since neither map is tied to the true frame.
-HeadingErrorStats ComputeHeadingErrors(const std::vector<asr::Asr>& asrs);
+// 'corrected_paths' (ASR id -> the path as the pose graph placed it, one pose
+// per Asr::path pose; the store's placements): the corrected headings of those
+// ASRs come from it (the drift inside the ASR removed), the others' from
+// CorrectionOf(asr) applied to the raw path.
+HeadingErrorStats ComputeHeadingErrors(const std::vector<asr::Asr>& asrs,
+                                       const std::map<int, std::vector<Pose2>>& corrected_paths = {});
 
 // `cogmap eval` keys: heading_error_deg_median, heading_error_deg_max,
 // heading_error_deg_median_raw, heading_error_deg_max_raw. Empty when no ASR
