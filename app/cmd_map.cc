@@ -636,7 +636,8 @@ std::function<int()> SetupMap(CLI::App& sub) {
   sub.add_option("--cell", a->cell_m, "Cell size of each room's grid, metres")->capture_default_str();
   sub.add_option("--window", a->window_m, "MHIMM window w, metres")->capture_default_str();
   sub.add_option("--mode", a->mode,
-                 "paper: the thesis's line fit and EM; default: total least squares and robust EM")
+                 "paper: the thesis's line fit and EM rotation per ASR; default: total least squares, robust EM and the pose graph "
+                 "over ASRs (docs/pose-graph.md)")
       ->capture_default_str();
   sub.add_option("--boundary", a->boundary,
                  "doorway: fig. 3.4 with the corridor rule; fixed: a new ASR every --asr-length (thesis §4.2)")
@@ -648,7 +649,7 @@ std::function<int()> SetupMap(CLI::App& sub) {
                  "Default mode, doorway boundaries: cut a space after this many metres of driving without a "
                  "doorway or corridor cut (0 = never, as in paper mode)")
       ->capture_default_str();
-  sub.add_flag("--no-correct", a->no_correct, "Skip the heading correction (ASRs placed by odometry)");
+  sub.add_flag("--no-correct", a->no_correct, "Skip every correction: ASRs placed by odometry");
   sub.add_flag("--no-smooth", a->no_smooth,
                "With --no-graph: keep the corrections as computed while mapping (no revision at the end of the run)");
   sub.add_flag("--no-graph", a->no_graph,
