@@ -569,6 +569,7 @@ int RunMap(const MapArgs& a) {
                             {"chi2_p999", graph_result.chi2_p999},
                             {"variance_factor", graph_result.variance_factor},
                             {"drift_detected", graph_result.drift_detected},
+                            {"drift_alias_risk", graph_result.drift_alias_risk},
                             {"drift_test_chi2", graph_result.drift_test_chi2},
                             {"sigma_factors", {{"odometry", graph_result.odometry_sigma_factor},
                                                {"wall_direction", graph_result.direction_sigma_factor},

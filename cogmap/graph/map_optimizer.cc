@@ -432,11 +432,61 @@ OptimizerResult MapOptimizer::Finish() {
     const PoseGraph::State drift_state = graph_.Save();
     graph_.SetRatesFixedAtZero(true);
     const PoseGraph::SolveSummary no_drift = graph_.Solve(0, options_.full_iterations);
+    const PoseGraph::State no_drift_state = graph_.Save();
     res.drift_test_chi2 = 2.0 * (no_drift.final_cost - with_drift.final_cost);
     res.drift_detected = res.drift_test_chi2 > ChiSquareQuantile(options_.drift_test_probability, 1);
     if (res.drift_detected) {
-      graph_.SetRatesFixedAtZero(false);
-      graph_.Restore(drift_state);
+      // Aliasing: wall directions known modulo 90 degrees and far apart are
+      // fitted as well by a rate that turns the heading by a quarter turn
+      // more between them (the start of the run counts as a direction: its
+      // heading is known).
+      double s = 0.0, last = 0.0, gap = 0.0, rate_sum = 0.0;
+      int rates_n = 0;
+      for (int i = 0; i < N; ++i) {
+        if (nodes_[i].stored) continue;
+        if (nodes_[i].direction) {
+          gap = std::max(gap, s - last);
+          last = s;
+        }
+        for (size_t t = 1; t < nodes_[i].path_local.size(); ++t)
+          s += (nodes_[i].path_local[t] - nodes_[i].path_local[t - 1]).norm();
+        rate_sum += drift_state.rates[i];
+        ++rates_n;
+      }
+      gap = std::max(gap, s - last);
+      const double rate = rates_n ? rate_sum / rates_n : 0.0;
+      // The aliases: the rates that turn the heading by a quarter turn more or
+      // less over the longest stretch without a wall direction, each solved
+      // from its own dead-reckoned start. One that fits about as well (within
+      // the test's quantile) makes the drift ambiguous.
+      if (gap > 1.0) {
+        graph_.SetRatesFixedAtZero(false);
+        for (double sign : {-1.0, 1.0}) {
+          const double alias = rate + sign * (kPi / 2.0) / gap;
+          if (std::abs(alias) > 3.0 * options_.odometry.rate_prior_sigma_rad_per_m) continue;
+          graph_.ChainWithRate(alias);
+          const PoseGraph::SolveSummary a = graph_.Solve(0, options_.full_iterations);
+          if (2.0 * (a.final_cost - with_drift.final_cost) < ChiSquareQuantile(options_.drift_test_probability, 1))
+            res.drift_alias_risk = true;
+        }
+      }
+      // With aliases, three hypotheses were tried: the drift must beat no
+      // drift at the test's level divided among them (Bonferroni).
+      const double strict = ChiSquareQuantile(1.0 - (1.0 - options_.drift_test_probability) / 3.0, 1);
+      const bool keep = !res.drift_alias_risk || res.drift_test_chi2 > strict;
+      if (keep) {
+        graph_.SetRatesFixedAtZero(false);
+        graph_.Restore(drift_state);
+      } else {
+        graph_.SetRatesFixedAtZero(true);
+        graph_.Restore(no_drift_state);
+      }
+      if (res.drift_alias_risk)
+        res.warnings.push_back("the drift rate is ambiguous: " + std::to_string(RadToDeg(rate)).substr(0, 5) +
+                               " deg/m and its quarter-turn aliases fit the wall directions about as well (" +
+                               std::to_string(static_cast<int>(gap)) + " m without one); " +
+                               (keep ? "kept the most likely" : "not corrected (no drift is about as likely)"));
+      res.drift_detected = keep;
     }
   }
   res.odometry_sigma_factor = graph_.SigmaFactor(FactorKind::kOdometry);

@@ -113,6 +113,7 @@ struct OptimizerResult {
   double variance_factor = 1.0;  // applied to every covariance
   // Likelihood-ratio test of a drift rate against none (Finish).
   bool drift_detected = false;
+  bool drift_alias_risk = false;  // detected, but the wall directions are too sparse to trust it
   double drift_test_chi2 = 0.0;
   // Fitted sigma factors per kind of factor (variance components).
   double odometry_sigma_factor = 1.0, direction_sigma_factor = 1.0, registration_sigma_factor = 1.0;

@@ -218,6 +218,7 @@ struct PoseGraph::Impl {
     std::vector<double*> params;
     bool enabled = true;
     double* scale = nullptr;  // the functor's scale (variance components), when it has one
+    const OdometryMeasurement* odometry = nullptr;  // kOdometry: the measurement
   };
   std::vector<Factor> factors;
   std::vector<int> relative_index;  // AddRelative index -> factors index
@@ -263,6 +264,7 @@ void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const Od
   auto* c = new OdometryCost{m, SqrtInformation(m.covariance)};
   Impl::Factor f;
   f.scale = &c->scale;
+  f.odometry = &c->m;
   f.kind = FactorKind::kOdometry;
   f.i = i;
   f.j = j;
@@ -374,6 +376,17 @@ PoseGraph::SolveSummary PoseGraph::Solve(int first_free, int max_iterations) {
   out.usable = summary.IsSolutionUsable();
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+void PoseGraph::ChainWithRate(double rate) {
+  for (double& r : impl_->rates) r = rate;
+  for (const auto& f : impl_->factors) {
+    if (f.kind != FactorKind::kOdometry || !f.odometry || impl_->fixed[f.j]) continue;
+    const OdometryMeasurement& m = *f.odometry;
+    Vec2 t(0.0, 0.0);
+    for (const Eigen::Vector3d& st : m.steps) t += RotateAbout(Vec2(st.x(), st.y()), Vec2(0.0, 0.0), -rate * st.z());
+    set_pose(f.j, pose(f.i) * Pose2{t.x(), t.y(), m.delta.theta - rate * m.distance_m});
+  }
 }
 
 void PoseGraph::SetRatesFixedAtZero(bool fixed) {

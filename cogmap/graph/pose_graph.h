@@ -98,6 +98,10 @@ class PoseGraph {
   // Optimises the nodes with index >= first_free (0: all), the others held.
   SolveSummary Solve(int first_free = 0, int max_iterations = 50);
 
+  // Sets every drift rate to 'rate_rad_per_m' and re-chains the poses of the
+  // nodes that are not fixed along the odometry factors (in the order they
+  // were added) with it: a starting point for another drift hypothesis.
+  void ChainWithRate(double rate_rad_per_m);
   // Holds every drift rate at zero (true) or lets them move again (false).
   void SetRatesFixedAtZero(bool fixed);
   // Snapshot of all poses and rates, and its restoration.
