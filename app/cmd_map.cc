@@ -209,9 +209,9 @@ int RunMap(const MapArgs& a) {
   std::function<const localize::DirectionEstimate*()> last_estimate = [] { return nullptr; };
   // The grid orientation serves the heading correction's grid refinement,
   // which is for sonar robots only (below): not computed for a laser.
-  options.grid_orientation = !std::all_of(robot.sensors.begin(), robot.sensors.end(), [](const auto& s) {
-    return s.kind == sensors::SensorKind::kLaser;
-  });
+  const bool laser_only = std::all_of(robot.sensors.begin(), robot.sensors.end(),
+                                      [](const auto& s) { return s.kind == sensors::SensorKind::kLaser; });
+  options.grid_orientation = !laser_only;
   asr::CognitiveMapper mapper(robot, options, store.get(), [&](const asr::Asr& x) {
     ++closed;
     nlohmann::json heading = nullptr;
@@ -256,9 +256,7 @@ int RunMap(const MapArgs& a) {
   // polylines give the EM a better direction than the room's occupied cells,
   // which lean towards where the laser first saw the walls when the odometry
   // drifts through the room (docs/heading-correction.md).
-  hc_options.grid_refine = !std::all_of(robot.sensors.begin(), robot.sensors.end(), [](const auto& s) {
-    return s.kind == sensors::SensorKind::kLaser;
-  });
+  hc_options.grid_refine = !laser_only;
   localize::HeadingCorrector corrector(hc_options);
   // Default mode: drift-rate estimation with odometry pre-correction
   // (docs/heading-correction.md); paper mode corrects one rotation per ASR.
@@ -293,6 +291,8 @@ int RunMap(const MapArgs& a) {
         [&drift_corrector](const Pose2& raw, double t) { return drift_corrector.CorrectOdometry(raw, t); });
     mapper.SetCorrector([&drift_corrector](asr::Asr pre) { return drift_corrector.Close(std::move(pre)); });
     last_estimate = [&drift_corrector] { return &drift_corrector.LastEstimate(); };
+  } else if (use_graph) {
+    // The pose graph's placer (below) places every ASR.
   } else if (!a.no_correct) {
     mapper.SetCorrector([&corrector](asr::Asr raw) { return corrector.Close(std::move(raw)); });
     last_estimate = [&corrector] { return &corrector.LastEstimate(); };
@@ -311,6 +311,7 @@ int RunMap(const MapArgs& a) {
     if (a.resume)
       for (int id : store->Ids()) optimizer.AddStored(*store->Get(id), store->RoomOf(id));
     mapper.SetPlacer([&optimizer](asr::Asr x) { return optimizer.Place(std::move(x)); });
+    last_estimate = [&optimizer] { return &optimizer.LastEstimate(); };
   }
 
   ProgressBar bar("map");

@@ -5,8 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <cstdio>
-#include <cstdlib>
 #include <numeric>
 
 namespace cogmap::graph {
@@ -107,7 +105,8 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
   node.room_id = a.id;
   const int idx = static_cast<int>(nodes_.size());
   // Wall direction (raw world frame) -> local frame.
-  const localize::DirectionEstimate est = estimator_.Estimate(a);
+  last_estimate_ = estimator_.Estimate(a);
+  const localize::DirectionEstimate& est = last_estimate_;
   if (est.accepted && std::isfinite(est.uncertainty_rad)) {
     node.direction = true;
     node.direction_local = est.direction_rad - a.world_from_local_raw.theta;
@@ -571,7 +570,8 @@ OptimizerResult MapOptimizer::Finish() {
     if (lc.accepted && lc.same_room) nodes_[node_of_asr_[lc.to_asr]].room_id = nodes_[node_of_asr_[lc.from_asr]].room_id;
   res.solve_seconds = solve_seconds_ + Seconds(t0);
   // Chi-square of the solved graph.
-    for (const auto& r : graph_.Residuals()) {
+  const std::vector<PoseGraph::FactorResidual> final_residuals = graph_.Residuals();
+  for (const auto& r : final_residuals) {
     if (!r.enabled) continue;
     res.chi2 += r.chi2;
     res.chi2_dof += r.dof;
@@ -613,7 +613,7 @@ OptimizerResult MapOptimizer::Finish() {
       res.chi2_dof >= options_.min_dof_to_shrink ? std::max(options_.min_variance_factor, factor) : std::max(1.0, factor);
   res.variance_factor = inflate;
   std::vector<double> dir_resid(N, 0.0);
-  for (const auto& r : graph_.Residuals())
+  for (const auto& r : final_residuals)
     if (r.kind == FactorKind::kDirection && r.enabled) dir_resid[r.i] = std::sqrt(r.chi2);
   int uncertain = 0;
   for (int i = 0; i < N; ++i) {

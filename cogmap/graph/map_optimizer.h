@@ -145,6 +145,8 @@ class MapOptimizer {
   int RoomOf(int asr_id) const;
   const std::vector<LoopClosure>& closures() const { return closures_; }
   int size() const { return static_cast<int>(nodes_.size()); }
+  // The wall-direction estimate of the ASR placed last.
+  const localize::DirectionEstimate& LastEstimate() const { return last_estimate_; }
 
  private:
   struct Node {
@@ -190,6 +192,7 @@ class MapOptimizer {
   std::vector<int> closure_factor_;  // per accepted closure: its AddRelative index
   std::vector<int> closure_index_;   // per accepted closure: index into closures_
   int registrations_ = 0;
+  localize::DirectionEstimate last_estimate_;
   double solve_seconds_ = 0.0;
 };
 

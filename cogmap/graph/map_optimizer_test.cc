@@ -40,7 +40,6 @@ std::vector<asr::Asr> Simulate(const std::vector<Visit>& visits, double rate_rad
     const Pose2 rel = truth.inverse() * next;
     const double len = std::hypot(rel.x, rel.y);
     const int steps = std::max(1, static_cast<int>(len / 0.1));
-    Pose2 r = raw;
     for (int k = 0; k <= steps; ++k) {
       const Vec2 local = rel.translation() * (static_cast<double>(k) / steps);
       a.path.push_back(raw * Pose2{local.x(), local.y(), 0.0});
@@ -51,7 +50,6 @@ std::vector<asr::Asr> Simulate(const std::vector<Visit>& visits, double rate_rad
     const double extra = rate_rad_per_m * len;
     const Vec2 t = RotateAbout(rel.translation(), Vec2(0, 0), 0.5 * extra);
     raw = raw * Pose2{t.x(), t.y(), rel.theta + extra};
-    (void)r;
     out.push_back(a);
   }
   return out;

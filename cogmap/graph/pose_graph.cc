@@ -6,8 +6,6 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <deque>
 
 namespace cogmap::graph {
@@ -223,6 +221,7 @@ struct PoseGraph::Impl {
   std::vector<Factor> factors;
   std::vector<int> relative_index;  // AddRelative index -> factors index
   bool rates_zero = false;
+  bool has_rate_prior = false;  // the first chain's rate has its prior
 
   bool Free(int node, int first_free) const { return node >= first_free && !fixed[node]; }
 
@@ -283,10 +282,8 @@ void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const Od
   w.cost.reset(new ceres::AutoDiffCostFunction<RateWalkCost, 1, 1, 1>(new RateWalkCost{1.0 / walk}));
   w.params = {&impl_->rates[i], &impl_->rates[j]};
   impl_->factors.push_back(std::move(w));
-  bool has_prior = false;
-  for (const auto& g : impl_->factors)
-    if ((g.kind == FactorKind::kRatePrior) || (g.kind == FactorKind::kOdometry && g.j == i)) has_prior = true;
-  if (!has_prior) {
+  if (!impl_->has_rate_prior) {
+    impl_->has_rate_prior = true;
     Impl::Factor p;
     p.kind = FactorKind::kRatePrior;
     p.i = i;
