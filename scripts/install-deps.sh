@@ -5,7 +5,7 @@ set -euo pipefail
 PKGS=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libcli11-dev nlohmann-json3-dev libpng-dev zlib1g-dev libsqlite3-dev
-  libgtest-dev libgmock-dev libbenchmark-dev libceres-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libceres-dev ccache
 )
 # Peers for side-by-side comparisons (bench/), large: only with --peers.
 if [[ "${1:-}" == "--peers" ]]; then
