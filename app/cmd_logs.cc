@@ -1,5 +1,6 @@
 // `cogmap log-info` and `cogmap convert`: look into a log, and turn any log the
-// readers know into the native text log (docs/log-format.md).
+// readers know into the native text log (docs/log-format.md) or a RosAria-style
+// ROS 1 bag (docs/inputs.md).
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -14,6 +15,7 @@
 #include "cogmap/io/ev3_log.h"
 #include "cogmap/io/log_reader.h"
 #include "cogmap/io/native_log.h"
+#include "cogmap/io/ros1_bag.h"
 #include "cogmap/sensors/as_sonar.h"
 #include "cogmap/sensors/robot_json.h"
 
@@ -26,6 +28,48 @@ std::string FormatHelp() {
   return s + "(auto = by content; pioneer = measurement.txt + poses.txt, give either or their folder)";
 }
 
+const char* kTopicsHelp =
+    "Bags: the topics to read, comma separated (range, odometry; tf is always read); default: found by type "
+    "(docs/inputs.md)";
+const char* kRobotHelp =
+    "Robot: a built-in name (pioneer16, pioneer8, pioneer8-course, p2at16, laser) or a robot JSON file; for bags "
+    "it also gives the sonars of a point cloud and sensor poses that tf does not give";
+
+io::LogOpenOptions OpenOptions(const std::string& format, const std::vector<std::string>& topics,
+                               const std::string& robot) {
+  io::LogOpenOptions o;
+  o.format = format;
+  o.topics = topics;
+  if (!robot.empty()) o.robot = sensors::ResolveRobot(robot);
+  return o;
+}
+
+// The sensors, one line per run of sensors of one kind at one place
+// ("  0-180  laser at (0, 0): -90 to 90 deg, step 1 deg, 0.02-8 m").
+void PrintSensors(const sensors::RobotDescription& r) {
+  const auto& s = r.sensors;
+  for (size_t i = 0; i < s.size();) {
+    size_t j = i + 1;
+    if (s[i].kind == sensors::SensorKind::kLaser)
+      while (j < s.size() && s[j].kind == s[i].kind && s[j].robot_from_sensor.x == s[i].robot_from_sensor.x &&
+             s[j].robot_from_sensor.y == s[i].robot_from_sensor.y && s[j].max_range_m == s[i].max_range_m)
+        ++j;
+    const auto& a = s[i];
+    const bool laser = a.kind == sensors::SensorKind::kLaser;
+    if (j - i == 1) {
+      std::printf("  %-9zu %s at (%.3f, %.3f) facing %.1f deg, cone %.1f deg, %.3g-%.3g m\n", i,
+                  laser ? "laser beam" : "sonar", a.robot_from_sensor.x, a.robot_from_sensor.y,
+                  RadToDeg(a.robot_from_sensor.theta), RadToDeg(a.beam_width_rad), a.min_range_m, a.max_range_m);
+    } else {
+      const std::string ids = std::to_string(i) + "-" + std::to_string(j - 1);
+      std::printf("  %-9s laser of %zu beams at (%.3f, %.3f): %.2f to %.2f deg, %.3g-%.3g m\n", ids.c_str(), j - i,
+                  a.robot_from_sensor.x, a.robot_from_sensor.y, RadToDeg(a.robot_from_sensor.theta),
+                  RadToDeg(s[j - 1].robot_from_sensor.theta), a.min_range_m, a.max_range_m);
+    }
+    i = j;
+  }
+}
+
 std::string RobotSummary(const sensors::RobotDescription& r) {
   char buf[256];
   double max_range = 0;
@@ -34,9 +78,10 @@ std::string RobotSummary(const sensors::RobotDescription& r) {
   return buf;
 }
 
-int RunLogInfo(const std::string& path, const std::string& format) {
+int RunLogInfo(const std::string& path, const std::string& format, const std::vector<std::string>& topics,
+               const std::string& robot_arg) {
   const std::string detected = format == "auto" ? io::DetectLogFormat(path) : format;
-  auto reader = io::OpenLog(path, detected);
+  auto reader = io::OpenLog(path, OpenOptions(detected, topics, robot_arg));
   const auto robot = reader->robot_hint();
   long records = 0, sweeps = 0, readings = 0, no_echo = 0, truths = 0, backwards = 0;
   double t_last = 0, t_min = std::numeric_limits<double>::infinity(), t_max = -t_min;
@@ -83,15 +128,29 @@ int RunLogInfo(const std::string& path, const std::string& format) {
     std::printf("ground truth:   yes, %ld records, path %.3f m\n", truths, truth_m);
   else
     std::printf("ground truth:   no\n");
+  const auto contents = reader->contents();
+  if (!contents.empty()) {
+    std::printf("contents:       %zu topics or message types\n", contents.size());
+    size_t w = 0;
+    for (const auto& c : contents) w = std::max(w, c.name.size());
+    for (const auto& c : contents)
+      std::printf("  %-*s %-26s %8ld  %s\n", static_cast<int>(w), c.name.c_str(), c.type.c_str(), c.count,
+                  c.use.empty() ? "not used" : c.use.c_str());
+  }
+  if (robot) {
+    std::printf("robot sensors:\n");
+    PrintSensors(*robot);
+  }
   if (const auto* ev3 = dynamic_cast<const io::Ev3LogReader*>(reader.get()))
     std::printf("ev3 samples:    %d per bearing; %ld lines where a bearing's samples spread over %.0f cm\n",
                 ev3->samples_per_bearing(), ev3->disagreeing_lines(), io::kEv3DisagreeCm);
   return 0;
 }
 
-int RunConvert(const std::string& path, const std::string& format, const std::string& robot_arg,
-               const std::string& as_sonar_arg, const std::string& out_path) {
-  auto reader = io::OpenLog(path, format);
+int RunConvert(const std::string& path, const std::string& format, const std::vector<std::string>& topics,
+               const std::string& robot_arg, const std::string& as_sonar_arg, const std::string& to,
+               const std::string& out_path) {
+  auto reader = io::OpenLog(path, OpenOptions(format, topics, robot_arg));
   sensors::RobotDescription robot;
   if (!robot_arg.empty()) robot = sensors::ResolveRobot(robot_arg);
   else if (reader->robot_hint()) robot = *reader->robot_hint();
@@ -107,21 +166,28 @@ int RunConvert(const std::string& path, const std::string& format, const std::st
   }
   long records = 0, readings = 0;
   ProgressBar bar("convert");
-  io::WriteFileAtomically(out_path, [&](std::ostream& out) {
-    io::NativeLogWriter writer(out, sonar ? *sonar : robot);
-    sensors::LogRecord r;
-    while (reader->Next(&r)) {
-      for (const auto& q : r.ranges)
-        if (q.sensor < 0 || q.sensor >= n_sensors)
-          throw InputError(path, 0, "reading of sensor " + std::to_string(q.sensor) + " but robot '" + robot.name +
-                                        "' has " + std::to_string(n_sensors) + " sensors");
-      if (as_sonar) r.ranges = as_sonar->Convert(r.ranges);
-      writer.Write(r);
-      ++records;
-      readings += static_cast<long>(r.ranges.size());
-      if (records % 1024 == 0) bar.Update(reader->progress());
-    }
-  });
+  // The next record, checked against the robot and turned to sonar if asked.
+  auto next = [&](sensors::LogRecord* r) {
+    if (!reader->Next(r)) return false;
+    for (const auto& q : r->ranges)
+      if (q.sensor < 0 || q.sensor >= n_sensors)
+        throw InputError(path, 0, "reading of sensor " + std::to_string(q.sensor) + " but robot '" + robot.name +
+                                      "' has " + std::to_string(n_sensors) + " sensors");
+    if (as_sonar) r->ranges = as_sonar->Convert(r->ranges);
+    ++records;
+    readings += static_cast<long>(r->ranges.size());
+    if (records % 1024 == 0) bar.Update(reader->progress());
+    return true;
+  };
+  if (to == "rosbag") {
+    io::WriteRosAriaBag(out_path, sonar ? *sonar : robot, next);
+  } else {
+    io::WriteFileAtomically(out_path, [&](std::ostream& out) {
+      io::NativeLogWriter writer(out, sonar ? *sonar : robot);
+      sensors::LogRecord r;
+      while (next(&r)) writer.Write(r);
+    });
+  }
   bar.Finish();
   WarnSkipped(*reader);
   std::printf("wrote %s: %ld records, %ld readings, robot %s%s\n", out_path.c_str(), records, readings,
@@ -142,31 +208,49 @@ const bool kInfoRegistered = RegisterCommand(
      [](CLI::App& sub) -> std::function<int()> {
        auto path = std::make_shared<std::string>();
        auto format = std::make_shared<std::string>("auto");
-       sub.add_option("LOG", *path, "Log file (.gz accepted), or the pioneer folder")->required();
+       auto topics = std::make_shared<std::vector<std::string>>();
+       auto robot = std::make_shared<std::string>();
+       sub.add_option("LOG", *path, "Log file (.gz accepted), the pioneer folder, or a bag")->required();
        sub.add_option("--format", *format, FormatHelp())->check(CLI::IsMember(io::LogFormatNames()));
-       return [=] { return RunLogInfo(*path, *format); };
+       sub.add_option("--topics", *topics, kTopicsHelp)->delimiter(',');
+       sub.add_option("--robot", *robot, kRobotHelp);
+       return [=] { return RunLogInfo(*path, *format, *topics, *robot); };
      }});
 
 const bool kConvertRegistered = RegisterCommand(
-    {"convert", "Convert a log (CARMEN, pioneer, EV3, native) into the native text log", 11,
+    {"convert", "Convert a log (CARMEN, pioneer, EV3, bags, native) into the native text log or a RosAria-style ROS 1 bag", 11,
      [](CLI::App& sub) -> std::function<int()> {
        auto path = std::make_shared<std::string>();
        auto format = std::make_shared<std::string>("auto");
        auto robot = std::make_shared<std::string>();
        auto out = std::make_shared<std::string>();
        auto as_sonar = std::make_shared<std::string>();
-       sub.add_option("LOG", *path, "Log file (.gz accepted), or the pioneer folder")->required();
+       auto topics = std::make_shared<std::vector<std::string>>();
+       auto to = std::make_shared<std::string>("native");
+       sub.add_option("LOG", *path, "Log file (.gz accepted), the pioneer folder, or a bag")->required();
+       sub.add_option("OUT", *out, "Output file (or give -o)");
        sub.add_option("--format", *format, FormatHelp())->check(CLI::IsMember(io::LogFormatNames()));
+       sub.add_option("--topics", *topics, kTopicsHelp)->delimiter(',');
+       sub.add_option("--to", *to,
+                      "Output format: native (the text log), or rosbag (a ROS 1 bag as RosAria records it: "
+                      "/RosAria/pose Odometry, /tf, sonar as PointCloud on /RosAria/sonar, lasers as LaserScan on "
+                      "/scan, /base_pose_ground_truth, sensor frames in /tf_static; docs/inputs.md)")
+           ->check(CLI::IsMember({"native", "rosbag"}))
+           ->capture_default_str();
        sub.add_option("--robot", *robot,
-                      "Robot to write in the header: a built-in name (pioneer16, pioneer8, pioneer8-course, p2at16, laser) or a "
-                      "robot JSON file; default: the robot the log implies");
+                      "Robot to write: a built-in name (pioneer16, pioneer8, pioneer8-course, p2at16, laser) or a "
+                      "robot JSON file; default: the robot the log implies (for bags it also gives the sonars of a "
+                      "point cloud and sensor poses that tf does not give)");
        sub.add_option("--as-sonar", *as_sonar,
                       "Turn a laser log into a sonar log: each sonar of this robot (built-in name or robot JSON file) "
                       "reads the nearest laser return inside its beam cone, or max range (no echo) when none; "
                       "sonars pointing where the laser does not look get no readings; odometry and reference "
                       "poses are kept");
-       sub.add_option("-o,--output", *out, "Native log to write (written atomically)")->required();
-       return [=] { return RunConvert(*path, *format, *robot, *as_sonar, *out); };
+       sub.add_option("-o,--output", *out, "File to write (written atomically)");
+       return [=] {
+         if (out->empty()) throw InputError("convert: give the file to write (OUT or -o)");
+         return RunConvert(*path, *format, *topics, *robot, *as_sonar, *to, *out);
+       };
      }});
 
 }  // namespace

@@ -1,6 +1,8 @@
 #include "cogmap/io/log_reader.h"
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 #include "cogmap/core/error.h"
 #include "cogmap/io/carmen_log.h"
@@ -8,6 +10,8 @@
 #include "cogmap/io/log_lines.h"
 #include "cogmap/io/native_log.h"
 #include "cogmap/io/pioneer_log.h"
+#include "cogmap/io/ros1_bag.h"
+#include "cogmap/io/ros2_bag.h"
 
 namespace cogmap::io {
 namespace {
@@ -48,15 +52,39 @@ std::string SniffLines(const std::vector<std::string>& lines, const std::string&
                    "cannot tell the log format from its content (give --format native, carmen, pioneer or ev3)");
 }
 
+// The first bytes of a file ("" when it cannot be read: LineSource says why).
+std::string HeadBytes(const std::string& path, size_t n) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(n, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(n));
+  head.resize(static_cast<size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  return head;
+}
+
+bool EndsWith(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
 std::string SniffFormat(const std::string& path) {
-  if (path == kStdinPath) return SniffLines(StdinHeadLines(1000), kStdinName);
+  if (path == kStdinPath) {
+    const auto head = StdinHeadLines(1000);
+    if (!head.empty() && head[0].rfind("#ROSBAG", 0) == 0)
+      throw InputError(kStdinName, 0, "a ROS bag cannot be read from standard input (rosbag needs to seek): give its path");
+    return SniffLines(head, kStdinName);
+  }
   std::error_code ec;
   if (fs::is_directory(path, ec)) {
     if (fs::is_regular_file(fs::path(path) / "measurement.txt", ec)) return "pioneer";
-    throw InputError(path, 0, "is a folder without measurement.txt and poses.txt (not a pioneer log)");
+    if (fs::is_regular_file(fs::path(path) / "metadata.yaml", ec)) return "ros2bag";
+    throw InputError(path, 0,
+                     "is a folder without measurement.txt and poses.txt (a pioneer log) or metadata.yaml (a ROS 2 bag)");
   }
   const std::string base = fs::path(path).filename().string();
   if (base == "measurement.txt" || base == "poses.txt") return "pioneer";
+  if (base == "metadata.yaml" || EndsWith(base, ".db3") || EndsWith(base, ".mcap")) return "ros2bag";
+  if (HeadBytes(path, 12) == kRos1BagMagic) return "rosbag";
+  if (HeadBytes(path, 7) == "#ROSBAG")
+    throw InputError(path, 1, "a ROS bag of another version than 2.0 ('" + HeadBytes(path, 12) + "'): cogmap reads 2.0");
   LineSource src(path);
   std::vector<std::string> lines;
   std::string line;
@@ -72,10 +100,26 @@ std::string DetectLogFormat(const std::string& path) {
   return SniffFormat(path);
 }
 
-std::vector<std::string> LogFormatNames() { return {"auto", "native", "carmen", "pioneer", "ev3"}; }
+std::vector<std::string> LogFormatNames() { return {"auto", "native", "carmen", "pioneer", "ev3", "rosbag", "ros2bag"}; }
 
 std::unique_ptr<LogReader> OpenLog(const std::string& path, const std::string& format) {
+  LogOpenOptions o;
+  o.format = format;
+  return OpenLog(path, o);
+}
+
+std::unique_ptr<LogReader> OpenLog(const std::string& path, const LogOpenOptions& options) {
+  const std::string& format = options.format;
   const std::string f = format == "auto" ? DetectLogFormat(path) : format;
+  if (f == "rosbag") {
+    if (path == kStdinPath)
+      throw InputError(kStdinName, 0, "a ROS bag cannot be read from standard input (rosbag needs to seek): give its path");
+    return OpenRos1Bag(path, options);
+  }
+  if (f == "ros2bag") {
+    if (path == kStdinPath) throw InputError(kStdinName, 0, "a ROS 2 bag is a folder: give its path");
+    return OpenRos2Bag(path, options);
+  }
   if (f == "native") return OpenNativeLog(path);
   if (f == "carmen") return OpenCarmenLog(path);
   if (f == "pioneer") {

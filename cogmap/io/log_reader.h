@@ -10,6 +10,14 @@
 
 namespace cogmap::io {
 
+// One topic or message type of a log, for `cogmap log-info`.
+struct LogContent {
+  std::string name;  // "/RosAria/sonar", or a type for formats without topics
+  std::string type;  // "sensor_msgs/PointCloud"
+  long count = 0;    // messages
+  std::string use;   // "sonar ring of pioneer16 (sensors 0-15)", "odometry", "" = not used
+};
+
 // A run read one record at a time, so that long logs never sit in memory.
 // Readers count lines: every InputError they throw names the file, the line
 // and the problem ("run.log:112: expected 18 fields, got 17").
@@ -31,10 +39,28 @@ class LogReader {
   virtual double progress() const = 0;
   // The path as given by the user (for messages).
   virtual const std::string& path() const = 0;
+  // What the log holds, for `cogmap log-info`: one entry per topic (bags) or
+  // message type (rawlogs), with its count and what the reader made of it
+  // (empty when unused). Formats that do not say return nothing.
+  virtual std::vector<LogContent> contents() const { return {}; }
+};
+
+// Choices for formats that hold more than cogmap needs (ROS bags) or that
+// carry readings without the sensors' poses (a RosAria sonar point cloud).
+struct LogOpenOptions {
+  std::string format = "auto";
+  // Bags: the topics to read (range, odometry, tf); empty: found by type
+  // (docs/inputs.md).
+  std::vector<std::string> topics;
+  // The robot the user named (--robot): the sensors of a sonar point cloud,
+  // and sensor poses that tf does not give.
+  std::optional<sensors::RobotDescription> robot;
 };
 
 // Log formats: "native", "carmen", "pioneer" (measurement.txt + poses.txt:
-// give either file or their folder), "ev3", or "auto" (by content).
+// give either file or their folder), "ev3", "rosbag" (ROS 1 .bag), "ros2bag"
+// (ROS 2 sqlite3 bag: its folder, metadata.yaml or a .db3), or "auto" (by
+// content).
 std::vector<std::string> LogFormatNames();
 
 // Opens a log. Throws InputError naming the file for a missing file, an
@@ -43,9 +69,10 @@ std::vector<std::string> LogFormatNames();
 // head, which the reader then reads again (log_lines.h), so the stream is read
 // once.
 std::unique_ptr<LogReader> OpenLog(const std::string& path, const std::string& format = "auto");
+std::unique_ptr<LogReader> OpenLog(const std::string& path, const LogOpenOptions& options);
 
-// The format OpenLog(path, "auto") would choose ("native", "carmen", "pioneer"
-// or "ev3"); InputError when the content matches none. For "-" it looks at the
+// The format OpenLog(path, "auto") would choose ("native", "carmen", "pioneer",
+// "ev3", "rosbag", "ros2bag"); InputError when the content matches none. For "-" it looks at the
 // head of standard input only (calling it before OpenLog("-") is fine).
 std::string DetectLogFormat(const std::string& path);
 

@@ -12,7 +12,7 @@ using ::testing::HasSubstr;
 using namespace testing_util;
 
 TEST(OpenLog, FormatNames) {
-  EXPECT_THAT(LogFormatNames(), ElementsAre("auto", "native", "carmen", "pioneer", "ev3"));
+  EXPECT_THAT(LogFormatNames(), ElementsAre("auto", "native", "carmen", "pioneer", "ev3", "rosbag", "ros2bag"));
 }
 
 TEST(OpenLog, SniffsNative) {
@@ -41,7 +41,11 @@ TEST(OpenLog, UnknownContentAsksForFormat) {
 }
 
 TEST(OpenLog, UnknownFormatName) {
-  EXPECT_THAT(ErrorReading(WriteTemp("x.log", "x\n"), "rosbag"), HasSubstr("unknown log format 'rosbag'"));
+  EXPECT_THAT(ErrorReading(WriteTemp("x.log", "x\n"), "rawbag"), HasSubstr("unknown log format 'rawbag'"));
+}
+
+TEST(OpenLog, TextFileGivenAsRosbagIsAnError) {
+  EXPECT_THAT(ErrorReading(WriteTemp("x.log", "x\n"), "rosbag"), HasSubstr("x.log: not a complete ROS 1 bag"));
 }
 
 TEST(OpenLog, MissingFile) {

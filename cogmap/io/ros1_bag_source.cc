@@ -1,0 +1,285 @@
+// ROS 1 bags through rosbag_storage: the BagSource and the writer of
+// ros_messages.h. Compiled as C++17 (the ROS 1 message headers use
+// std::allocator<void>::rebind): includes no cogmap header that needs C++20.
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/PointCloud.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/Range.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <algorithm>
+#include <map>
+
+#include "cogmap/core/error.h"
+#include "cogmap/io/ros_messages.h"
+
+namespace cogmap::io::ros {
+namespace {
+
+::ros::Time RosTime(int64_t ns) {
+  return ::ros::Time(static_cast<uint32_t>(ns / 1000000000), static_cast<uint32_t>(ns % 1000000000));
+}
+int64_t Ns(const ::ros::Time& t) { return static_cast<int64_t>(t.sec) * 1000000000 + t.nsec; }
+
+ros::Header NeutralHeader(const std_msgs::Header& h) { return {Ns(h.stamp), h.frame_id}; }
+std_msgs::Header RosHeader(const ros::Header& h) {
+  std_msgs::Header r;
+  r.stamp = RosTime(h.stamp_ns);
+  r.frame_id = h.frame_id;
+  return r;
+}
+
+ros::Transform3 Transform(const geometry_msgs::Transform& t) {
+  return {t.translation.x, t.translation.y, t.translation.z, t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w};
+}
+ros::Transform3 Transform(const geometry_msgs::Pose& p) {
+  return {p.position.x, p.position.y, p.position.z, p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w};
+}
+geometry_msgs::Transform RosTransform(const ros::Transform3& t) {
+  geometry_msgs::Transform r;
+  r.translation.x = t.x;
+  r.translation.y = t.y;
+  r.translation.z = t.z;
+  r.rotation.x = t.qx;
+  r.rotation.y = t.qy;
+  r.rotation.z = t.qz;
+  r.rotation.w = t.qw;
+  return r;
+}
+
+class Ros1Source : public ros::BagSource {
+ public:
+  explicit Ros1Source(const std::string& path) : path_(path) {
+    try {
+      bag_.open(path, rosbag::bagmode::Read);
+      rosbag::View all(bag_);
+      std::map<std::string, std::string> types;
+      for (const rosbag::ConnectionInfo* c : all.getConnections()) {
+        auto it = types.find(c->topic);
+        if (it != types.end() && it->second != c->datatype)
+          throw InputError(path_ + ": topic " + c->topic + " carries two types (" + it->second + ", " + c->datatype + ")");
+        types[c->topic] = c->datatype;
+      }
+      for (const auto& [name, type] : types) {
+        rosbag::View one(bag_, rosbag::TopicQuery(name));
+        by_name_[name] = static_cast<int>(topics_.size());
+        topics_.push_back({name, type, static_cast<long>(one.size())});
+      }
+    } catch (const rosbag::BagUnindexedException&) {
+      throw InputError(path_ + ": not a complete ROS 1 bag: its index is missing (a truncated bag, or one whose "
+                               "recording was cut: 'rosbag reindex' can rebuild it)");
+    } catch (const ::ros::Exception& e) {
+      throw InputError(path_ + ": not a complete ROS 1 bag, or a damaged one (rosbag: " + std::string(e.what()) + ")");
+    }
+  }
+
+  const std::vector<ros::TopicInfo>& topics() const override { return topics_; }
+
+  void Start(const std::vector<int>& topics) override {
+    std::vector<std::string> names;
+    for (int t : topics) names.push_back(topics_[t].name);
+    index_.assign(topics_.size(), 0);
+    it_.reset();
+    view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(names));
+    total_ = view_->size();
+    done_ = 0;
+    it_ = std::make_unique<rosbag::View::iterator>(view_->begin());
+  }
+
+  bool Next(ros::BagMessage* out) override {
+    if (!it_ || *it_ == view_->end()) return false;
+    int topic = -1;
+    long index = 0;
+    try {
+      const rosbag::MessageInstance& m = **it_;
+      topic = by_name_.at(m.getTopic());
+      index = ++index_[topic];
+      out->topic = topic;
+      out->index = index;
+      out->time_ns = Ns(m.getTime());
+      out->message = Decode(m, topic, index);
+      ++*it_;
+    } catch (const InputError&) {
+      throw;
+    } catch (const ::ros::Exception& e) {
+      throw InputError(path_ + ": " + (topic >= 0 ? topics_[topic].name + " message " + std::to_string(index)
+                                                  : "message after " + std::to_string(done_)) +
+                       ": cannot read (" + e.what() + ")");
+    }
+    ++done_;
+    return true;
+  }
+
+  double progress() const override { return total_ ? static_cast<double>(done_) / total_ : 1.0; }
+  const std::string& path() const override { return path_; }
+  std::string kind() const override { return "ROS 1 bag"; }
+
+ private:
+  template <class T>
+  boost::shared_ptr<T> Get(const rosbag::MessageInstance& m, int topic, long index) const {
+    auto p = m.instantiate<T>();
+    if (!p)
+      throw InputError(path_ + ": " + topics_[topic].name + " message " + std::to_string(index) + ": its " +
+                       m.getDataType() + " definition (md5 " + m.getMD5Sum() + ") is not the one cogmap reads (md5 " +
+                       ::ros::message_traits::MD5Sum<T>::value() + ")");
+    return p;
+  }
+
+  ros::Message Decode(const rosbag::MessageInstance& m, int topic, long index) const {
+    switch (ros::TypeOf(m.getDataType())) {
+      case ros::MessageType::kLaserScan: {
+        const auto p = Get<sensor_msgs::LaserScan>(m, topic, index);
+        ros::LaserScan s;
+        s.header = NeutralHeader(p->header);
+        s.angle_min_rad = p->angle_min;
+        s.angle_increment_rad = p->angle_increment;
+        s.range_min_m = p->range_min;
+        s.range_max_m = p->range_max;
+        s.ranges = p->ranges;
+        return s;
+      }
+      case ros::MessageType::kRange: {
+        const auto p = Get<sensor_msgs::Range>(m, topic, index);
+        ros::Range r;
+        r.header = NeutralHeader(p->header);
+        r.radiation_type = p->radiation_type;
+        r.field_of_view_rad = p->field_of_view;
+        r.min_range_m = p->min_range;
+        r.max_range_m = p->max_range;
+        r.range_m = p->range;
+        return r;
+      }
+      case ros::MessageType::kPointCloud: {
+        const auto p = Get<sensor_msgs::PointCloud>(m, topic, index);
+        ros::PointCloud c;
+        c.header = NeutralHeader(p->header);
+        c.points.reserve(p->points.size());
+        for (const auto& q : p->points) c.points.push_back({q.x, q.y, q.z});
+        return c;
+      }
+      case ros::MessageType::kPointCloud2: {
+        const auto p = Get<sensor_msgs::PointCloud2>(m, topic, index);
+        ros::PointCloud c;
+        c.header = NeutralHeader(p->header);
+        std::vector<ros::PointField> fields;
+        for (const auto& f : p->fields) fields.push_back({f.name, f.offset, f.datatype, f.count});
+        const std::string err = ros::DecodePointCloud2(fields, p->is_bigendian, p->point_step, p->width, p->height,
+                                                       p->data.data(), p->data.size(), &c.points);
+        if (!err.empty())
+          throw InputError(path_ + ": " + topics_[topic].name + " message " + std::to_string(index) + ": " + err);
+        return c;
+      }
+      case ros::MessageType::kOdometry: {
+        const auto p = Get<nav_msgs::Odometry>(m, topic, index);
+        ros::Odometry o;
+        o.header = NeutralHeader(p->header);
+        o.child_frame_id = p->child_frame_id;
+        o.pose = Transform(p->pose.pose);
+        return o;
+      }
+      case ros::MessageType::kTf: {
+        const auto p = Get<tf2_msgs::TFMessage>(m, topic, index);
+        ros::TfMessage tf;
+        for (const auto& t : p->transforms)
+          tf.transforms.push_back({NeutralHeader(t.header), t.child_frame_id, Transform(t.transform)});
+        return tf;
+      }
+      case ros::MessageType::kOther: break;
+    }
+    return std::monostate{};
+  }
+
+  std::string path_;
+  rosbag::Bag bag_;
+  std::vector<ros::TopicInfo> topics_;
+  std::map<std::string, int> by_name_;
+  std::unique_ptr<rosbag::View> view_;
+  std::unique_ptr<rosbag::View::iterator> it_;
+  std::vector<long> index_;
+  uint32_t total_ = 0, done_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<BagSource> OpenRos1BagSource(const std::string& path) { return std::make_unique<Ros1Source>(path); }
+
+struct Ros1BagWriter::Impl {
+  std::string path;
+  rosbag::Bag bag;
+};
+
+Ros1BagWriter::Ros1BagWriter(const std::string& path) : impl_(std::make_unique<Impl>()) {
+  impl_->path = path;
+  try {
+    impl_->bag.open(path, rosbag::bagmode::Write);
+  } catch (const ::ros::Exception& e) {
+    throw InputError(path + ": cannot write the bag (" + std::string(e.what()) + ")");
+  }
+}
+
+Ros1BagWriter::~Ros1BagWriter() = default;
+
+void Ros1BagWriter::Write(const std::string& topic, int64_t time_ns, const Message& message) {
+  const ::ros::Time when = std::max(RosTime(time_ns), ::ros::TIME_MIN);
+  try {
+    if (const auto* s = std::get_if<LaserScan>(&message)) {
+      sensor_msgs::LaserScan r;
+      r.header = RosHeader(s->header);
+      r.angle_min = static_cast<float>(s->angle_min_rad);
+      r.angle_increment = static_cast<float>(s->angle_increment_rad);
+      r.angle_max = static_cast<float>(s->angle_min_rad + (s->ranges.size() - 1) * s->angle_increment_rad);
+      r.range_min = static_cast<float>(s->range_min_m);
+      r.range_max = static_cast<float>(s->range_max_m);
+      r.ranges = s->ranges;
+      impl_->bag.write(topic, when, r);
+    } else if (const auto* c = std::get_if<PointCloud>(&message)) {
+      sensor_msgs::PointCloud r;
+      r.header = RosHeader(c->header);
+      for (const auto& p : c->points) {
+        geometry_msgs::Point32 q;
+        q.x = static_cast<float>(p[0]);
+        q.y = static_cast<float>(p[1]);
+        q.z = static_cast<float>(p[2]);
+        r.points.push_back(q);
+      }
+      impl_->bag.write(topic, when, r);
+    } else if (const auto* o = std::get_if<Odometry>(&message)) {
+      nav_msgs::Odometry r;
+      r.header = RosHeader(o->header);
+      r.child_frame_id = o->child_frame_id;
+      const auto t = RosTransform(o->pose);
+      r.pose.pose.position.x = t.translation.x;
+      r.pose.pose.position.y = t.translation.y;
+      r.pose.pose.position.z = t.translation.z;
+      r.pose.pose.orientation = t.rotation;
+      impl_->bag.write(topic, when, r);
+    } else if (const auto* tf = std::get_if<TfMessage>(&message)) {
+      tf2_msgs::TFMessage r;
+      for (const auto& t : tf->transforms) {
+        geometry_msgs::TransformStamped s;
+        s.header = RosHeader(t.header);
+        s.child_frame_id = t.child_frame_id;
+        s.transform = RosTransform(t.transform);
+        r.transforms.push_back(s);
+      }
+      impl_->bag.write(topic, when, r);
+    } else {
+      throw InputError(impl_->path + ": cannot write this message type to " + topic);
+    }
+  } catch (const ::ros::Exception& e) {
+    throw InputError(impl_->path + ": cannot write " + topic + " (" + std::string(e.what()) + ")");
+  }
+}
+
+void Ros1BagWriter::Close() {
+  try {
+    impl_->bag.close();
+  } catch (const ::ros::Exception& e) {
+    throw InputError(impl_->path + ": cannot write the bag (" + std::string(e.what()) + ")");
+  }
+}
+
+}  // namespace cogmap::io::ros
