@@ -9,6 +9,7 @@ PKGS=(
   # ROS 1 bags (cogmap/io/ros1_bag*): rosbag_storage and the message headers
   librosbag-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev libgeometry-msgs-dev libstd-msgs-dev
   python3
+  gdal-bin  # ogrinfo: tests read map.gpkg and map.geojson back with GDAL
 )
 # Peers for side-by-side comparisons (bench/), large: only with --peers.
 if [[ "${1:-}" == "--peers" ]]; then
