@@ -11,7 +11,9 @@
 
 #include "cogmap/core/bresenham.h"
 #include "cogmap/io/atomic_file.h"
+#include "cogmap/io/gpkg.h"
 #include "cogmap/io/grid_io.h"
+#include "cogmap/io/plan_files.h"
 #include "cogmap/io/world_io.h"
 
 namespace cogmap::io {
@@ -271,12 +273,23 @@ grid::Grid2D<grid::CellClass> RasterizeMap(const MasterMap& map, double cell_m, 
 std::string FormatMapGeoJson(const MasterMap& map) {
   using nlohmann::json;
   auto pt = [](const Vec2& p) { return json::array({p.x(), p.y()}); };
+  // A line's coordinates without consecutive repeats; null when fewer than two
+  // distinct points are left (no degenerate lines).
+  auto line = [&](const std::vector<Vec2>& pts) -> json {
+    json coords = json::array();
+    const Vec2* last = nullptr;
+    for (const auto& p : pts) {
+      if (last && *last == p) continue;
+      coords.push_back(pt(p));
+      last = &p;
+    }
+    return coords.size() >= 2 ? coords : json();
+  };
   json features = json::array();
   for (const auto& r : map.rooms) {
     for (const auto& l : r.walls) {
-      if (l.size() < 2) continue;
-      json coords = json::array();
-      for (const auto& p : l) coords.push_back(pt(p));
+      const json coords = line(l);
+      if (coords.is_null()) continue;
       features.push_back({{"type", "Feature"},
                           {"geometry", {{"type", "LineString"}, {"coordinates", coords}}},
                           {"properties", {{"kind", "wall"}, {"asr", r.id}}}});
@@ -293,20 +306,21 @@ std::string FormatMapGeoJson(const MasterMap& map) {
     features.push_back({{"type", "Feature"},
                         {"geometry", {{"type", "Point"}, {"coordinates", pt(r.label_m)}}},
                         {"properties", {{"kind", "label"}, {"asr", r.id}, {"name", "A" + std::to_string(r.id)}}}});
-    if (r.path.size() >= 2) {
-      json coords = json::array();
-      for (const auto& p : r.path) coords.push_back(pt(p));
+    const json path = line(r.path);
+    if (!path.is_null())
       features.push_back({{"type", "Feature"},
-                          {"geometry", {{"type", "LineString"}, {"coordinates", coords}}},
+                          {"geometry", {{"type", "LineString"}, {"coordinates", path}}},
                           {"properties", {{"kind", "path"}, {"asr", r.id}}}});
-    }
   }
   for (const auto& e : map.exits)
     features.push_back({{"type", "Feature"},
                         {"geometry", {{"type", "Point"}, {"coordinates", pt(e.center_m)}}},
                         {"properties", {{"kind", "exit"}, {"from", e.from_asr}, {"to", e.to_asr}, {"width_m", e.width_m}}}});
+  // The legacy crs member names the engineering frame in metres (GDAL and
+  // QGIS honour it instead of reading WGS 84 degrees; docs/map-files.md).
   json doc = {{"type", "FeatureCollection"},
               {"crs_note", "coordinates are metres in the cogmap map frame (x east, y north), not WGS84"},
+              {"crs", {{"type", "name"}, {"properties", {{"name", MapFrameWkt()}}}}},
               {"features", features}};
   return doc.dump(1) + "\n";
 }
@@ -344,7 +358,13 @@ std::vector<std::string> WriteMasterMapFiles(const std::string& dir, const Maste
     written.push_back(base + ".geojson");
   }
   if (outputs.aria) {
-    WriteAriaMap(base + ".map", MapFloorPlan(map));
+    // Walls only, in a header that does not call them ground truth.
+    plan::Plan walls;
+    for (const auto& r : map.rooms)
+      for (const auto& l : r.walls) walls.walls.push_back({l});
+    walls.min = map.min;
+    walls.max = map.max;
+    WriteFileAtomically(base + ".map", FormatPlanAriaMap(walls));
     written.push_back(base + ".map");
   }
   return written;

@@ -58,7 +58,9 @@ grid::Grid2D<grid::CellClass> RasterizeMap(const MasterMap& map, double cell_m =
                                            double margin_m = 1.0);
 
 // GeoJSON FeatureCollection in the map frame (metres, not WGS84 degrees; the
-// collection says so in a "crs_note" member): LineString walls with "asr",
+// collection says so in a "crs_note" member and in a legacy "crs" member with
+// the engineering frame that GDAL reads): LineString walls (>= 2 distinct
+// points; degenerate ones are left out) with "asr",
 // Point exits with "from", "to", "width_m", Point room labels with "asr" and
 // Polygon footprints (convex hull) with "asr", and the path as one LineString
 // per ASR with "kind": "path".

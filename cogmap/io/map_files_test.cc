@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cogmap/io/gpkg.h"
 #include "cogmap/io/grid_io.h"
 #include "cogmap/io/world_io.h"
 
@@ -136,6 +137,27 @@ TEST(MapFiles, GeoJsonHasWallsExitsAndRooms) {
   EXPECT_EQ(exits, 1);
   EXPECT_EQ(rooms, 2);
   EXPECT_EQ(labels, 2);
+}
+
+// A wall that shrank to one repeated point is not written as a line; the
+// collection names its metre frame; the ARIA header calls nothing ground truth.
+TEST(MapFiles, GeoJsonHasNoDegenerateLinesAndNamesItsFrame) {
+  auto asrs = TwoAsrs();
+  asrs[1].walls_local.push_back({{1, 1}, {1, 1}});
+  const std::string dir = TempDir("degenerate");
+  WriteMasterMapFiles(dir, BuildMasterMap(asrs));
+  const auto doc = nlohmann::json::parse(Slurp(dir + "/map.geojson"));
+  EXPECT_EQ(doc["crs"]["properties"]["name"], MapFrameWkt());
+  int walls = 0;
+  for (const auto& f : doc["features"]) {
+    if (f["geometry"]["type"] != "LineString") continue;
+    walls += f["properties"]["kind"] == "wall";
+    const auto& c = f["geometry"]["coordinates"];
+    ASSERT_GE(c.size(), 2u);
+    for (size_t i = 1; i < c.size(); ++i) EXPECT_NE(c[i], c[i - 1]);
+  }
+  EXPECT_EQ(walls, 2);
+  EXPECT_EQ(Slurp(dir + "/map.map").find("round-truth"), std::string::npos);
 }
 
 TEST(MapFiles, SvgAndPngAreWritten) {
