@@ -1,0 +1,274 @@
+#include "cogmap/mapping/map_job.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "cogmap/asr/room_metrics.h"
+#include "cogmap/asr/store.h"
+#include "cogmap/core/angles.h"
+#include "cogmap/core/error.h"
+#include "cogmap/io/atomic_file.h"
+#include "cogmap/io/map_files.h"
+#include "cogmap/io/output_folder.h"
+#include "cogmap/io/polyline_io.h"
+#include "cogmap/io/world_io.h"
+#include "cogmap/localize/correction_figures.h"
+#include "cogmap/localize/heading_corrector.h"
+#include "cogmap/localize/heading_error.h"
+#include "cogmap/mapping/report.h"
+#include "cogmap/sensors/robot_json.h"
+
+namespace cogmap::mapping {
+namespace fs = std::filesystem;
+namespace {
+
+long MaxRssKb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss;
+}
+
+std::optional<Pose2> ParsePose(const std::optional<std::string>& text) {
+  if (!text) return std::nullopt;
+  std::istringstream in(*text);
+  Pose2 p;
+  if (!(in >> p.x >> p.y >> p.theta)) return std::nullopt;
+  return p;
+}
+
+sensors::RobotDescription ResolveRobotFor(const io::LogReader& log, const std::string& spec) {
+  if (!spec.empty()) return sensors::ResolveRobot(spec);
+  if (auto hint = log.robot_hint()) return *hint;
+  return sensors::BuiltinRobot("pioneer16");
+}
+
+// Opens the run's store in the folder's staging area: a copy of the stored map
+// to continue (--resume, checked where it is first), or a new one (which may
+// replace a cogmap store, never another file nor a newer cogmap's store).
+std::unique_ptr<asr::SqliteAsrStore> OpenStore(io::OutputFolder& folder, bool resume) {
+  const std::string store_path = folder.Final("map.sqlite");
+  if (resume) {
+    asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kReadOnly);
+    folder.CopyIntoStaging("map.sqlite");
+    return asr::SqliteAsrStore::Open(folder.Staged("map.sqlite"), asr::SqliteAsrStore::OpenMode::kOpenExisting);
+  }
+  std::error_code ec;
+  if (fs::exists(store_path, ec) && fs::file_size(store_path, ec) > 0)
+    asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kReadOnly);
+  return asr::SqliteAsrStore::Open(folder.Staged("map.sqlite"), asr::SqliteAsrStore::OpenMode::kReplace);
+}
+
+io::MasterMapOutputs MapOutputs(const OutputChoice& c) { return {c.svg, c.png, c.pgm, c.geojson, c.aria}; }
+
+}  // namespace
+
+OutputChoice OutputChoice::All() {
+  OutputChoice c;
+  c.svg = c.png = c.pgm = c.geojson = c.aria = c.compare = c.heading = true;
+  return c;
+}
+
+std::string OutputChoice::Names() { return "default, all, svg, png, pgm, geojson, aria, compare, heading"; }
+
+OutputChoice OutputChoice::Parse(const std::string& text) {
+  OutputChoice c;
+  c.svg = c.png = c.pgm = c.geojson = c.aria = c.compare = c.heading = false;
+  std::stringstream in(text);
+  std::string item;
+  bool any = false;
+  while (std::getline(in, item, ',')) {
+    any = true;
+    if (item == "all") c = All();
+    else if (item == "default") c.svg = c.geojson = c.aria = true;
+    else if (item == "svg") c.svg = true;
+    else if (item == "png") c.png = true;
+    else if (item == "pgm") c.pgm = true;
+    else if (item == "geojson") c.geojson = true;
+    else if (item == "aria") c.aria = true;
+    else if (item == "compare") c.compare = true;
+    else if (item == "heading") c.heading = true;
+    else throw InputError("--outputs " + text + ": unknown output '" + item + "' (expected " + Names() + ")");
+  }
+  if (!any) throw InputError("--outputs: empty list");
+  return c;
+}
+
+MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
+  const auto start = std::chrono::steady_clock::now();
+  job.mapping.Validate();
+  const sensors::RobotDescription robot = ResolveRobotFor(log, job.robot_spec);
+  std::optional<FloorPlan> truth_plan;
+  if (!job.world.empty()) truth_plan = io::ReadWorld(job.world).plan;
+
+  // The output folder (docs/store.md): locked for this run, everything written
+  // into its staging folder and moved into place at the end.
+  auto folder = io::OutputFolder::Open(job.output_dir);
+  struct SetAsideOnFailure {
+    io::OutputFolder* folder;
+    const MapJob* job;
+    ~SetAsideOnFailure() {  // after the store is closed (declared before it)
+      if (folder->committed() || std::uncaught_exceptions() == 0) return;
+      const std::string kept = folder->Abandon();
+      if (!kept.empty() && job->notice) job->notice(kept + ": this run's partial result (the previous map is untouched)");
+    }
+  } set_aside{folder.get(), &job};
+  std::unique_ptr<asr::SqliteAsrStore> store = OpenStore(*folder, job.resume);
+  // report.json carries the same id: a reader can check that they belong together.
+  store->SetMeta("run_id", folder->run_id());
+
+  MappingPipeline pipeline(robot, job.mapping, store.get());
+  if (job.resume) pipeline.Resume();
+  sensors::LogRecord rec;
+  try {
+    long n = 0;
+    while (log.Next(&rec)) {
+      pipeline.Push(rec);
+      if (++n % 256 == 0 && job.progress) job.progress(log.progress(), pipeline.asrs_closed());
+    }
+    pipeline.Finish();
+  } catch (...) {
+    // Every ASR closed before the bad line is in the staging store (one
+    // transaction each); SetAsideOnFailure keeps it under failed-run-*. A new
+    // store that holds none is no partial result: no failed-run folder for it.
+    if (!job.resume && pipeline.asrs_closed() == 0) {
+      store.reset();
+      std::error_code ec;
+      for (const char* suffix : {"", "-wal", "-shm", "-journal"}) fs::remove(folder->Staged("map.sqlite") + suffix, ec);
+    }
+    throw;
+  }
+  const RunResult& run = pipeline.result();
+  const double mapping_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const long rss_mapping_kb = MaxRssKb();
+
+  // The master map from everything in the store (earlier runs included).
+  std::vector<asr::Asr> all;
+  for (int id : store->Ids()) all.push_back(*store->Get(id));
+  const io::MasterMap master = io::BuildMasterMap(all, !job.raw);
+  MapJobSummary out;
+  out.written = {"map.sqlite"};
+  const std::string staging = folder->staging();
+  for (const auto& f : io::WriteMasterMapFiles(staging, master, {}, 0.05, MapOutputs(job.outputs)))
+    out.written.push_back(fs::path(f).filename().string());
+
+  // Before / after correction side by side.
+  if (job.outputs.compare) {
+    const io::MasterMap raw_map = io::BuildMasterMap(all, false);
+    const io::MasterMap cor_map = job.raw ? io::BuildMasterMap(all, true) : master;
+    auto style_for = [](const io::MasterMap& m) {
+      io::MasterMapStyle st;
+      const double extent = std::max(m.max.x() - m.min.x(), m.max.y() - m.min.y()) + 2.0 * st.margin_m;
+      st.px_per_m = std::clamp(1000.0 / std::max(extent, 1e-6), 2.0, 40.0);
+      return st;
+    };
+    // With pre-correction each ASR's walls were mapped on corrected odometry:
+    // the left picture places them by odometry (the true raw map: --no-correct).
+    const std::string lt = run.correction == Correction::kDriftFilter ? "BEFORE: ASRS AT THEIR ODOMETRY POSES"
+                                                                      : "BEFORE: ODOMETRY";
+    const std::string rt = run.correction == Correction::kNone        ? "AFTER: NOT CORRECTED (--NO-CORRECT)"
+                           : run.correction == Correction::kPoseGraph ? std::string("AFTER: POSE GRAPH (DEFAULT)")
+                           : "AFTER: HEADING CORRECTION (" + std::string(job.mapping.paper ? "paper" : "default") + ")";
+    io::WriteFileAtomically((fs::path(staging) / "map_compare.svg").string(),
+                            localize::SideBySideSvg(io::FormatMapSvg(raw_map, style_for(raw_map)), lt,
+                                                    io::FormatMapSvg(cor_map, style_for(cor_map)), rt));
+    io::WritePng((fs::path(staging) / "map_compare.png").string(),
+                 localize::SideBySide(io::RenderMap(raw_map, style_for(raw_map)), lt,
+                                      io::RenderMap(cor_map, style_for(cor_map)), rt));
+    out.written.push_back("map_compare.svg");
+    out.written.push_back("map_compare.png");
+  }
+  // The heading error per ASR against the truth, on the path as placed.
+  std::map<int, std::vector<Pose2>> placed_paths;
+  for (int id : store->Ids())
+    if (auto p = store->GetPlacement(id)) placed_paths[id] = std::move(p->corrected_path);
+  const localize::HeadingErrorStats heading = localize::ComputeHeadingErrors(all, placed_paths);
+  if (job.outputs.heading && heading.asrs > 0) {
+    io::WritePng((fs::path(staging) / "heading_error.png").string(), localize::PlotHeadingErrors(heading));
+    out.written.push_back("heading_error.png");
+  }
+
+  // walls.json for `cogmap eval` (the master map's walls; map frame = the raw
+  // odometry frame of the first run, placed in the truth's world when known).
+  if (!job.resume && run.world_from_map) {
+    const Pose2 w = *run.world_from_map;
+    store->SetMeta("world_from_map", std::to_string(w.x) + " " + std::to_string(w.y) + " " + std::to_string(w.theta));
+  }
+  io::WallsFile wf;
+  for (const auto& r : master.rooms) wf.polylines.insert(wf.polylines.end(), r.walls.begin(), r.walls.end());
+  if (auto w = ParsePose(store->GetMeta("world_from_map"))) {
+    wf.world_from_map = *w;
+    wf.has_truth = true;
+  }
+  wf.log_path = job.log_path == "-" ? "-" : fs::absolute(job.log_path).string();
+  wf.log_format = job.log_format;
+  wf.robot = job.robot_spec.empty() ? robot.name : job.robot_spec;
+  wf.mode = job.mapping.paper ? "paper" : "default";
+  wf.cell_m = job.mapping.cell_m;
+  // The range within which walls get mapped (as cogmap vectorize records it):
+  // min(max range, window), so that recall counts only walls the grid could hold.
+  for (const auto& s : robot.sensors)
+    wf.sensor_range_m = std::max(wf.sensor_range_m, std::min(s.max_range_m, job.mapping.window_m));
+  for (const auto& l : wf.polylines) wf.vertex_count += static_cast<int64_t>(l.size());
+  for (const auto& x : all) {
+    wf.bytes_grid += x.bytes.grid;
+    wf.bytes_vertices += x.bytes.vertices;
+    wf.bytes_polylines += x.bytes.polylines;
+  }
+  io::WriteWallsJson((fs::path(staging) / "walls.json").string(), wf);
+
+  // The summary and report.json.
+  out.records = run.records;
+  out.asrs = static_cast<int>(all.size());
+  out.asrs_this_run = static_cast<int>(run.asrs.size());
+  out.exits = static_cast<int>(master.exits.size());
+  out.bytes_grid = wf.bytes_grid;
+  out.bytes_polylines = wf.bytes_polylines;
+  std::set<int> rooms;
+  for (int id : store->Ids()) rooms.insert(store->RoomOf(id));
+  out.rooms = static_cast<int>(rooms.size());
+  out.heading_asrs = heading.asrs;
+  out.heading_median_deg = heading.median_deg;
+  out.heading_max_deg = heading.max_deg;
+  out.heading_median_raw_deg = heading.median_raw_deg;
+  out.heading_max_raw_deg = heading.max_raw_deg;
+  ReportContext ctx;
+  ctx.job = &job;
+  ctx.robot = &robot;
+  ctx.run = &run;
+  ctx.all = &all;
+  ctx.heading = &heading;
+  ctx.exits = out.exits;
+  ctx.rooms = out.rooms;
+  ctx.store_path = folder->Final("map.sqlite");
+  ctx.run_id = folder->run_id();
+  ctx.mapping_seconds = mapping_seconds;
+  ctx.rss_mapping_kb = rss_mapping_kb;
+  if (truth_plan) {
+    const asr::RoomMetrics m = asr::EvaluateRooms(all, truth_plan->rooms);
+    out.room_precision = m.room_precision;
+    out.room_recall = m.room_recall;
+    ctx.room_metrics = m;
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.times_real_time = out.seconds > 0 ? run.duration_s() / out.seconds : 0.0;
+  ctx.total_seconds = out.seconds;
+  out.report = MakeReport(ctx);
+  io::WriteFileAtomically((fs::path(staging) / "report.json").string(), out.report.dump(2) + "\n");
+  out.run = run;
+  out.warnings = run.graph.warnings;
+  // Everything is written: close the store (checkpointed, without WAL) and
+  // move the files into place, the store last.
+  store.reset();
+  folder->Commit("map.sqlite");
+  return out;
+}
+
+}  // namespace cogmap::mapping

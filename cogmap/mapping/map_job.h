@@ -1,0 +1,77 @@
+#pragma once
+// `cogmap map` as one call: a log mapped into an output folder with every
+// chosen output (docs/store.md for the folder, docs/pose-graph.md for the
+// report's pose_graph section). The command line, the Python bindings and the
+// ROS node's "write the floor plan" service call it; MappingPipeline is the
+// streaming part.
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cogmap/io/log_reader.h"
+#include "cogmap/mapping/pipeline.h"
+
+namespace cogmap::mapping {
+
+// `--outputs`: which files beside map.sqlite, walls.json and report.json.
+struct OutputChoice {
+  bool svg = true;       // map.svg
+  bool png = false;      // map.png
+  bool pgm = false;      // map.pgm + map.yaml (ROS map_server)
+  bool geojson = true;   // map.geojson
+  bool aria = true;      // map.map (ARIA 2D-Map)
+  bool compare = false;  // map_compare.svg/.png
+  bool heading = false;  // heading_error.png
+  static OutputChoice All();
+  // "default", "all" or a comma-separated list of the names above; throws
+  // InputError naming an unknown one.
+  static OutputChoice Parse(const std::string& text);
+  static std::string Names();
+};
+
+struct MapJob {
+  std::string log_path;                  // for the report ("-": standard input)
+  std::string log_format = "auto";
+  std::string robot_spec;                // what the user gave ("" = the log's hint, else pioneer16)
+  MappingOptions mapping;
+  OutputChoice outputs;
+  std::string output_dir;
+  bool resume = false;                   // continue OUTDIR/map.sqlite
+  bool raw = false;                      // draw the master map at the raw odometry poses
+  std::string world;                     // ground-truth world: room precision / recall
+  // Progress: fraction of the log read, ASRs closed. Called every 256 records.
+  std::function<void(double fraction, int asrs)> progress;
+  // Messages for the user that cannot wait for the summary (a failed run's
+  // partial result kept aside); the library never prints.
+  std::function<void(const std::string&)> notice;
+};
+
+struct MapJobSummary {
+  long records = 0;
+  int asrs = 0;               // in the store (earlier runs included)
+  int asrs_this_run = 0;
+  int exits = 0;
+  int64_t bytes_grid = 0;
+  int64_t bytes_polylines = 0;
+  double seconds = 0.0;       // the whole job
+  double times_real_time = 0.0;
+  std::optional<double> room_precision, room_recall;  // with a world
+  int heading_asrs = 0;       // ASRs with a true heading error
+  double heading_median_deg = 0.0, heading_max_deg = 0.0;
+  double heading_median_raw_deg = 0.0, heading_max_raw_deg = 0.0;
+  RunResult run;
+  int rooms = 0;              // store rooms (revisits share one)
+  std::vector<std::string> written;  // file names in the output folder
+  std::vector<std::string> warnings; // for the user (one line each)
+  nlohmann::json report;             // what report.json holds
+};
+
+// Maps 'log' into job.output_dir. The folder is locked for the run, every file
+// is written into its staging folder and moved into place at the end; a run
+// that fails (an InputError from the log, a full disk) leaves the previous map
+// untouched and its own partial result in OUTDIR/failed-run-*/, then rethrows.
+MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job);
+
+}  // namespace cogmap::mapping

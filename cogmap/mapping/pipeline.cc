@@ -1,0 +1,270 @@
+#include "cogmap/mapping/pipeline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+#include "cogmap/core/angles.h"
+#include "cogmap/core/error.h"
+#include "cogmap/localize/odometry_corrector.h"
+
+namespace cogmap::mapping {
+namespace {
+
+std::string Num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+std::optional<Pose2> ParsePose(const std::optional<std::string>& text) {
+  if (!text) return std::nullopt;
+  std::istringstream in(*text);
+  Pose2 p;
+  if (!(in >> p.x >> p.y >> p.theta)) return std::nullopt;
+  return p;
+}
+
+double PathLength(const std::vector<Pose2>& path) {
+  double s = 0.0;
+  for (size_t i = 1; i < path.size(); ++i) s += (path[i].translation() - path[i - 1].translation()).norm();
+  return s;
+}
+
+}  // namespace
+
+void MappingOptions::Validate() const {
+  if (!(cell_m > 0.0) || cell_m > 10.0) throw InputError("--cell " + Num(cell_m) + ": must be in (0, 10] metres");
+  if (!(window_m > 0.0)) throw InputError("--window " + Num(window_m) + ": must be positive");
+  if (!(asr_length_m > 0.0)) throw InputError("--asr-length " + Num(asr_length_m) + ": must be positive");
+  if (!(max_asr_m >= 0.0)) throw InputError("--max-asr " + Num(max_asr_m) + ": must be 0 or positive");
+  if (!std::isfinite(add_drift_rad_per_m) || std::abs(add_drift_rad_per_m) > DegToRad(90.0))
+    throw InputError("--add-drift-deg-per-m " + Num(RadToDeg(add_drift_rad_per_m)) + ": must be in [-90, 90]");
+}
+
+Correction MappingOptions::correction() const {
+  if (!correct) return Correction::kNone;
+  if (paper) return Correction::kPerAsrEm;
+  if (pose_graph) return Correction::kPoseGraph;
+  return drift_filter ? Correction::kDriftFilter : Correction::kPerAsrEm;
+}
+
+Pose2 DriftAdder::Add(const Pose2& odom) {
+  if (!last_) {
+    last_ = odom;
+    out_ = odom;
+    return out_;
+  }
+  const Pose2 inc = last_->inverse() * odom;
+  const double ds = std::hypot(inc.x, inc.y);
+  const double extra = rate_ * ds;
+  const Vec2 t = RotateAbout(inc.translation(), Vec2(0.0, 0.0), 0.5 * extra);
+  out_ = out_ * Pose2{t.x(), t.y(), inc.theta + extra};
+  last_ = odom;
+  return out_;
+}
+
+bool LaserOnly(const sensors::RobotDescription& robot) {
+  return std::all_of(robot.sensors.begin(), robot.sensors.end(),
+                     [](const auto& s) { return s.kind == sensors::SensorKind::kLaser; });
+}
+
+asr::MapperOptions MapperOptionsFor(const sensors::RobotDescription& robot, const MappingOptions& o) {
+  asr::MapperOptions m;
+  m.cell_m = o.cell_m;
+  m.mhimm.window_m = o.window_m;
+  m.vectorize = o.paper ? vectorize::VectorizeOptions::Paper() : vectorize::VectorizeOptions{};
+  m.boundary.mode = o.boundary;
+  m.boundary.asr_length_m = o.asr_length_m;
+  // Default mode also bounds how far an ASR runs without a doorway (a hall, a
+  // wide corridor); paper mode leaves such a space whole, as the papers do.
+  if (!o.paper) m.boundary.max_asr_m = o.max_asr_m;
+  // The grid orientation serves the heading correction's grid refinement,
+  // which is for sonar robots only: not computed for a laser.
+  m.grid_orientation = !LaserOnly(robot);
+  return m;
+}
+
+namespace {
+localize::HeadingCorrectionOptions HeadingOptionsFor(const sensors::RobotDescription& robot,
+                                                     const MappingOptions& o) {
+  localize::HeadingCorrectionOptions h;
+  h.mode = o.paper ? localize::HeadingMode::kPaper : localize::HeadingMode::kDefault;
+  // The grid refinement is for sonar, whose polylines wobble; a laser's
+  // polylines give the EM a better direction than the room's occupied cells
+  // (docs/heading-correction.md).
+  h.grid_refine = !LaserOnly(robot);
+  return h;
+}
+graph::MapOptimizerOptions GraphOptionsFor(const localize::HeadingCorrectionOptions& h) {
+  graph::MapOptimizerOptions g;
+  g.heading = h;
+  return g;
+}
+}  // namespace
+
+MappingPipeline::MappingPipeline(sensors::RobotDescription robot, MappingOptions options, asr::SqliteAsrStore* store)
+    : robot_(std::move(robot)),
+      options_(options),
+      store_(store),
+      heading_options_(HeadingOptionsFor(robot_, options_)),
+      corrector_(heading_options_),
+      drift_corrector_(heading_options_),
+      drift_adder_(options.add_drift_rad_per_m) {
+  options_.Validate();
+  result_.correction = options_.correction();
+  mapper_ = std::make_unique<asr::CognitiveMapper>(robot_, MapperOptionsFor(robot_, options_), store_,
+                                                   [this](const asr::Asr& x) { Closed(x); });
+  switch (result_.correction) {
+    case Correction::kDriftFilter:
+      mapper_->SetOdometryFilter(
+          [this](const Pose2& raw, double t) { return drift_corrector_.CorrectOdometry(raw, t); });
+      mapper_->SetCorrector([this](asr::Asr pre) { return drift_corrector_.Close(std::move(pre)); });
+      break;
+    case Correction::kPoseGraph:
+      optimizer_ = std::make_unique<graph::MapOptimizer>(GraphOptionsFor(heading_options_));
+      mapper_->SetPlacer([this](asr::Asr x) { return optimizer_->Place(std::move(x)); });
+      break;
+    case Correction::kPerAsrEm:
+      mapper_->SetCorrector([this](asr::Asr raw) { return corrector_.Close(std::move(raw)); });
+      break;
+    case Correction::kNone:
+      break;
+  }
+}
+
+MappingPipeline::~MappingPipeline() = default;
+
+void MappingPipeline::OnAsrClosed(std::function<void(const asr::Asr&, const AsrSummary&)> callback) {
+  callback_ = std::move(callback);
+}
+
+const localize::DirectionEstimate* MappingPipeline::LastEstimate() const {
+  switch (result_.correction) {
+    case Correction::kDriftFilter: return &drift_corrector_.LastEstimate();
+    case Correction::kPoseGraph: return &optimizer_->LastEstimate();
+    case Correction::kPerAsrEm: return &corrector_.LastEstimate();
+    case Correction::kNone: return nullptr;
+  }
+  return nullptr;
+}
+
+void MappingPipeline::Closed(const asr::Asr& x) {
+  AsrSummary s;
+  s.id = x.id;
+  s.seconds = x.seconds.total();
+  s.seconds_grid = x.seconds.grid;
+  s.path_m = PathLength(x.path);
+  s.walls = static_cast<int>(x.walls_local.size());
+  s.bytes = x.bytes;
+  s.heading_correction_rad = x.heading_correction_rad;
+  if (const localize::DirectionEstimate* e = LastEstimate()) s.estimate = *e;
+  s.grid_orientation = x.grid_orientation;
+  result_.asrs.push_back(s);
+  if (callback_) callback_(x, result_.asrs.back());
+}
+
+void MappingPipeline::Resume() {
+  // On --resume the correctors continue from the stored run: its last
+  // correction and reference direction (docs/store.md).
+  const int last = store_->MaxId();
+  asr::MapperResume r;
+  r.next_id = last + 1;
+  if (auto next = store_->GetMeta(asr::kMetaNextId)) r.next_id = std::max(r.next_id, std::atoi(next->c_str()));
+  Pose2 carried;  // raw -> corrected at the end of the stored run
+  std::optional<double> reference;
+  if (last >= 0) {
+    r.previous_asr = last;
+    carried = localize::CorrectionOf(*store_->Get(last));
+    for (int id : store_->Ids()) {  // one ASR at a time: the first accepted one sets it
+      reference = localize::ReferenceDirection({*store_->Get(id)}, heading_options_);
+      if (reference) break;
+    }
+  }
+  corrector_.Restore(carried, reference);
+  drift_corrector_.Restore(carried, reference);
+  r.last_raw_pose = ParsePose(store_->GetMeta(asr::kMetaLastRawPose));
+  mapper_->Resume(r);
+  if (optimizer_)
+    for (int id : store_->Ids()) optimizer_->AddStored(*store_->Get(id), store_->RoomOf(id));
+  if (result_.correction == Correction::kNone && (carried.theta != 0.0 || carried.x != 0.0 || carried.y != 0.0)) {
+    mapper_->SetCorrector([carried](asr::Asr raw) {
+      raw.world_from_local_corrected = carried * raw.world_from_local_raw;
+      raw.heading_correction_rad = carried.theta;
+      return raw;
+    });
+  }
+}
+
+void MappingPipeline::Push(sensors::LogRecord rec) {
+  if (options_.add_drift_rad_per_m != 0.0) rec.odom = drift_adder_.Add(rec.odom);
+  if (result_.records == 0) result_.first_time_s = rec.time_s;
+  if (!result_.world_from_map && rec.truth) result_.world_from_map = *rec.truth * rec.odom.inverse();
+  result_.last_time_s = rec.time_s;
+  ++result_.records;
+  mapper_->Push(rec);
+}
+
+const RunResult& MappingPipeline::Finish() {
+  if (finished_) return result_;
+  finished_ = true;
+  mapper_->Finish();
+  result_.mapper = mapper_->stats();
+  std::map<int, double> revised;  // ASR id -> heading correction after the revision
+  if (result_.correction == Correction::kPoseGraph) {
+    result_.graph = optimizer_->Finish();
+    std::vector<asr::Asr> updated;
+    std::vector<asr::Placement> placements;
+    std::vector<asr::ClosureRecord> closures;
+    for (const auto& e : result_.graph.asrs) {
+      asr::Placement p;
+      p.asr_id = e.asr_id;
+      p.room_id = e.room_id;
+      p.covariance = e.covariance;
+      p.uncertain = e.uncertain;
+      p.drift_rate_rad_per_m = e.drift_rate_rad_per_m;
+      p.corrected_path = e.corrected_path;
+      for (const auto& w : e.why) p.why += (p.why.empty() ? "" : "; ") + w;
+      placements.push_back(std::move(p));
+      auto x = store_->Get(e.asr_id);
+      if (!x) continue;
+      x->world_from_local_corrected = e.pose;
+      if (!e.corrected_walls.empty() || x->walls_local.empty()) x->walls_local = e.corrected_walls;
+      x->heading_correction_rad = localize::CorrectionOf(*x).theta;
+      if (e.has_covariance) x->heading_uncertainty_rad = std::sqrt(std::max(0.0, e.covariance(2, 2)));
+      revised[e.asr_id] = x->heading_correction_rad;
+      updated.push_back(std::move(*x));
+    }
+    for (const auto& c : result_.graph.closures)
+      closures.push_back({c.from_asr, c.to_asr, c.relative, c.agreement, c.rmse_m, c.mahalanobis2, c.accepted,
+                          c.same_room, c.reason});
+    store_->PutPlacements(updated, placements, closures);
+  } else if (result_.correction == Correction::kDriftFilter) {
+    if (options_.smooth) {
+      // The drift rate learnt along the run revises the corrections of this
+      // run's ASRs (RTS smoothing), the first ones above all.
+      for (const auto& r : drift_corrector_.Smooth()) {
+        auto x = store_->Get(r.asr_id);
+        if (!x) continue;
+        x->world_from_local_corrected = r.delta * x->world_from_local_corrected;
+        x->heading_correction_rad = localize::CorrectionOf(*x).theta;
+        store_->Put(*x);
+        revised[r.asr_id] = x->heading_correction_rad;
+        ++result_.smoothed;
+      }
+    }
+    const auto& f = drift_corrector_.odometry();
+    result_.drift_rate_rad_per_m = f.rate_rad_per_m();
+    result_.drift_rate_sigma_rad_per_m = f.rate_sigma_rad_per_m();
+    result_.drift_measurements = f.measurements();
+    result_.drift_rejects = f.rejects();
+    result_.drift_walk_rad_per_sqrt_m = f.heading_walk_rad_per_sqrt_m();
+    result_.drift_sigma_scale = f.sigma_scale();
+  }
+  for (auto& s : result_.asrs)
+    if (auto it = revised.find(s.id); it != revised.end()) s.heading_correction_rad = it->second;
+  return result_;
+}
+
+}  // namespace cogmap::mapping

@@ -1,0 +1,151 @@
+#pragma once
+// The whole mapping pipeline as one streaming API (issue 13): records in, ASRs
+// out as they close, the corrected map at the end. `cogmap map`, the Python
+// bindings and the ROS node all map through it. Memory is bounded by the open
+// room (the mapper) plus what the pose graph keeps per ASR (its walls).
+//
+//   mapping::MappingPipeline p(robot, options, store.get());
+//   p.OnAsrClosed([](const mapping::AsrSummary& s) { ... });
+//   while (log->Next(&rec)) p.Push(rec);
+//   const mapping::RunResult& r = p.Finish();   // placements written to the store
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cogmap/asr/mapper.h"
+#include "cogmap/asr/store.h"
+#include "cogmap/core/pose2.h"
+#include "cogmap/graph/map_optimizer.h"
+#include "cogmap/localize/heading_corrector.h"
+#include "cogmap/sensors/reading.h"
+#include "cogmap/sensors/robot.h"
+
+namespace cogmap::mapping {
+
+// How ASRs are placed in the map (docs/pose-graph.md, docs/heading-correction.md).
+enum class Correction {
+  kPoseGraph,    // default mode: the pose graph over ASRs
+  kDriftFilter,  // default mode without the graph: drift filter + EM + smoothing
+  kPerAsrEm,     // paper mode (or no drift filter): one EM rotation per ASR
+  kNone,         // odometry as it comes
+};
+
+struct MappingOptions {
+  bool paper = false;                  // --mode paper: the thesis's line fit and EM rotation per ASR
+  double cell_m = 0.1;                 // grid cell of each room (SPEC 2)
+  double window_m = 3.0;               // MHIMM window w (SPEC 2)
+  asr::BoundaryMode boundary = asr::BoundaryMode::kDoorway;
+  double asr_length_m = 4.5;           // corridor / fixed-length ASR length (thesis 3.1.2)
+  double max_asr_m = 15.0;             // default mode: cut a space after this many metres (0 = never)
+  bool correct = true;                 // false: every ASR at its odometry pose
+  bool pose_graph = true;              // default mode: the pose graph (false: the drift filter)
+  bool drift_filter = true;            // without the graph: the drift-rate filter
+  bool smooth = true;                  // drift filter: revise the run's corrections at the end
+  double add_drift_rad_per_m = 0.0;    // a systematic heading drift added to the odometry (tests on real logs)
+
+  // Throws InputError naming the option when a value is out of range.
+  void Validate() const;
+  Correction correction() const;
+};
+
+// What report.json says about one ASR of this run.
+struct AsrSummary {
+  int id = -1;
+  double seconds = 0.0;
+  double seconds_grid = 0.0;
+  double path_m = 0.0;
+  int walls = 0;
+  asr::StageBytes bytes;
+  double heading_correction_rad = 0.0;  // revised at Finish() when the corrections are
+  std::optional<localize::DirectionEstimate> estimate;  // the heading estimate when it closed
+  asr::GridOrientation grid_orientation;
+};
+
+// The run as a whole, after Finish().
+struct RunResult {
+  Correction correction = Correction::kNone;
+  long records = 0;
+  double first_time_s = 0.0;
+  double last_time_s = 0.0;
+  std::optional<Pose2> world_from_map;  // from the log's ground truth (first record that has it)
+  std::vector<AsrSummary> asrs;         // this run's, in closing order
+  asr::MapperStats mapper;
+  graph::OptimizerResult graph;         // kPoseGraph
+  int smoothed = 0;                     // kDriftFilter: ASRs revised by smoothing
+  // kDriftFilter: the filter's figures.
+  double drift_rate_rad_per_m = 0.0;
+  double drift_rate_sigma_rad_per_m = 0.0;
+  int drift_measurements = 0;
+  int drift_rejects = 0;
+  double drift_walk_rad_per_sqrt_m = 0.0;
+  double drift_sigma_scale = 0.0;
+  double duration_s() const { return last_time_s - first_time_s; }
+};
+
+// Adds a systematic heading drift to odometry (the truth stays): each
+// increment turns by an extra rate x its length, and the position follows the
+// drifted heading.
+class DriftAdder {
+ public:
+  explicit DriftAdder(double rad_per_m) : rate_(rad_per_m) {}
+  Pose2 Add(const Pose2& odom);
+
+ private:
+  double rate_;
+  std::optional<Pose2> last_;
+  Pose2 out_;
+};
+
+class MappingPipeline {
+ public:
+  // 'store' receives every ASR as it closes (one transaction each) and the
+  // placements at Finish(); it must outlive the pipeline. A store that already
+  // holds a run is continued when Resume() is called before the first Push().
+  MappingPipeline(sensors::RobotDescription robot, MappingOptions options, asr::SqliteAsrStore* store);
+  ~MappingPipeline();
+  MappingPipeline(const MappingPipeline&) = delete;
+  MappingPipeline& operator=(const MappingPipeline&) = delete;
+
+  // Continues the stored run: new ASRs take the next ids; the first record's
+  // pose is taken to be where the stored run ended.
+  void Resume();
+  // Called as each ASR closes (after it is stored).
+  void OnAsrClosed(std::function<void(const asr::Asr&, const AsrSummary&)> callback);
+
+  void Push(sensors::LogRecord record);
+  // Closes the open ASR, places every ASR (the pose graph's final solve or the
+  // drift filter's smoothing) and writes the placements into the store.
+  const RunResult& Finish();
+
+  int asrs_closed() const { return static_cast<int>(result_.asrs.size()); }
+  const sensors::RobotDescription& robot() const { return robot_; }
+  const MappingOptions& options() const { return options_; }
+  const RunResult& result() const { return result_; }
+
+ private:
+  void Closed(const asr::Asr& x);
+  const localize::DirectionEstimate* LastEstimate() const;
+
+  sensors::RobotDescription robot_;
+  MappingOptions options_;
+  asr::SqliteAsrStore* store_;
+  localize::HeadingCorrectionOptions heading_options_;
+  std::unique_ptr<asr::CognitiveMapper> mapper_;
+  localize::HeadingCorrector corrector_;
+  localize::DriftHeadingCorrector drift_corrector_;
+  std::unique_ptr<graph::MapOptimizer> optimizer_;
+  DriftAdder drift_adder_;
+  std::function<void(const asr::Asr&, const AsrSummary&)> callback_;
+  RunResult result_;
+  bool finished_ = false;
+};
+
+// The mapper options a MappingOptions implies for a robot (exposed for tools
+// that build the mapper themselves, e.g. benchmarks).
+asr::MapperOptions MapperOptionsFor(const sensors::RobotDescription& robot, const MappingOptions& options);
+// True when every range sensor of the robot is a laser.
+bool LaserOnly(const sensors::RobotDescription& robot);
+
+}  // namespace cogmap::mapping

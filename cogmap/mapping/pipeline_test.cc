@@ -1,0 +1,170 @@
+// The mapping API on a simulated run: the streaming pipeline and the whole job
+// give the same map, options are checked, a stored run is continued.
+#include "cogmap/mapping/pipeline.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "cogmap/core/angles.h"
+#include "cogmap/core/error.h"
+#include "cogmap/core/test_temp.h"
+#include "cogmap/io/log_reader.h"
+#include "cogmap/io/native_log.h"
+#include "cogmap/io/world_io.h"
+#include "cogmap/mapping/map_job.h"
+#include "cogmap/sim/simulator.h"
+
+namespace cogmap::mapping {
+namespace {
+
+using testing_util::TestTempPath;
+
+std::vector<sensors::LogRecord> SimulatedRun(double drift_deg_per_m) {
+  const FloorPlan plan = io::ReadAriaMap(std::string(COGMAP_SHARED_DIR) + "/worlds/nine_rooms.map").plan;
+  sim::SimulatorOptions so;
+  so.seed = 3;
+  so.odometry.drift_rad_per_m = DegToRad(drift_deg_per_m);
+  std::vector<sensors::LogRecord> records;
+  sim::Simulate(plan, sensors::BuiltinRobot("pioneer16"), so,
+                [&records](const sensors::LogRecord& r) { records.push_back(r); });
+  return records;
+}
+
+std::string WriteLog(const std::vector<sensors::LogRecord>& records, const std::string& name) {
+  const std::string path = TestTempPath(name);
+  std::ofstream out(path);
+  io::NativeLogWriter w(out, sensors::BuiltinRobot("pioneer16"));
+  for (const auto& r : records) w.Write(r);
+  return path;
+}
+
+TEST(MappingOptions, RejectsOutOfRangeValuesNamingTheOption) {
+  MappingOptions o;
+  o.cell_m = 0.0;
+  try {
+    o.Validate();
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--cell"), std::string::npos);
+  }
+  o = {};
+  o.add_drift_rad_per_m = DegToRad(120.0);
+  EXPECT_THROW(o.Validate(), InputError);
+  o = {};
+  EXPECT_NO_THROW(o.Validate());
+}
+
+TEST(MappingOptions, CorrectionFollowsTheModeAndFlags) {
+  MappingOptions o;
+  EXPECT_EQ(o.correction(), Correction::kPoseGraph);
+  o.pose_graph = false;
+  EXPECT_EQ(o.correction(), Correction::kDriftFilter);
+  o.drift_filter = false;
+  EXPECT_EQ(o.correction(), Correction::kPerAsrEm);
+  o = {};
+  o.paper = true;
+  EXPECT_EQ(o.correction(), Correction::kPerAsrEm);
+  o.correct = false;
+  EXPECT_EQ(o.correction(), Correction::kNone);
+}
+
+TEST(OutputChoice, ParsesListsAndNamesAnUnknownOutput) {
+  const OutputChoice d = OutputChoice::Parse("default");
+  EXPECT_TRUE(d.svg && d.geojson && d.aria);
+  EXPECT_FALSE(d.png || d.pgm || d.compare || d.heading);
+  const OutputChoice a = OutputChoice::Parse("all");
+  EXPECT_TRUE(a.png && a.pgm && a.compare && a.heading);
+  const OutputChoice p = OutputChoice::Parse("png,heading");
+  EXPECT_TRUE(p.png && p.heading);
+  EXPECT_FALSE(p.svg);
+  try {
+    OutputChoice::Parse("svg,gif");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'gif'"), std::string::npos);
+  }
+}
+
+TEST(DriftAdder, TurnsEachIncrementByTheRateTimesItsLength) {
+  DriftAdder d(DegToRad(1.0));
+  d.Add(Pose2{0, 0, 0});
+  const Pose2 p = d.Add(Pose2{10, 0, 0});  // 10 m straight: 10 degrees of extra turn
+  EXPECT_NEAR(RadToDeg(p.theta), 10.0, 1e-9);
+  EXPECT_NEAR(std::hypot(p.x, p.y), 10.0, 1e-9);
+  EXPECT_NEAR(RadToDeg(std::atan2(p.y, p.x)), 5.0, 1e-9);  // the chord follows the mean heading
+}
+
+// The pipeline pushed record by record and the whole job on the same log
+// store the same ASRs at the same corrected poses.
+TEST(MappingPipeline, StreamingEqualsTheJobOnTheSameLog) {
+  const auto records = SimulatedRun(1.0);
+  ASSERT_GT(records.size(), 1000u);
+  const std::string store_path = TestTempPath("stream.sqlite");
+  std::vector<int> closed;
+  {
+    auto store = asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kReplace);
+    MappingPipeline p(sensors::BuiltinRobot("pioneer16"), {}, store.get());
+    p.OnAsrClosed([&closed](const asr::Asr& x, const AsrSummary& s) {
+      EXPECT_EQ(x.id, s.id);
+      closed.push_back(x.id);
+    });
+    for (const auto& r : records) p.Push(r);
+    const RunResult& r = p.Finish();
+    EXPECT_EQ(r.correction, Correction::kPoseGraph);
+    EXPECT_EQ(r.records, static_cast<long>(records.size()));
+    EXPECT_EQ(r.asrs.size(), closed.size());
+    EXPECT_EQ(r.graph.asrs.size(), closed.size());
+    ASSERT_TRUE(r.world_from_map.has_value());
+  }
+  ASSERT_GE(closed.size(), 9u);
+
+  MapJob job;
+  job.log_path = WriteLog(records, "run.log");
+  job.output_dir = TestTempPath("out");
+  auto log = io::OpenLog(job.log_path);
+  const MapJobSummary s = RunMapJob(*log, job);
+  EXPECT_EQ(s.asrs, static_cast<int>(closed.size()));
+  EXPECT_EQ(s.report["asr_count"].get<int>(), s.asrs);
+  for (const char* f : {"map.sqlite", "map.svg", "map.geojson", "map.map", "walls.json", "report.json"})
+    EXPECT_TRUE(std::filesystem::exists(job.output_dir + "/" + f)) << f;
+
+  auto a = asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kReadOnly);
+  auto b = asr::SqliteAsrStore::Open(job.output_dir + "/map.sqlite", asr::SqliteAsrStore::OpenMode::kReadOnly);
+  ASSERT_EQ(a->Ids(), b->Ids());
+  for (int id : a->Ids()) {
+    const auto x = *a->Get(id), y = *b->Get(id);
+    // The native log keeps 6 significant digits: the same map within millimetres.
+    EXPECT_NEAR(x.world_from_local_corrected.x, y.world_from_local_corrected.x, 0.01) << id;
+    EXPECT_NEAR(x.world_from_local_corrected.y, y.world_from_local_corrected.y, 0.01) << id;
+    EXPECT_NEAR(x.world_from_local_corrected.theta, y.world_from_local_corrected.theta, 1e-3) << id;
+    EXPECT_EQ(x.walls_local.size(), y.walls_local.size()) << id;
+  }
+}
+
+// A second run resumed into the store appends ASRs with the next ids.
+TEST(MappingPipeline, ResumeContinuesTheStoredRunsIds) {
+  const auto records = SimulatedRun(0.0);
+  const size_t half = records.size() / 2;
+  const std::string store_path = TestTempPath("resume.sqlite");
+  int first_run = 0;
+  {
+    auto store = asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kReplace);
+    MappingPipeline p(sensors::BuiltinRobot("pioneer16"), {}, store.get());
+    for (size_t i = 0; i < half; ++i) p.Push(records[i]);
+    first_run = static_cast<int>(p.Finish().asrs.size());
+  }
+  ASSERT_GT(first_run, 0);
+  auto store = asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kOpenExisting);
+  MappingPipeline p(sensors::BuiltinRobot("pioneer16"), {}, store.get());
+  p.Resume();
+  for (size_t i = half; i < records.size(); ++i) p.Push(records[i]);
+  const RunResult& r = p.Finish();
+  ASSERT_FALSE(r.asrs.empty());
+  EXPECT_GE(r.asrs.front().id, first_run);
+  EXPECT_EQ(store->Count(), first_run + static_cast<int>(r.asrs.size()));
+}
+
+}  // namespace
+}  // namespace cogmap::mapping

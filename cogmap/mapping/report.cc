@@ -1,0 +1,174 @@
+#include "cogmap/mapping/report.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "cogmap/core/angles.h"
+#include "cogmap/mapping/map_job.h"
+
+namespace cogmap::mapping {
+namespace {
+
+nlohmann::json OrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms) {
+  nlohmann::json closures = nlohmann::json::array(), uncertain = nlohmann::json::array(),
+                 placements = nlohmann::json::array();
+  int accepted = 0, same_room = 0;
+  for (const auto& c : g.closures) {
+    accepted += c.accepted ? 1 : 0;
+    same_room += c.accepted && c.same_room ? 1 : 0;
+    closures.push_back({{"from_asr", c.from_asr}, {"to_asr", c.to_asr}, {"accepted", c.accepted},
+                        {"same_room", c.same_room}, {"agreement", c.agreement}, {"rmse_m", c.rmse_m},
+                        {"mahalanobis2", c.mahalanobis2}, {"reason", c.reason},
+                        {"relative", {c.relative.x, c.relative.y, RadToDeg(c.relative.theta)}}});
+  }
+  for (const auto& e : g.asrs) {
+    nlohmann::json j = {{"id", e.asr_id}, {"room", e.room_id}, {"uncertain", e.uncertain}};
+    if (e.has_covariance) {
+      j["sigma_x_m"] = std::sqrt(std::max(0.0, e.covariance(0, 0)));
+      j["sigma_y_m"] = std::sqrt(std::max(0.0, e.covariance(1, 1)));
+      j["sigma_theta_deg"] = RadToDeg(std::sqrt(std::max(0.0, e.covariance(2, 2))));
+    }
+    placements.push_back(j);
+    if (e.uncertain) uncertain.push_back({{"id", e.asr_id}, {"why", e.why}});
+  }
+  return {{"solution", g.solution},
+          {"closures_accepted", accepted},
+          {"revisits", same_room},
+          {"closure_candidates", closures},
+          {"rooms", rooms},
+          {"registrations", g.registrations},
+          {"direction_factors", g.direction_factors},
+          {"drift_rate_deg_per_m", RadToDeg(g.drift_rate_rad_per_m)},
+          {"chi2", g.chi2},
+          {"chi2_dof", g.chi2_dof},
+          {"chi2_p999", g.chi2_p999},
+          {"variance_factor", g.variance_factor},
+          {"drift_detected", g.drift_detected},
+          {"drift_alias_risk", g.drift_alias_risk},
+          {"drift_test_chi2", g.drift_test_chi2},
+          {"sigma_factors", {{"odometry", g.odometry_sigma_factor},
+                             {"wall_direction", g.direction_sigma_factor},
+                             {"registration", g.registration_sigma_factor}}},
+          {"path_wall_crossings_odometry", g.crossings_odometry},
+          {"path_wall_crossings_graph", g.crossings_graph},
+          {"path_wall_crossings_chosen", g.crossings_chosen},
+          {"path_overlap_odometry_m", g.overlap_odometry_m},
+          {"path_overlap_graph_m", g.overlap_graph_m},
+          {"solve_seconds", g.solve_seconds},
+          {"covariance_seconds", g.covariance_seconds},
+          {"uncertain_asrs", uncertain},
+          {"placements", placements},
+          {"warnings", g.warnings}};
+}
+
+}  // namespace
+
+nlohmann::json AsrJson(const AsrSummary& s) {
+  nlohmann::json heading = nullptr;
+  if (const auto& e = s.estimate) {
+    const auto& g = s.grid_orientation;
+    heading = {{"accepted", e->accepted},
+               {"decline", localize::DeclineName(e->decline)},
+               {"direction_deg", RadToDeg(e->direction_rad)},
+               {"uncertainty_deg", std::isfinite(e->uncertainty_rad) ? OrNull(RadToDeg(e->uncertainty_rad))
+                                                                     : nlohmann::json(nullptr)},
+               {"em_direction_deg", RadToDeg(e->em_direction_rad)},
+               {"grid_refined", e->grid_refined},
+               {"grid_direction_deg", g.valid ? nlohmann::json(RadToDeg(g.angle_rad)) : nlohmann::json(nullptr)},
+               {"grid_contrast", g.contrast},
+               {"grid_cells", g.cells}};
+  }
+  return {{"id", s.id},
+          {"seconds", s.seconds},
+          {"seconds_grid", s.seconds_grid},
+          {"seconds_vectorize", s.seconds - s.seconds_grid},
+          {"path_m", s.path_m},
+          {"walls", s.walls},
+          {"bytes_grid", s.bytes.grid},
+          {"bytes_polylines", s.bytes.polylines},
+          {"heading_correction_deg", RadToDeg(s.heading_correction_rad)},
+          {"heading_estimate", heading}};
+}
+
+nlohmann::json MakeReport(const ReportContext& c) {
+  namespace fs = std::filesystem;
+  const MapJob& job = *c.job;
+  const RunResult& run = *c.run;
+  nlohmann::json per_asr = nlohmann::json::array();
+  for (const auto& s : run.asrs) per_asr.push_back(AsrJson(s));
+  // Per ASR of this run: its heading error against the truth (one global
+  // rotation removed), when the log has ground truth.
+  for (const auto& e : c.heading->per_asr)
+    for (auto& j : per_asr)
+      if (j["id"].get<int>() == e.asr_id) {
+        j["heading_error_deg"] = RadToDeg(e.corrected_rad);
+        j["heading_error_raw_deg"] = RadToDeg(e.raw_rad);
+      }
+  asr::StageBytes bytes;
+  nlohmann::json seconds_all = nlohmann::json::array();
+  for (const auto& x : *c.all) {
+    bytes.grid += x.bytes.grid;
+    bytes.vertices += x.bytes.vertices;
+    bytes.polylines += x.bytes.polylines;
+    seconds_all.push_back(x.seconds.total());
+  }
+  const double duration = run.duration_s();
+  const bool drift_filter = run.correction == Correction::kDriftFilter;
+  nlohmann::json report = {
+      {"log", job.log_path == "-" ? std::string("stdin") : fs::absolute(job.log_path).string()},
+      {"format", job.log_format},
+      {"robot", c.robot->name},
+      {"mode", job.mapping.paper ? "paper" : "default"},
+      {"boundary", job.mapping.boundary == asr::BoundaryMode::kFixedLength ? "fixed" : "doorway"},
+      {"asr_length_m", job.mapping.asr_length_m},
+      {"cell_m", job.mapping.cell_m},
+      {"window_m", job.mapping.window_m},
+      {"corrected", job.mapping.correct},
+      {"drift_filter", drift_filter},
+      {"smoothed_asrs", run.smoothed},
+      {"added_drift_deg_per_m", RadToDeg(job.mapping.add_drift_rad_per_m)},
+      {"resumed", job.resume},
+      {"records", run.records},
+      {"asr_count", static_cast<int>(c.all->size())},
+      {"asr_count_this_run", static_cast<int>(run.asrs.size())},
+      {"exit_count", c.exits},
+      {"turn_backs", run.mapper.turn_backs},
+      {"bytes_grid", bytes.grid},
+      {"bytes_vertices", bytes.vertices},
+      {"bytes_polylines", bytes.polylines},
+      {"seconds_per_asr", seconds_all},
+      {"asrs", per_asr},
+      {"mapping_seconds", c.mapping_seconds},
+      {"total_seconds", c.total_seconds},
+      {"log_duration_s", duration},
+      // The whole command up to this report (reading, mapping, every output
+      // file); mapping_times_real_time: before the output files.
+      {"times_real_time", c.total_seconds > 0 ? duration / c.total_seconds : 0.0},
+      {"mapping_times_real_time", c.mapping_seconds > 0 ? duration / c.mapping_seconds : 0.0},
+      {"peak_grid_cells", run.mapper.peak_grid_cells},
+      {"max_rss_kb_mapping", c.rss_mapping_kb},
+      {"store", c.store_path},
+      {"run_id", c.run_id},
+  };
+  if (drift_filter) {
+    report["drift_rate_deg_per_m"] = RadToDeg(run.drift_rate_rad_per_m);
+    report["drift_rate_sigma_deg_per_m"] = RadToDeg(run.drift_rate_sigma_rad_per_m);
+    report["drift_filter_measurements"] = run.drift_measurements;
+    report["drift_filter_rejects"] = run.drift_rejects;
+    report["drift_filter_walk_deg_per_sqrt_m"] = RadToDeg(run.drift_walk_rad_per_sqrt_m);
+    report["drift_filter_sigma_scale"] = run.drift_sigma_scale;
+  }
+  if (run.correction == Correction::kPoseGraph) report["pose_graph"] = PoseGraphJson(run.graph, c.rooms);
+  for (const auto& [k, v] : localize::HeadingErrorEvalKeys(*c.heading)) report[k] = v;
+  if (c.room_metrics) {
+    report["world"] = fs::absolute(job.world).string();
+    report["room_precision"] = c.room_metrics->room_precision;
+    report["room_recall"] = c.room_metrics->room_recall;
+    report["asr_rooms"] = c.room_metrics->asr_room;
+  }
+  return report;
+}
+
+}  // namespace cogmap::mapping

@@ -1,0 +1,289 @@
+// Python bindings (pybind11): read any log the command reads, map it (whole or
+// record by record), open a store. Poses and paths come back as numpy arrays
+// (x, y, theta in metres and radians), walls as lists of (K, 2) arrays.
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include "cogmap/asr/store.h"
+#include "cogmap/core/angles.h"
+#include "cogmap/core/error.h"
+#include "cogmap/io/log_reader.h"
+#include "cogmap/mapping/map_job.h"
+#include "cogmap/mapping/pipeline.h"
+#include "cogmap/sensors/robot.h"
+#include "cogmap/sensors/robot_json.h"
+
+namespace py = pybind11;
+
+namespace cogmap::python {
+namespace {
+
+using Array = py::array_t<double>;
+
+Array Poses(const std::vector<Pose2>& poses) {
+  Array a({static_cast<py::ssize_t>(poses.size()), py::ssize_t{3}});
+  auto m = a.mutable_unchecked<2>();
+  for (size_t i = 0; i < poses.size(); ++i) {
+    m(i, 0) = poses[i].x;
+    m(i, 1) = poses[i].y;
+    m(i, 2) = poses[i].theta;
+  }
+  return a;
+}
+
+Array PoseArray(const Pose2& p) {
+  Array a(py::ssize_t{3});
+  auto m = a.mutable_unchecked<1>();
+  m(0) = p.x;
+  m(1) = p.y;
+  m(2) = p.theta;
+  return a;
+}
+
+Array Points(const Polyline& line) {
+  Array a({static_cast<py::ssize_t>(line.size()), py::ssize_t{2}});
+  auto m = a.mutable_unchecked<2>();
+  for (size_t i = 0; i < line.size(); ++i) {
+    m(i, 0) = line[i].x();
+    m(i, 1) = line[i].y();
+  }
+  return a;
+}
+
+Pose2 ToPose(const Array& a, const char* what) {
+  if (a.ndim() != 1 || a.shape(0) != 3) throw py::value_error(std::string(what) + ": expected (x, y, theta)");
+  auto m = a.unchecked<1>();
+  return Pose2{m(0), m(1), m(2)};
+}
+
+py::dict RobotDict(const sensors::RobotDescription& r) {
+  py::list sensors;
+  for (const auto& s : r.sensors) {
+    py::dict d;
+    d["kind"] = s.kind == sensors::SensorKind::kLaser ? "laser" : "sonar";
+    d["pose"] = PoseArray(s.robot_from_sensor);
+    d["beam_width_rad"] = s.beam_width_rad;
+    d["min_range_m"] = s.min_range_m;
+    d["max_range_m"] = s.max_range_m;
+    sensors.append(d);
+  }
+  py::dict d;
+  d["name"] = r.name;
+  d["radius_m"] = r.radius_m;
+  d["sensors"] = sensors;
+  return d;
+}
+
+py::object Json(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+
+// A log read whole: times (N,), odometry (N, 3), truth (N, 3; NaN where the
+// log has none), ranges (M, 3): record index, sensor index, range in metres.
+py::dict ReadLog(const std::string& path, const std::string& format) {
+  auto log = io::OpenLog(path, format);
+  std::vector<double> times;
+  std::vector<Pose2> odom, truth;
+  std::vector<double> ranges;
+  sensors::LogRecord rec;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  while (log->Next(&rec)) {
+    const double index = static_cast<double>(times.size());
+    times.push_back(rec.time_s);
+    odom.push_back(rec.odom);
+    truth.push_back(rec.truth ? *rec.truth : Pose2{nan, nan, nan});
+    for (const auto& r : rec.ranges) {
+      ranges.push_back(index);
+      ranges.push_back(r.sensor);
+      ranges.push_back(r.range_m);
+    }
+  }
+  Array t(static_cast<py::ssize_t>(times.size()));
+  std::copy(times.begin(), times.end(), t.mutable_data());
+  Array rg({static_cast<py::ssize_t>(ranges.size() / 3), py::ssize_t{3}});
+  std::copy(ranges.begin(), ranges.end(), rg.mutable_data());
+  py::dict skipped;
+  for (const auto& [type, n] : log->skipped()) skipped[py::str(type)] = n;
+  py::dict d;
+  d["path"] = path;
+  d["time"] = t;
+  d["odom"] = Poses(odom);
+  d["truth"] = Poses(truth);
+  d["ranges"] = rg;
+  d["robot"] = log->robot_hint() ? py::object(RobotDict(*log->robot_hint())) : py::object(py::none());
+  d["skipped"] = skipped;
+  return d;
+}
+
+mapping::MappingOptions Options(const std::string& mode, double cell_m, double window_m, bool correct,
+                                bool pose_graph, double add_drift_deg_per_m) {
+  if (mode != "paper" && mode != "default") throw InputError("mode " + mode + ": expected paper or default");
+  mapping::MappingOptions o;
+  o.paper = mode == "paper";
+  o.cell_m = cell_m;
+  o.window_m = window_m;
+  o.correct = correct;
+  o.pose_graph = pose_graph;
+  o.add_drift_rad_per_m = DegToRad(add_drift_deg_per_m);
+  o.Validate();
+  return o;
+}
+
+// `cogmap map` as one call; returns report.json's content as a dict.
+py::object MapLog(const std::string& path, const std::string& output, const std::string& format,
+                  const std::string& robot, const std::string& mode, const std::string& outputs, bool resume,
+                  const std::string& world, double add_drift_deg_per_m, bool correct, bool pose_graph) {
+  mapping::MapJob job;
+  job.log_path = path;
+  job.log_format = format;
+  job.robot_spec = robot;
+  job.mapping = Options(mode, 0.1, 3.0, correct, pose_graph, add_drift_deg_per_m);
+  job.outputs = mapping::OutputChoice::Parse(outputs);
+  job.output_dir = output;
+  job.resume = resume;
+  job.world = world;
+  auto log = io::OpenLog(path, format);
+  const mapping::MapJobSummary s = mapping::RunMapJob(*log, job);
+  py::dict d = Json(s.report);
+  d["outputs"] = s.written;
+  d["warnings"] = s.warnings;
+  return std::move(d);
+}
+
+// The streaming pipeline, record by record, into a store on disk.
+class Mapper {
+ public:
+  Mapper(const std::string& store_path, const std::string& robot, const std::string& mode, bool correct,
+         bool pose_graph)
+      : store_(asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kReplace)),
+        pipeline_(sensors::ResolveRobot(robot), Options(mode, 0.1, 3.0, correct, pose_graph, 0.0), store_.get()) {
+    pipeline_.OnAsrClosed([this](const asr::Asr& x, const mapping::AsrSummary&) {
+      if (callback_) callback_(x.id);
+    });
+  }
+  void Push(double time_s, const Array& odom, const std::vector<std::pair<int, double>>& ranges,
+            const std::optional<Array>& truth) {
+    sensors::LogRecord r;
+    r.time_s = time_s;
+    r.odom = ToPose(odom, "odom");
+    if (truth) r.truth = ToPose(*truth, "truth");
+    for (const auto& [sensor, range] : ranges) {
+      if (sensor < 0 || sensor >= static_cast<int>(pipeline_.robot().sensors.size()))
+        throw py::value_error("sensor index " + std::to_string(sensor) + " out of range");
+      if (!std::isfinite(range) || range < 0) throw py::value_error("range must be finite and >= 0");
+      r.ranges.push_back({sensor, range});
+    }
+    pipeline_.Push(std::move(r));
+  }
+  py::dict Finish() {
+    const mapping::RunResult& r = pipeline_.Finish();
+    py::dict d;
+    d["records"] = r.records;
+    d["asrs"] = r.asrs.size();
+    int closures = 0;
+    std::set<int> rooms;
+    for (const auto& c : r.graph.closures) closures += c.accepted ? 1 : 0;
+    for (const auto& a : r.graph.asrs) rooms.insert(a.room_id);
+    d["closures"] = closures;
+    d["rooms"] = r.correction == mapping::Correction::kPoseGraph ? py::int_(rooms.size()) : py::int_(r.asrs.size());
+    d["drift_rate_deg_per_m"] = RadToDeg(r.graph.drift_rate_rad_per_m);
+    d["warnings"] = r.graph.warnings;
+    return d;
+  }
+  void OnAsrClosed(std::function<void(int)> f) { callback_ = std::move(f); }
+  int asrs_closed() const { return pipeline_.asrs_closed(); }
+
+ private:
+  std::unique_ptr<asr::SqliteAsrStore> store_;
+  mapping::MappingPipeline pipeline_;
+  std::function<void(int)> callback_;
+};
+
+// A store opened read-only.
+class Store {
+ public:
+  explicit Store(const std::string& path)
+      : store_(asr::SqliteAsrStore::Open(path, asr::SqliteAsrStore::OpenMode::kReadOnly)) {}
+  std::vector<int> Ids() const { return store_->Ids(); }
+  int RoomOf(int id) const { return store_->RoomOf(id); }
+  py::dict Asr(int id) const {
+    auto x = store_->Get(id);
+    if (!x) throw py::key_error("no ASR " + std::to_string(id));
+    py::list walls;
+    for (const auto& w : x->WallsWorldCorrected()) walls.append(Points(w));
+    py::list exits;
+    for (const auto& e : x->exits) {
+      py::dict d;
+      d["center"] = Points({e.center_m});
+      d["width_m"] = e.width_m;
+      d["from_asr"] = e.from_asr;
+      d["to_asr"] = e.to_asr;
+      exits.append(d);
+    }
+    py::dict d;
+    d["id"] = x->id;
+    d["room"] = store_->RoomOf(id);
+    d["pose"] = PoseArray(x->world_from_local_corrected);
+    d["pose_raw"] = PoseArray(x->world_from_local_raw);
+    d["walls"] = walls;
+    d["path_raw"] = Poses(x->path);
+    d["true_path"] = Poses(x->true_path);
+    auto p = store_->GetPlacement(id);
+    d["path"] = Poses(p && !p->corrected_path.empty() ? p->corrected_path : x->path);
+    d["uncertain"] = p ? p->uncertain : false;
+    d["exits"] = exits;
+    return d;
+  }
+  std::optional<std::string> Meta(const std::string& key) const { return store_->GetMeta(key); }
+
+ private:
+  std::unique_ptr<asr::SqliteAsrStore> store_;
+};
+
+}  // namespace
+}  // namespace cogmap::python
+
+PYBIND11_MODULE(cogmap, m) {
+  using namespace cogmap::python;
+  m.doc() = "cogmap: cognitive maps (rooms as ASRs, wall polylines, a pose graph) from range readings and odometry";
+  // A bad file or option is cogmap.InputError (a ValueError), with the file and line in its message.
+  static py::exception<cogmap::InputError> input_error(m, "InputError", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const cogmap::InputError& e) {
+      input_error(e.what());
+    }
+  });
+  m.def("read_log", &ReadLog, py::arg("path"), py::arg("format") = "auto",
+        "Reads a log whole: dict with time (N,), odom (N,3), truth (N,3; NaN where unknown), "
+        "ranges (M,3: record, sensor, range_m), robot (the log's robot or None), skipped message counts");
+  m.def("map_log", &MapLog, py::arg("path"), py::arg("output"), py::arg("format") = "auto",
+        py::arg("robot") = "", py::arg("mode") = "default", py::arg("outputs") = "default",
+        py::arg("resume") = false, py::arg("world") = "", py::arg("add_drift_deg_per_m") = 0.0,
+        py::arg("correct") = true, py::arg("pose_graph") = true,
+        "Maps a log into an output folder exactly as `cogmap map` does; returns report.json as a dict");
+  m.def("robot", [](const std::string& spec) { return RobotDict(cogmap::sensors::ResolveRobot(spec)); },
+        py::arg("spec"), "A built-in robot by name, or a robot JSON file");
+  py::class_<Mapper>(m, "Mapper", "The mapping pipeline, record by record, into a store on disk")
+      .def(py::init<const std::string&, const std::string&, const std::string&, bool, bool>(), py::arg("store"),
+           py::arg("robot") = "pioneer16", py::arg("mode") = "default", py::arg("correct") = true,
+           py::arg("pose_graph") = true)
+      .def("push", &Mapper::Push, py::arg("time"), py::arg("odom"), py::arg("ranges") = std::vector<std::pair<int, double>>{},
+           py::arg("truth") = py::none(), "One record: time (s), odom (x, y, theta), ranges [(sensor, range_m)]")
+      .def("finish", &Mapper::Finish, "Closes the open room, places every ASR, writes the placements")
+      .def("on_asr_closed", &Mapper::OnAsrClosed, "Calls f(asr_id) as each ASR closes")
+      .def_property_readonly("asrs_closed", &Mapper::asrs_closed);
+  py::class_<Store>(m, "Store", "A map store (map.sqlite), read-only")
+      .def(py::init<const std::string&>(), py::arg("path"))
+      .def("ids", &Store::Ids)
+      .def("room_of", &Store::RoomOf)
+      .def("asr", &Store::Asr, "One ASR: pose, walls (map frame), path as placed, exits, room")
+      .def("meta", &Store::Meta);
+  m.def("open_store", [](const std::string& path) { return Store(path); }, py::arg("path"));
+}
