@@ -10,6 +10,7 @@ PKGS=(
   librosbag-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev libgeometry-msgs-dev libstd-msgs-dev
   python3
   gdal-bin  # ogrinfo: tests read map.gpkg and map.geojson back with GDAL
+  pybind11-dev python3-dev python3-numpy python3-pytest
 )
 # Peers for side-by-side comparisons (bench/), large: only with --peers.
 if [[ "${1:-}" == "--peers" ]]; then

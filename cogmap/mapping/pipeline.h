@@ -19,6 +19,7 @@
 #include "cogmap/core/pose2.h"
 #include "cogmap/graph/map_optimizer.h"
 #include "cogmap/localize/heading_corrector.h"
+#include "cogmap/localize/odometry_corrector.h"
 #include "cogmap/sensors/reading.h"
 #include "cogmap/sensors/robot.h"
 

@@ -1,0 +1,114 @@
+"""The Python bindings against the command on the same log: reading, mapping
+(whole and record by record), the store, and bad input."""
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import cogmap
+
+COGMAP = os.environ["COGMAP_BIN"]
+SHARED = os.environ["COGMAP_SHARED_DIR"]
+
+
+@pytest.fixture(scope="module")
+def sim_log(tmp_path_factory):
+    """A simulated nine_rooms run with 1 deg/m of drift (native log)."""
+    path = tmp_path_factory.mktemp("log") / "nine_rooms.log"
+    subprocess.run([COGMAP, "simulate", os.path.join(SHARED, "worlds", "nine_rooms.map"), "--seed", "5",
+                    "--drift-deg-per-m", "1", "-o", str(path)], check=True, capture_output=True)
+    return str(path)
+
+
+@pytest.fixture(scope="module")
+def command_map(sim_log, tmp_path_factory):
+    out = tmp_path_factory.mktemp("cmd")
+    subprocess.run([COGMAP, "map", sim_log, "-o", str(out)], check=True, capture_output=True)
+    with open(out / "report.json") as f:
+        return out, json.load(f)
+
+
+def test_read_log_gives_arrays_of_the_whole_run(sim_log):
+    log = cogmap.read_log(sim_log)
+    n = log["time"].shape[0]
+    assert n > 1000
+    assert log["odom"].shape == (n, 3)
+    assert log["truth"].shape == (n, 3)
+    assert not np.isnan(log["truth"]).any()  # simulated runs carry the truth
+    assert np.all(np.diff(log["time"]) >= 0)
+    r = log["ranges"]
+    assert r.shape[1] == 3
+    assert r[:, 0].min() >= 0 and r[:, 0].max() < n
+    assert set(np.unique(r[:, 1]).astype(int)) <= set(range(16))
+    assert log["robot"]["name"] == "pioneer16"
+    assert len(log["robot"]["sensors"]) == 16
+
+
+def test_read_log_counts_equal_the_commands(sim_log):
+    info = subprocess.run([COGMAP, "log-info", sim_log], check=True, capture_output=True, text=True).stdout
+    log = cogmap.read_log(sim_log)
+    assert str(log["time"].shape[0]) in info
+
+
+def test_map_log_equals_the_command(sim_log, command_map, tmp_path):
+    out, cmd_report = command_map
+    report = cogmap.map_log(sim_log, str(tmp_path / "py"))
+    for key in ("asr_count", "exit_count", "records", "bytes_polylines"):
+        assert report[key] == cmd_report[key], key
+    assert report["pose_graph"]["rooms"] == cmd_report["pose_graph"]["rooms"]
+    a = cogmap.open_store(str(out / "map.sqlite"))
+    b = cogmap.open_store(str(tmp_path / "py" / "map.sqlite"))
+    assert a.ids() == b.ids()
+    for i in a.ids():
+        np.testing.assert_allclose(a.asr(i)["pose"], b.asr(i)["pose"], atol=1e-9)
+
+
+def test_mapper_record_by_record_equals_the_command(sim_log, command_map, tmp_path):
+    _, cmd_report = command_map
+    log = cogmap.read_log(sim_log)
+    closed = []
+    m = cogmap.Mapper(str(tmp_path / "stream.sqlite"), robot="pioneer16")
+    m.on_asr_closed(closed.append)
+    ranges = log["ranges"]
+    starts = np.searchsorted(ranges[:, 0], np.arange(len(log["time"]) + 1))
+    for k in range(len(log["time"])):
+        rk = ranges[starts[k]:starts[k + 1]]
+        m.push(log["time"][k], log["odom"][k], [(int(s), float(r)) for _, s, r in rk], truth=log["truth"][k])
+    result = m.finish()
+    assert result["records"] == cmd_report["records"]
+    assert result["asrs"] == cmd_report["asr_count"] == len(closed)
+    assert result["rooms"] == cmd_report["pose_graph"]["rooms"]
+
+
+def test_store_gives_walls_paths_and_rooms(command_map):
+    out, cmd_report = command_map
+    store = cogmap.open_store(str(out / "map.sqlite"))
+    ids = store.ids()
+    assert len(ids) == cmd_report["asr_count"]
+    x = store.asr(ids[0])
+    assert x["pose"].shape == (3,)
+    assert x["path"].shape[1] == 3 and x["path"].shape[0] > 10
+    assert all(w.ndim == 2 and w.shape[1] == 2 and w.shape[0] >= 2 for w in x["walls"])
+    assert store.room_of(ids[0]) == x["room"]
+    with pytest.raises(KeyError):
+        store.asr(10**6)
+
+
+def test_a_bad_log_is_an_input_error_naming_file_and_line(tmp_path):
+    bad = tmp_path / "bad.log"
+    bad.write_text("# cogmap-log 1\nrobot pioneer16\nODOM 0 0 0 0\nSWEEP 0 1 0 nan\n")
+    with pytest.raises(cogmap.InputError) as e:
+        cogmap.read_log(str(bad))
+    assert "bad.log:4" in str(e.value)
+    with pytest.raises(cogmap.InputError):
+        cogmap.map_log(str(bad), str(tmp_path / "out"))
+    assert not (tmp_path / "out" / "map.sqlite").exists()
+
+
+def test_options_are_checked():
+    with pytest.raises(cogmap.InputError):
+        cogmap.robot("no-such-robot")
+    with pytest.raises(cogmap.InputError):
+        cogmap.Mapper("/tmp/never.sqlite", mode="fast")
