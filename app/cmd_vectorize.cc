@@ -17,6 +17,7 @@
 #include "cogmap/asr/room_metrics.h"
 #include "cogmap/asr/store.h"
 #include "cogmap/core/error.h"
+#include "cogmap/eval/plan_metrics.h"
 #include "cogmap/eval/trajectory_metrics.h"
 #include "cogmap/eval/wall_metrics.h"
 #include "cogmap/grid/range_fusion.h"
@@ -28,6 +29,7 @@
 #include "cogmap/io/svg.h"
 #include "cogmap/io/world_io.h"
 #include "cogmap/localize/heading_error.h"
+#include "cogmap/plan/plan_json.h"
 #include "cogmap/sensors/robot_json.h"
 #include "cogmap/vectorize/vectorize.h"
 
@@ -406,6 +408,21 @@ int RunEval(const EvalArgs& a) {
       else j[key] = nullptr;
     }
   }
+  // The floor plan (issue 11), when the folder has one: in the world frame
+  // through walls.json's world_from_map, as the walls are.
+  std::optional<eval::PlanMetrics> plan_metrics;
+  const std::filesystem::path plan_path = std::filesystem::is_directory(dir) ? dir / "plan.json" : dir.parent_path() / "plan.json";
+  if (std::filesystem::exists(plan_path)) {
+    const plan::Plan fp = plan::TransformPlan(wf.world_from_map, plan::ReadPlanJson(plan_path.string()));
+    eval::PlanMetricsOptions po;
+    po.sensor_range_m = mo.sensor_range_m;
+    plan_metrics = have_world ? eval::EvaluatePlan(fp, world.plan, true_path, po) : eval::DescribePlan(fp);
+    for (const auto& [key, value] : eval::PlanEvalKeys(*plan_metrics, have_world)) {
+      if (value) j[key] = *value;
+      else j[key] = nullptr;
+    }
+    if (have_world && world.plan.rooms.empty()) j["room_iou_median"] = nullptr;  // no true rooms
+  }
   j["mode"] = wf.mode;
   j["log"] = wf.log_path;
   if (have_world) j["world"] = a.world; else j["world"] = nullptr;
@@ -430,6 +447,17 @@ int RunEval(const EvalArgs& a) {
     if (rooms) {
       if (have_world) std::printf("  %d ASRs; rooms: precision %.3f, recall %.3f (%d of %d rooms matched)\n", rooms->asr_count,
                   rooms->room_precision, rooms->room_recall, rooms->matched_rooms, rooms->room_count);
+    }
+    if (plan_metrics) {
+      const auto& pm = *plan_metrics;
+      std::printf("  floor plan: %d walls (%.1f m, %.2f vertices/m), %d rooms, %d doors; room overlap %.2f m2\n", pm.walls,
+                  pm.wall_length_m, pm.vertices_per_m, pm.rooms, pm.doors, pm.room_overlap_m2);
+      if (have_world && pm.precision_p95_m)
+        std::printf("  floor-plan walls: precision p50 %.3f m, p95 %.3f m; recall %.3f; duplication %s; "
+                    "room IoU median %s\n",
+                    *pm.precision_p50_m, *pm.precision_p95_m, pm.recall,
+                    pm.duplication ? Num(*pm.duplication).c_str() : "n/a",
+                    pm.room_iou_median && !world.plan.rooms.empty() ? Num(*pm.room_iou_median).c_str() : "n/a");
     }
     if (j.contains("heading_error_deg_median")) {
       std::printf("  heading error (deg, one global rotation removed): corrected median %.2f, max %.2f; "
@@ -470,7 +498,7 @@ int RunEval(const EvalArgs& a) {
 
 std::function<int()> SetupEval(CLI::App& sub) {
   auto a = std::make_shared<EvalArgs>();
-  sub.add_option("OUTDIR", a->dir, "A folder written by cogmap vectorize or cogmap map (or its walls.json); with a map.sqlite beside it, also ASR count, room precision/recall, heading errors, the trajectory errors (ATE, RPE over 1/5/20 m; corrected and raw odometry) and, for a map placed by the pose graph, the calibration of its covariances (pose_calibration_3sigma: share of placed ASRs whose true pose, relative to the first ASR, is within 3 sigma)")->required();
+  sub.add_option("OUTDIR", a->dir, "A folder written by cogmap vectorize or cogmap map (or its walls.json); with a map.sqlite beside it, also ASR count, room precision/recall, heading errors, the trajectory errors (ATE, RPE over 1/5/20 m; corrected and raw odometry) and, for a map placed by the pose graph, the calibration of its covariances (pose_calibration_3sigma: share of placed ASRs whose true pose, relative to the first ASR, is within 3 sigma); with a plan.json beside it, the floor plan's wall precision (p50/p95), recall, duplication, room IoU median, room overlap and vertices per metre (docs/floor-plan.md)")->required();
   sub.add_option("--world", a->world,
                  "The world the log was driven in (ARIA 2D-Map or PNG); without it only the heading errors "
                  "(against the log's reference poses) and the sizes are reported");

@@ -6,6 +6,8 @@ PKGS=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libcli11-dev nlohmann-json3-dev libpng-dev zlib1g-dev libsqlite3-dev
   libgtest-dev libgmock-dev libbenchmark-dev libceres-dev ccache
+  # Boost.Geometry (header only): the floor plan's polygon clipping
+  libboost-dev
   # ROS 1 bags (cogmap/io/ros1_bag*): rosbag_storage and the message headers
   librosbag-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev libgeometry-msgs-dev libstd-msgs-dev
   python3

@@ -22,6 +22,9 @@ struct Wall {
   double weight = 0.0;        // evidence behind it (metres of wall seen, weighted by quality)
   std::vector<int> asr_ids;   // the ASRs whose walls were fused into it
   bool squared = false;       // snapped to one of the building's dominant directions
+  // A thin wall seen from both sides (its two faces closer than
+  // PlanOptions::thin_wall_m): free space on both sides, drawn once.
+  bool two_sided = false;
 };
 
 // An exit the robot passed, as a gap in the walls.
@@ -63,6 +66,52 @@ struct Plan {
   std::vector<Edge> edges;
   std::optional<Pose2> home;  // the robot's first pose
   Vec2 min{0, 0}, max{0, 0};  // bounds of walls and rooms
+  double dominant_direction_rad = 0.0;  // the building's wall direction, modulo a quarter turn, in [0, pi/2)
 };
+
+// How BuildPlan fuses walls and cuts rooms (docs/floor-plan.md).
+struct PlanOptions {
+  // Walls: the ASRs' wall segments, each with the side the robot saw it from
+  // (graph::FaceWalls), are grouped into faces and each face fitted as one line.
+  double min_segment_m = 0.2;          // shorter ASR wall segments are not evidence (chamfers, sonar notches)
+  double same_face_m = 0.3;            // a segment joins a face when both its ends lie this close to its line
+  double face_angle_deg = 20.0;        // ... its free-side normal agrees this well
+  double join_gap_m = 0.4;             // ... and it lies within this of the face's extent along it
+  double min_wall_m = 0.4;             // fused faces shorter than this are dropped (notches)
+  double thin_wall_m = 0.15;           // opposite faces closer than this are one thin wall seen from both sides
+  double residual_floor_m = 0.03;      // floor of a face's fit residual (1 sigma)
+  double correlation_length_m = 0.5;   // residuals along a wall are correlated over this (one independent error)
+  double heading_floor_deg = 1.0;      // model error of a wall's direction (ASR heading), added to its fit error
+  double square_z = 2.576;             // squared when within this many sigma of a dominant direction (99 %)
+  double corner_m = 0.6;               // two wall ends this close to their lines' crossing are joined there
+  double corner_min_angle_deg = 30.0;  // ... when the walls differ in direction by at least this
+  // Doors: each exit (asr::Exit) is a gap in the walls near it.
+  double door_search_m = 0.8;          // the exit's centre within this of a wall line
+  double wall_thickness_m = 0.4;       // faces within this of the door line are cut
+  double min_door_m = 0.5;             // door widths are clamped into [min, max]
+  double max_door_m = 2.5;
+  // Rooms: a flood fill of a grid from each room's path, walls and doors blocking.
+  double cell_m = 0.1;
+  double max_cells = 3.0e7;            // the cell grows beyond cell_m when the map would need more
+  double seed_door_clearance_m = 0.8;  // path poses this close to an exit do not seed its room
+  double corridor_max_width_m = 2.6;   // a corridor piece: at most this wide ...
+  double corridor_min_aspect = 2.0;    // ... and at least this many times longer than wide
+  double sliver_path_m = 0.5;          // a store room with less path than this is absorbed by a neighbour
+  double polygon_tolerance_m = 0.12;   // Douglas-Peucker tolerance of room outlines
+  double min_room_area_m2 = 0.25;      // smaller rooms are dropped
+};
+
+// The floor plan of placed ASRs (world_from_local_corrected, walls_local).
+// 'room_of_asr': the store's room ids (asr::SqliteAsrStore::RoomOf; revisits
+// share one; missing ASRs are their own room). 'placed_paths': the robot's path
+// through each ASR as placed (asr::Placement::corrected_path); an ASR missing
+// there uses its raw path carried by its placement (no drift inside it).
+Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room_of_asr,
+               const PlanOptions& options = {},
+               const std::map<int, std::vector<Pose2>>& placed_paths = {});
+
+// The plan carried by 'pose' (for example walls.json's world_from_map, to
+// compare it with a world): every point, the home pose and the bounds.
+Plan TransformPlan(const Pose2& pose, const Plan& plan);
 
 }  // namespace cogmap::plan

@@ -1,0 +1,271 @@
+#include "cogmap/eval/plan_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include <boost/geometry.hpp>
+#include <boost/geometry/geometries/point_xy.hpp>
+#include <boost/geometry/geometries/polygon.hpp>
+
+#include "cogmap/eval/wall_metrics.h"
+
+namespace cogmap::eval {
+namespace {
+
+namespace bg = boost::geometry;
+using BPoint = bg::model::d2::point_xy<double>;
+using BPoly = bg::model::polygon<BPoint, false, false>;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Uniform hash grid of segments (each listed in every cell its box touches).
+class SegGrid {
+ public:
+  SegGrid(const std::vector<Segment2>& segs, double cell) : segs_(segs), cell_(cell) {
+    for (size_t i = 0; i < segs.size(); ++i) {
+      const Vec2 lo = segs[i].a.cwiseMin(segs[i].b), hi = segs[i].a.cwiseMax(segs[i].b);
+      for (int64_t y = C(lo.y()); y <= C(hi.y()); ++y)
+        for (int64_t x = C(lo.x()); x <= C(hi.x()); ++x) cells_[Key(x, y)].push_back(static_cast<int>(i));
+    }
+  }
+  // The nearest segment within 'radius' (<= cell) whose direction agrees with
+  // 'dir' (unit; zero vector: any direction) within cos_angle; -1 when none.
+  int Nearest(const Vec2& p, double radius, const Vec2& dir, double cos_angle, double* dist) const {
+    int best = -1;
+    double bd = radius;
+    for (int64_t y = C(p.y() - radius); y <= C(p.y() + radius); ++y)
+      for (int64_t x = C(p.x() - radius); x <= C(p.x() + radius); ++x) {
+        auto it = cells_.find(Key(x, y));
+        if (it == cells_.end()) continue;
+        for (int i : it->second) {
+          const Segment2& s = segs_[i];
+          if (dir.squaredNorm() > 0) {
+            const double len = s.length();
+            if (len <= 0 || std::abs((s.b - s.a).dot(dir)) / len < cos_angle) continue;
+          }
+          const double d = PointSegmentDistance(p, s.a, s.b);
+          if (d <= bd) bd = d, best = i;
+        }
+      }
+    if (dist) *dist = bd;
+    return best;
+  }
+
+ private:
+  int64_t C(double v) const { return static_cast<int64_t>(std::floor(v / cell_)); }
+  static int64_t Key(int64_t x, int64_t y) { return (y << 32) ^ (x & 0xffffffffLL); }
+  const std::vector<Segment2>& segs_;
+  double cell_;
+  std::unordered_map<int64_t, std::vector<int>> cells_;
+};
+
+// Exact nearest distance to any true wall: rings of cells until the distance is certain.
+double NearestAny(const SegGrid& g, const Vec2& p, double cell, double max_radius) {
+  for (double r = cell; ; r *= 2) {
+    double d;
+    if (g.Nearest(p, std::min(r, max_radius), Vec2(0, 0), 0.0, &d) >= 0) return d;
+    if (r >= max_radius) return std::numeric_limits<double>::infinity();
+  }
+}
+
+BPoly Poly(const std::vector<Vec2>& ring) {
+  BPoly p;
+  for (const Vec2& v : ring) p.outer().push_back(BPoint(v.x(), v.y()));
+  bg::correct(p);
+  return p;
+}
+
+double IntersectionArea(const BPoly& a, const BPoly& b) {
+  std::vector<BPoly> out;
+  bg::intersection(a, b, out);
+  double s = 0.0;
+  for (const auto& p : out) s += bg::area(p);
+  return s;
+}
+
+double Percentile(std::vector<double> v, double q) {  // nearest rank
+  std::sort(v.begin(), v.end());
+  const size_t k = static_cast<size_t>(std::ceil(q * v.size()));
+  return v[std::clamp<size_t>(k, 1, v.size()) - 1];
+}
+
+std::vector<Segment2> PlanSegments(const plan::Plan& plan) {
+  std::vector<Segment2> out;
+  for (const auto& w : plan.walls)
+    for (size_t i = 1; i < w.points.size(); ++i) out.push_back({w.points[i - 1], w.points[i]});
+  return out;
+}
+
+// Pairs of rooms whose boxes meet, through a grid of the boxes (linear for rooms of bounded size).
+double OverlapArea(const std::vector<BPoly>& polys) {
+  std::vector<bg::model::box<BPoint>> boxes(polys.size());
+  double cell = 1.0;
+  for (size_t i = 0; i < polys.size(); ++i) {
+    bg::envelope(polys[i], boxes[i]);
+    cell = std::max(cell, std::max(boxes[i].max_corner().x() - boxes[i].min_corner().x(),
+                                   boxes[i].max_corner().y() - boxes[i].min_corner().y()) / 4.0);
+  }
+  cell = std::min(cell, 10.0);
+  std::unordered_map<int64_t, std::vector<int>> grid;
+  auto C = [&](double v) { return static_cast<int64_t>(std::floor(v / cell)); };
+  double total = 0.0;
+  for (size_t i = 0; i < polys.size(); ++i) {
+    if (polys[i].outer().size() < 3) continue;
+    std::vector<int> cand;
+    const auto& b = boxes[i];
+    for (int64_t y = C(b.min_corner().y()); y <= C(b.max_corner().y()); ++y)
+      for (int64_t x = C(b.min_corner().x()); x <= C(b.max_corner().x()); ++x) {
+        auto& v = grid[(y << 32) ^ (x & 0xffffffffLL)];
+        cand.insert(cand.end(), v.begin(), v.end());
+        v.push_back(static_cast<int>(i));
+      }
+    std::sort(cand.begin(), cand.end());
+    cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+    for (int j : cand)
+      if (bg::intersects(boxes[i], boxes[j])) total += IntersectionArea(polys[i], polys[j]);
+  }
+  return total;
+}
+
+}  // namespace
+
+PlanMetrics DescribePlan(const plan::Plan& plan) {
+  PlanMetrics m;
+  m.walls = static_cast<int>(plan.walls.size());
+  m.rooms = static_cast<int>(plan.rooms.size());
+  m.doors = static_cast<int>(plan.doors.size());
+  for (const auto& w : plan.walls) {
+    m.wall_length_m += PolylineLength(w.points);
+    m.vertices += static_cast<int64_t>(w.points.size());
+  }
+  m.vertices_per_m = m.wall_length_m > 0 ? m.vertices / m.wall_length_m : 0.0;
+  std::vector<BPoly> polys;
+  for (const auto& r : plan.rooms) polys.push_back(Poly(r.polygon));
+  m.room_overlap_m2 = OverlapArea(polys);
+  return m;
+}
+
+PlanMetrics EvaluatePlan(const plan::Plan& plan, const FloorPlan& truth, const std::vector<Vec2>& true_path,
+                         const PlanMetricsOptions& o) {
+  PlanMetrics m = DescribePlan(plan);
+  const double cell = std::max(0.5, 2.0 * o.match_m);
+  const SegGrid true_grid(truth.walls, cell);
+  const std::vector<Segment2> plan_segs = PlanSegments(plan);
+  const SegGrid plan_grid(plan_segs, cell);
+  const double cos_angle = std::cos(o.match_angle_deg * kPi / 180.0);
+  // Extent of everything: the farthest a nearest wall can be.
+  Vec2 lo(1e300, 1e300), hi = -lo;
+  for (const auto& s : truth.walls) lo = lo.cwiseMin(s.a).cwiseMin(s.b), hi = hi.cwiseMax(s.a).cwiseMax(s.b);
+  for (const auto& s : plan_segs) lo = lo.cwiseMin(s.a).cwiseMin(s.b), hi = hi.cwiseMax(s.a).cwiseMax(s.b);
+  const double diag = lo.x() <= hi.x() ? (hi - lo).norm() + 1.0 : 1.0;
+
+  // Precision and the plan side of duplication.
+  std::vector<double> dist;
+  for (const Segment2& s : plan_segs) {
+    const double len = s.length();
+    if (len <= 0) continue;
+    const Vec2 dir = (s.b - s.a) / len;
+    const int n = std::max(1, static_cast<int>(std::ceil(len / o.sample_step_m)));
+    const double each = len / n;
+    for (int i = 0; i < n; ++i) {
+      const Vec2 p = s.a + (i + 0.5) * each * dir;
+      dist.push_back(truth.walls.empty() ? std::numeric_limits<double>::infinity() : NearestAny(true_grid, p, cell, diag));
+      double d;
+      if (true_grid.Nearest(p, o.match_m, dir, cos_angle, &d) >= 0) m.matched_plan_length_m += each;
+    }
+  }
+  m.samples = static_cast<int64_t>(dist.size());
+  if (!dist.empty()) {
+    m.precision_p50_m = Percentile(dist, 0.50);
+    m.precision_p95_m = Percentile(dist, 0.95);
+  }
+  // The true side: true wall length with a matching plan wall on it.
+  for (const Segment2& s : truth.walls) {
+    const double len = s.length();
+    if (len <= 0) continue;
+    const Vec2 dir = (s.b - s.a) / len;
+    const int n = std::max(1, static_cast<int>(std::ceil(len / o.sample_step_m)));
+    const double each = len / n;
+    for (int i = 0; i < n; ++i) {
+      const Vec2 p = s.a + (i + 0.5) * each * dir;
+      double d;
+      if (plan_grid.Nearest(p, o.match_m, dir, cos_angle, &d) >= 0) m.covered_true_length_m += each;
+    }
+  }
+  if (m.covered_true_length_m > 0) m.duplication = m.matched_plan_length_m / m.covered_true_length_m;
+  // Recall as the ASR walls' (eval::WallRecall).
+  if (!plan.walls.empty() && !truth.walls.empty()) {
+    std::vector<Polyline> lines;
+    for (const auto& w : plan.walls) lines.push_back(w.points);
+    WallMetricsOptions wo;
+    wo.sample_step_m = o.sample_step_m;
+    wo.recall_within_m = o.recall_within_m;
+    wo.sensor_range_m = o.sensor_range_m;
+    m.recall = WallRecall(lines, truth.walls, true_path, wo).recall();
+  }
+
+  // Rooms: each true room against its best plan room (candidates through a box grid).
+  if (!truth.rooms.empty()) {
+    std::vector<BPoly> polys;
+    std::vector<bg::model::box<BPoint>> boxes;
+    std::unordered_map<int64_t, std::vector<int>> grid;
+    const double rc = 4.0;
+    auto C = [&](double v) { return static_cast<int64_t>(std::floor(v / rc)); };
+    for (const auto& r : plan.rooms) {
+      polys.push_back(Poly(r.polygon));
+      boxes.emplace_back();
+      bg::envelope(polys.back(), boxes.back());
+      const auto& b = boxes.back();
+      for (int64_t y = C(b.min_corner().y()); y <= C(b.max_corner().y()); ++y)
+        for (int64_t x = C(b.min_corner().x()); x <= C(b.max_corner().x()); ++x)
+          grid[(y << 32) ^ (x & 0xffffffffLL)].push_back(static_cast<int>(polys.size()) - 1);
+    }
+    for (const NamedBox& t : truth.rooms) {
+      const BPoly tp = Poly({t.min, {t.max.x(), t.min.y()}, t.max, {t.min.x(), t.max.y()}});
+      const double ta = bg::area(tp);
+      std::vector<int> cand;
+      for (int64_t y = C(t.min.y()); y <= C(t.max.y()); ++y)
+        for (int64_t x = C(t.min.x()); x <= C(t.max.x()); ++x) {
+          auto it = grid.find((y << 32) ^ (x & 0xffffffffLL));
+          if (it != grid.end()) cand.insert(cand.end(), it->second.begin(), it->second.end());
+        }
+      std::sort(cand.begin(), cand.end());
+      cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+      double best = 0.0;
+      for (int j : cand) {
+        const double inter = IntersectionArea(tp, polys[j]);
+        const double uni = ta + bg::area(polys[j]) - inter;
+        if (uni > 0) best = std::max(best, inter / uni);
+      }
+      m.room_iou.push_back(best);
+    }
+    std::vector<double> v = m.room_iou;
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    m.room_iou_median = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+  }
+  return m;
+}
+
+std::vector<std::pair<std::string, std::optional<double>>> PlanEvalKeys(const PlanMetrics& m, bool with_truth) {
+  std::vector<std::pair<std::string, std::optional<double>>> out = {
+      {"plan_walls", m.walls},
+      {"plan_rooms", m.rooms},
+      {"plan_doors", m.doors},
+      {"plan_wall_length_m", m.wall_length_m},
+      {"plan_vertices_per_m", m.vertices_per_m},
+      {"room_overlap_m2", m.room_overlap_m2},
+  };
+  if (with_truth) {
+    out.push_back({"plan_wall_precision_p50_m", m.precision_p50_m});
+    out.push_back({"plan_wall_precision_p95_m", m.precision_p95_m});
+    out.push_back({"plan_wall_recall", m.recall});
+    out.push_back({"plan_duplication", m.duplication});
+    out.push_back({"room_iou_median", m.room_iou_median});
+  }
+  return out;
+}
+
+}  // namespace cogmap::eval

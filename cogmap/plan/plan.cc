@@ -1,0 +1,1304 @@
+#include "cogmap/plan/plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <deque>
+#include <limits>
+#include <numeric>
+#include <set>
+#include <unordered_map>
+
+#include <Eigen/Eigenvalues>
+#include <boost/geometry.hpp>
+#include <boost/geometry/geometries/point_xy.hpp>
+#include <boost/geometry/geometries/polygon.hpp>
+
+#include "cogmap/core/angles.h"
+#include "cogmap/graph/registration.h"
+
+namespace cogmap::plan {
+namespace {
+
+namespace bg = boost::geometry;
+using BPoint = bg::model::d2::point_xy<double>;
+using BPoly = bg::model::polygon<BPoint, false, false>;  // counter-clockwise, open
+using BMulti = bg::model::multi_polygon<BPoly>;
+
+constexpr double kPi = 3.14159265358979323846;
+double Deg(double d) { return d * kPi / 180.0; }
+Vec2 Perp(const Vec2& v) { return {-v.y(), v.x()}; }
+double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Wraps an angle into [-pi/4, pi/4): its offset from the nearest quarter turn.
+double QuarterOffset(double a) {
+  const double q = kPi / 2.0;
+  return a - q * std::floor(a / q + 0.5);
+}
+
+// ------------------------------------------------------------------ spatial hash
+// Cells of 'cell' metres keyed in one 64-bit integer; lists of ids per cell.
+class CellHash {
+ public:
+  explicit CellHash(double cell) : cell_(cell) {}
+  void Add(const Vec2& lo, const Vec2& hi, int id) {
+    ForCells(lo, hi, [&](int64_t k) {
+      auto& v = cells_[k];
+      if (v.empty() || v.back() != id) v.push_back(id);
+    });
+  }
+  // Distinct ids listed in the cells of the box (order of first sight).
+  std::vector<int> Query(const Vec2& lo, const Vec2& hi) const {
+    std::vector<int> out;
+    ForCells(lo, hi, [&](int64_t k) {
+      auto it = cells_.find(k);
+      if (it == cells_.end()) return;
+      for (int id : it->second)
+        if (seen_.insert(id).second) out.push_back(id);
+    });
+    seen_.clear();
+    return out;
+  }
+
+ private:
+  template <class F>
+  void ForCells(const Vec2& lo, const Vec2& hi, F&& f) const {
+    const int64_t x0 = static_cast<int64_t>(std::floor(lo.x() / cell_)), x1 = static_cast<int64_t>(std::floor(hi.x() / cell_));
+    const int64_t y0 = static_cast<int64_t>(std::floor(lo.y() / cell_)), y1 = static_cast<int64_t>(std::floor(hi.y() / cell_));
+    for (int64_t y = y0; y <= y1; ++y)
+      for (int64_t x = x0; x <= x1; ++x) f((y << 32) ^ (x & 0xffffffffLL));
+  }
+  double cell_;
+  std::unordered_map<int64_t, std::vector<int>> cells_;
+  mutable std::set<int> seen_;
+};
+
+// ------------------------------------------------------------------ wall evidence
+struct Evidence {
+  Vec2 a, b, n;  // a faced ASR wall segment (world), n: free side
+  int asr = -1;
+  double length() const { return (b - a).norm(); }
+};
+
+// Second moments of a set of segments taken as uniform line densities.
+struct Moments {
+  double w = 0.0;
+  Vec2 s{0, 0};
+  Eigen::Matrix2d ss = Eigen::Matrix2d::Zero();
+  void Add(const Vec2& a, const Vec2& b, double weight) {
+    const double len = (b - a).norm();
+    if (len <= 0.0) return;
+    const double m = weight * len;
+    const Vec2 c = 0.5 * (a + b), d = b - a;
+    w += m;
+    s += m * c;
+    ss += m * (c * c.transpose() + d * d.transpose() / 12.0);
+  }
+  Vec2 Mean() const { return s / w; }
+  Eigen::Matrix2d Cov() const {
+    const Vec2 c = Mean();
+    return ss / w - c * c.transpose();
+  }
+};
+
+// One wall face: the evidence of every ASR that saw it, fitted as one line.
+struct Face {
+  Vec2 c{0, 0};  // a point on the line (weighted centroid)
+  Vec2 u{1, 0};  // direction
+  Vec2 n{0, 1};  // free side, perpendicular to u
+  Moments mom;
+  std::vector<int> members;
+  double tmin = 0.0, tmax = 0.0;  // extent along u from c
+  double sigma_theta = 0.0;       // standard error of the direction
+  bool squared = false;
+  void Refit(const Vec2 seed_normal) {  // by value: callers pass n itself
+    c = mom.Mean();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(mom.Cov());
+    u = es.eigenvectors().col(1).normalized();
+    n = Perp(u);
+    if (n.dot(seed_normal) < 0.0) n = -n;
+  }
+  double Offset(const Vec2& p) const { return n.dot(p - c); }
+  double Along(const Vec2& p) const { return u.dot(p - c); }
+};
+
+// A straight wall piece: a line and the intervals of it that are wall.
+struct Piece {
+  Vec2 c, u, n;
+  std::vector<std::pair<double, double>> spans;
+  std::set<int> asrs;
+  double weight = 0.0;  // metres seen, quality-weighted, per metre of extent
+  bool squared = false;
+  bool two_sided = false;
+};
+
+// Removes [lo, hi] from a sorted list of spans.
+void SubtractSpan(std::vector<std::pair<double, double>>* spans, double lo, double hi) {
+  std::vector<std::pair<double, double>> out;
+  for (const auto& [a, b] : *spans) {
+    if (b <= lo || a >= hi) {
+      out.push_back({a, b});
+      continue;
+    }
+    if (a < lo) out.push_back({a, lo});
+    if (b > hi) out.push_back({hi, b});
+  }
+  *spans = std::move(out);
+}
+
+// ------------------------------------------------------------------ geometry helpers
+std::vector<Vec2> ConvexHull(std::vector<Vec2> pts) {
+  std::sort(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  if (pts.size() < 3) return pts;
+  std::vector<Vec2> h(2 * pts.size());
+  size_t k = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && Cross(h[k - 1] - h[k - 2], pts[i] - h[k - 2]) <= 0) --k;
+    h[k++] = pts[i];
+  }
+  for (size_t i = pts.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && Cross(h[k - 1] - h[k - 2], pts[i] - h[k - 2]) <= 0) --k;
+    h[k++] = pts[i];
+  }
+  h.resize(k - 1);
+  return h;  // counter-clockwise
+}
+
+bool InConvex(const std::vector<Vec2>& hull, const Vec2& p) {
+  if (hull.size() < 3) return false;
+  for (size_t i = 0; i < hull.size(); ++i)
+    if (Cross(hull[(i + 1) % hull.size()] - hull[i], p - hull[i]) < -1e-9) return false;
+  return true;
+}
+
+double RingArea(const std::vector<Vec2>& ring) {
+  double a = 0.0;
+  for (size_t i = 0; i < ring.size(); ++i) a += Cross(ring[i], ring[(i + 1) % ring.size()]);
+  return 0.5 * a;
+}
+
+// Douglas-Peucker on an open chain, keeping both ends.
+void SimplifyChain(const std::vector<Vec2>& pts, size_t i0, size_t i1, double tol, std::vector<char>* keep) {
+  if (i1 <= i0 + 1) return;
+  double best = -1.0;
+  size_t bi = i0;
+  for (size_t i = i0 + 1; i < i1; ++i) {
+    const double d = PointSegmentDistance(pts[i], pts[i0], pts[i1]);
+    if (d > best) best = d, bi = i;
+  }
+  if (best > tol) {
+    (*keep)[bi] = 1;
+    SimplifyChain(pts, i0, bi, tol, keep);
+    SimplifyChain(pts, bi, i1, tol, keep);
+  }
+}
+
+// Douglas-Peucker on a closed ring: split at vertex 0 and the vertex farthest from it.
+std::vector<Vec2> SimplifyRing(const std::vector<Vec2>& ring, double tol) {
+  if (ring.size() <= 4) return ring;
+  size_t far = 0;
+  double best = -1;
+  for (size_t i = 1; i < ring.size(); ++i)
+    if ((ring[i] - ring[0]).norm() > best) best = (ring[i] - ring[0]).norm(), far = i;
+  std::vector<Vec2> pts = ring;
+  pts.push_back(ring[0]);
+  std::vector<char> keep(pts.size(), 0);
+  keep[0] = keep[far] = keep[pts.size() - 1] = 1;
+  SimplifyChain(pts, 0, far, tol, &keep);
+  SimplifyChain(pts, far, pts.size() - 1, tol, &keep);
+  std::vector<Vec2> out;
+  for (size_t i = 0; i + 1 < pts.size(); ++i)
+    if (keep[i]) out.push_back(pts[i]);
+  return out;
+}
+
+BPoly ToBoost(const std::vector<Vec2>& ring) {
+  BPoly p;
+  for (const Vec2& v : ring) p.outer().push_back(BPoint(v.x(), v.y()));
+  bg::correct(p);
+  return p;
+}
+
+std::vector<Vec2> FromBoost(const BPoly& p) {
+  std::vector<Vec2> out;
+  for (const auto& q : p.outer()) out.push_back(Vec2(q.x(), q.y()));
+  // Open ring: drop a repeated closing point and consecutive duplicates.
+  std::vector<Vec2> clean;
+  for (const Vec2& v : out)
+    if (clean.empty() || (v - clean.back()).norm() > 1e-9) clean.push_back(v);
+  while (clean.size() > 1 && (clean.front() - clean.back()).norm() <= 1e-9) clean.pop_back();
+  return clean;
+}
+
+// ------------------------------------------------------------------ room grid
+// A grid in the building frame (rotated by -phi so walls run along the axes).
+struct RoomGrid {
+  double cell = 0.1;
+  double phi = 0.0;
+  Vec2 lo{0, 0};
+  int w = 0, h = 0;
+  std::vector<uint8_t> blocked;
+  Vec2 ToFrame(const Vec2& p) const { return RotateAbout(p, Vec2(0, 0), -phi); }
+  Vec2 FromFrame(const Vec2& p) const { return RotateAbout(p, Vec2(0, 0), phi); }
+  bool Cell(const Vec2& world, int* cx, int* cy) const {
+    const Vec2 f = ToFrame(world);
+    *cx = static_cast<int>(std::floor((f.x() - lo.x()) / cell));
+    *cy = static_cast<int>(std::floor((f.y() - lo.y()) / cell));
+    return *cx >= 0 && *cy >= 0 && *cx < w && *cy < h;
+  }
+  Vec2 Center(int cx, int cy) const { return FromFrame(Vec2(lo.x() + (cx + 0.5) * cell, lo.y() + (cy + 0.5) * cell)); }
+  size_t Idx(int cx, int cy) const { return static_cast<size_t>(cy) * w + cx; }
+  // Marks the cells a segment crosses, 4-connected (a 4-connected flood cannot slip through).
+  void Block(const Vec2& a, const Vec2& b, std::vector<uint8_t>* mask, uint8_t value = 1) const {
+    const double len = (b - a).norm();
+    const int steps = std::max(1, static_cast<int>(std::ceil(len / (0.25 * cell))));
+    int px = 0, py = 0;
+    bool have = false;
+    for (int i = 0; i <= steps; ++i) {
+      int cx, cy;
+      if (!Cell(a + (b - a) * (static_cast<double>(i) / steps), &cx, &cy)) {
+        have = false;
+        continue;
+      }
+      if (have && cx != px && cy != py) (*mask)[Idx(px, cy)] = value;  // close the diagonal step
+      (*mask)[Idx(cx, cy)] = value;
+      px = cx, py = cy, have = true;
+    }
+  }
+};
+
+// Multi-source breadth-first flood: each seed cell's label spreads through free
+// cells its region allows, first come first served (a geodesic Voronoi split).
+std::vector<int> Flood(const RoomGrid& g, const std::vector<uint8_t>& blocked,
+                       const std::vector<std::vector<size_t>>& seeds,
+                       const std::vector<std::vector<Vec2>>& hulls_frame) {
+  std::vector<int> label(blocked.size(), -1);
+  std::deque<size_t> q;
+  auto allowed = [&](int r, size_t idx) {
+    const int cx = static_cast<int>(idx % g.w), cy = static_cast<int>(idx / g.w);
+    const Vec2 p(g.lo.x() + (cx + 0.5) * g.cell, g.lo.y() + (cy + 0.5) * g.cell);
+    return InConvex(hulls_frame[r], p);
+  };
+  for (size_t r = 0; r < seeds.size(); ++r)
+    for (size_t idx : seeds[r])
+      if (!blocked[idx] && label[idx] < 0) {
+        label[idx] = static_cast<int>(r);
+        q.push_back(idx);
+      }
+  while (!q.empty()) {
+    const size_t idx = q.front();
+    q.pop_front();
+    const int r = label[idx];
+    const int cx = static_cast<int>(idx % g.w), cy = static_cast<int>(idx / g.w);
+    const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+    for (int k = 0; k < 4; ++k) {
+      if (nx[k] < 0 || ny[k] < 0 || nx[k] >= g.w || ny[k] >= g.h) continue;
+      const size_t j = g.Idx(nx[k], ny[k]);
+      if (blocked[j] || label[j] >= 0 || !allowed(r, j)) continue;
+      label[j] = r;
+      q.push_back(j);
+    }
+  }
+  return label;
+}
+
+// The outline of the cells labelled 'r' (their largest 4-connected component,
+// holes filled), counter-clockwise, in the building frame; empty when none.
+std::vector<Vec2> TraceRegion(const RoomGrid& g, const std::vector<int>& label, int r, Vec2* inner_point) {
+  // Bounding box of the label.
+  int x0 = g.w, y0 = g.h, x1 = -1, y1 = -1;
+  for (int y = 0; y < g.h; ++y)
+    for (int x = 0; x < g.w; ++x)
+      if (label[g.Idx(x, y)] == r) x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+  if (x1 < 0) return {};
+  // Local mask with a one-cell frame.
+  const int W = x1 - x0 + 3, H = y1 - y0 + 3;
+  std::vector<int> comp(static_cast<size_t>(W) * H, -1);
+  auto in = [&](int x, int y) { return label[g.Idx(x0 + x - 1, y0 + y - 1)] == r; };
+  int best = -1, best_size = 0, ncomp = 0;
+  for (int y = 1; y < H - 1; ++y)
+    for (int x = 1; x < W - 1; ++x) {
+      if (!in(x, y) || comp[static_cast<size_t>(y) * W + x] >= 0) continue;
+      int size = 0;
+      std::vector<std::pair<int, int>> st{{x, y}};
+      comp[static_cast<size_t>(y) * W + x] = ncomp;
+      while (!st.empty()) {
+        auto [cx, cy] = st.back();
+        st.pop_back();
+        ++size;
+        const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+        for (int k = 0; k < 4; ++k) {
+          if (nx[k] < 1 || ny[k] < 1 || nx[k] >= W - 1 || ny[k] >= H - 1) continue;
+          const size_t j = static_cast<size_t>(ny[k]) * W + nx[k];
+          if (comp[j] >= 0 || !in(nx[k], ny[k])) continue;
+          comp[j] = ncomp;
+          st.push_back({nx[k], ny[k]});
+        }
+      }
+      if (size > best_size) best_size = size, best = ncomp;
+      ++ncomp;
+    }
+  // Fill holes: cells not reachable from the frame without crossing the component.
+  std::vector<uint8_t> outside(static_cast<size_t>(W) * H, 0);
+  std::vector<std::pair<int, int>> st{{0, 0}};
+  outside[0] = 1;
+  while (!st.empty()) {
+    auto [cx, cy] = st.back();
+    st.pop_back();
+    const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+    for (int k = 0; k < 4; ++k) {
+      if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
+      const size_t j = static_cast<size_t>(ny[k]) * W + nx[k];
+      if (outside[j] || comp[j] == best) continue;
+      outside[j] = 1;
+      st.push_back({nx[k], ny[k]});
+    }
+  }
+  auto filled = [&](int x, int y) {
+    if (x < 0 || y < 0 || x >= W || y >= H) return false;
+    return !outside[static_cast<size_t>(y) * W + x];
+  };
+  // Boundary edges with the region on the left, as a map from start vertex to
+  // end vertex (vertices are cell corners, keyed (x, y) on the local lattice).
+  auto key = [&](int x, int y) { return static_cast<int64_t>(y) * (W + 1) + x; };
+  std::unordered_map<int64_t, std::vector<int64_t>> next;
+  int64_t start = -1;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      if (!filled(x, y)) continue;
+      if (!filled(x, y - 1)) next[key(x, y)].push_back(key(x + 1, y));              // bottom, left to right
+      if (!filled(x + 1, y)) next[key(x + 1, y)].push_back(key(x + 1, y + 1));      // right, upwards
+      if (!filled(x, y + 1)) next[key(x + 1, y + 1)].push_back(key(x, y + 1));      // top, right to left
+      if (!filled(x - 1, y)) next[key(x, y + 1)].push_back(key(x, y));              // left, downwards
+      if (start < 0 && !filled(x, y - 1)) start = key(x, y);
+    }
+  // Walk the outer loop; at a pinch (two ways out) take the left turn, which
+  // keeps the loop on the region's outline.
+  std::vector<Vec2> ring;
+  int64_t cur = start, prev = -1;
+  const size_t limit = next.size() * 2 + 8;
+  for (size_t guard = 0; guard < limit; ++guard) {
+    const int cx = static_cast<int>(cur % (W + 1)), cy = static_cast<int>(cur / (W + 1));
+    ring.push_back(Vec2(g.lo.x() + (x0 - 1 + cx) * g.cell, g.lo.y() + (y0 - 1 + cy) * g.cell));
+    auto& outs = next[cur];
+    if (outs.empty()) break;
+    size_t pick = 0;
+    if (outs.size() > 1 && prev >= 0) {
+      const Vec2 din(static_cast<double>(cx - prev % (W + 1)), static_cast<double>(cy - prev / (W + 1)));
+      double best_turn = -10;
+      for (size_t k = 0; k < outs.size(); ++k) {
+        const Vec2 dout(static_cast<double>(outs[k] % (W + 1) - cx), static_cast<double>(outs[k] / (W + 1) - cy));
+        const double turn = Cross(din, dout);  // > 0: left
+        if (turn > best_turn) best_turn = turn, pick = k;
+      }
+    }
+    const int64_t nxt = outs[pick];
+    outs.erase(outs.begin() + static_cast<long>(pick));
+    prev = cur;
+    cur = nxt;
+    if (cur == start) break;
+  }
+  // Merge collinear vertices.
+  std::vector<Vec2> out;
+  for (size_t i = 0; i < ring.size(); ++i) {
+    const Vec2& p = ring[(i + ring.size() - 1) % ring.size()];
+    const Vec2& c = ring[i];
+    const Vec2& n = ring[(i + 1) % ring.size()];
+    if (std::abs(Cross(c - p, n - c)) > 1e-12) out.push_back(c);
+  }
+  // The cell deepest inside (farthest from the outline, 4-distance) for the label.
+  if (inner_point) {
+    std::vector<int> dist(static_cast<size_t>(W) * H, -1);
+    std::deque<std::pair<int, int>> q;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x)
+        if (!filled(x, y)) dist[static_cast<size_t>(y) * W + x] = 0, q.push_back({x, y});
+    std::pair<int, int> deep{1, 1};
+    int dmax = -1;
+    while (!q.empty()) {
+      auto [cx, cy] = q.front();
+      q.pop_front();
+      const int d = dist[static_cast<size_t>(cy) * W + cx];
+      if (d > dmax) dmax = d, deep = {cx, cy};
+      const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+      for (int k = 0; k < 4; ++k) {
+        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
+        const size_t j = static_cast<size_t>(ny[k]) * W + nx[k];
+        if (dist[j] >= 0) continue;
+        dist[j] = d + 1;
+        q.push_back({nx[k], ny[k]});
+      }
+    }
+    *inner_point = Vec2(g.lo.x() + (x0 - 1 + deep.first + 0.5) * g.cell, g.lo.y() + (y0 - 1 + deep.second + 0.5) * g.cell);
+  }
+  return out;
+}
+
+// Principal lengths of a labelled region (a rectangle L x W has variances L^2/12, W^2/12).
+struct Shape {
+  double length_m = 0.0, width_m = 0.0, area_m2 = 0.0;
+  Vec2 axis{1, 0};
+};
+
+std::vector<Shape> RegionShapes(const RoomGrid& g, const std::vector<int>& label, int n) {
+  std::vector<Moments> m(n);
+  std::vector<double> cells(n, 0.0);
+  for (int y = 0; y < g.h; ++y)
+    for (int x = 0; x < g.w; ++x) {
+      const int r = label[g.Idx(x, y)];
+      if (r < 0) continue;
+      const Vec2 p(g.lo.x() + (x + 0.5) * g.cell, g.lo.y() + (y + 0.5) * g.cell);
+      m[r].w += 1.0;
+      m[r].s += p;
+      m[r].ss += p * p.transpose();
+      cells[r] += 1.0;
+    }
+  std::vector<Shape> out(n);
+  for (int r = 0; r < n; ++r) {
+    if (m[r].w < 1.0) continue;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(m[r].Cov());
+    const double cell_var = g.cell * g.cell / 12.0;
+    out[r].length_m = std::sqrt(12.0 * (std::max(0.0, es.eigenvalues()(1)) + cell_var));
+    out[r].width_m = std::sqrt(12.0 * (std::max(0.0, es.eigenvalues()(0)) + cell_var));
+    out[r].axis = g.FromFrame(es.eigenvectors().col(1)) ;
+    out[r].area_m2 = cells[r] * g.cell * g.cell;
+  }
+  return out;
+}
+
+struct UnionFind {
+  std::vector<int> p;
+  explicit UnionFind(int n) : p(n) { std::iota(p.begin(), p.end(), 0); }
+  int Find(int x) { return p[x] == x ? x : p[x] = Find(p[x]); }
+  bool Unite(int a, int b) {
+    a = Find(a), b = Find(b);
+    if (a == b) return false;
+    p[std::max(a, b)] = std::min(a, b);
+    return true;
+  }
+};
+
+// A door found for an exit, before the plan rooms are known.
+struct DoorCand {
+  Vec2 a, b;
+  int from_asr = -1, to_asr = -1;
+  bool in_wall = false;  // lies along walls: cut them
+  Vec2 line_c{0, 0}, line_u{1, 0};
+  double lo = 0, hi = 0;  // the gap along line_u from line_c
+};
+
+}  // namespace
+
+Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room_of_asr, const PlanOptions& o,
+               const std::map<int, std::vector<Pose2>>& placed_paths) {
+  Plan plan;
+  if (asrs.empty()) return plan;
+
+  // ---------------------------------------------------------------- inputs, placed
+  std::map<int, size_t> index_of;
+  for (size_t i = 0; i < asrs.size(); ++i) index_of[asrs[i].id] = i;
+  std::vector<std::vector<Vec2>> path(asrs.size());
+  std::vector<std::vector<Polyline>> walls(asrs.size());
+  std::vector<double> path_len(asrs.size(), 0.0);
+  std::optional<Pose2> home;
+  double first_time = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < asrs.size(); ++i) {
+    const asr::Asr& x = asrs[i];
+    std::vector<Pose2> poses;
+    auto it = placed_paths.find(x.id);
+    if (it != placed_paths.end() && !it->second.empty()) {
+      poses = it->second;
+    } else {
+      const Pose2 carry = x.world_from_local_corrected * x.world_from_local_raw.inverse();
+      for (const Pose2& p : x.path) poses.push_back(carry * p);
+    }
+    for (const Pose2& p : poses) path[i].push_back(p.translation());
+    for (size_t k = 1; k < path[i].size(); ++k) path_len[i] += (path[i][k] - path[i][k - 1]).norm();
+    walls[i] = x.WallsWorldCorrected();
+    if (!poses.empty() && (x.start_time_s < first_time || (!home && x.start_time_s == first_time))) {
+      first_time = x.start_time_s;
+      home = poses.front();
+    }
+  }
+  plan.home = home;
+
+  // ---------------------------------------------------------------- faces
+  std::vector<Evidence> ev;
+  for (size_t i = 0; i < asrs.size(); ++i)
+    for (const auto& f : graph::FaceWalls(walls[i], path[i], o.min_segment_m))
+      if (!path[i].empty()) ev.push_back({f.a, f.b, f.normal, static_cast<int>(i)});
+  std::sort(ev.begin(), ev.end(), [](const Evidence& a, const Evidence& b) { return a.length() > b.length(); });
+
+  const double cos_face = std::cos(Deg(o.face_angle_deg));
+  std::vector<Face> faces;
+  CellHash face_hash(2.0);
+  const Vec2 reach(o.same_face_m + o.join_gap_m, o.same_face_m + o.join_gap_m);
+  for (size_t e = 0; e < ev.size(); ++e) {
+    const Evidence& s = ev[e];
+    const Vec2 lo = s.a.cwiseMin(s.b), hi = s.a.cwiseMax(s.b);
+    int best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (int fi : face_hash.Query(lo - reach, hi + reach)) {
+      const Face& f = faces[fi];
+      if (f.n.dot(s.n) < cos_face) continue;
+      const double da = std::abs(f.Offset(s.a)), db = std::abs(f.Offset(s.b));
+      if (da > o.same_face_m || db > o.same_face_m) continue;
+      const double ta = f.Along(s.a), tb = f.Along(s.b);
+      if (std::max(ta, tb) < f.tmin - o.join_gap_m || std::min(ta, tb) > f.tmax + o.join_gap_m) continue;
+      if (da + db < best_d) best_d = da + db, best = fi;
+    }
+    if (best < 0) {
+      faces.emplace_back();
+      best = static_cast<int>(faces.size()) - 1;
+      faces[best].mom.Add(s.a, s.b, 1.0);
+      faces[best].Refit(s.n);
+      faces[best].tmin = std::min(faces[best].Along(s.a), faces[best].Along(s.b));
+      faces[best].tmax = std::max(faces[best].Along(s.a), faces[best].Along(s.b));
+    } else {
+      Face& f = faces[best];
+      f.mom.Add(s.a, s.b, 1.0);
+      f.Refit(f.n);
+      f.tmin = std::numeric_limits<double>::infinity(), f.tmax = -f.tmin;
+    }
+    Face& f = faces[best];
+    f.members.push_back(static_cast<int>(e));
+    if (f.members.size() > 1) {
+      for (int m : f.members) {
+        f.tmin = std::min({f.tmin, f.Along(ev[m].a), f.Along(ev[m].b)});
+        f.tmax = std::max({f.tmax, f.Along(ev[m].a), f.Along(ev[m].b)});
+      }
+    }
+    face_hash.Add(lo - Vec2(0.1, 0.1), hi + Vec2(0.1, 0.1), best);
+  }
+
+  // Refit each face with each ASR weighted by how well it saw it: the inverse
+  // of (floor^2 + its mean squared residual to the fitted line).
+  const double floor2 = o.residual_floor_m * o.residual_floor_m;
+  std::vector<std::map<int, double>> face_quality(faces.size());  // asr index -> quality in (0, 1]
+  for (size_t fi = 0; fi < faces.size(); ++fi) {
+    Face& f = faces[fi];
+    const Vec2 seed_n = f.n;
+    std::map<int, double> q;
+    for (int iter = 0; iter < 3; ++iter) {
+      std::map<int, std::pair<double, double>> sq;  // asr -> (sum len * msd, sum len)
+      for (int m : f.members) {
+        const double d0 = f.Offset(ev[m].a), d1 = f.Offset(ev[m].b), len = ev[m].length();
+        auto& acc = sq[ev[m].asr];
+        acc.first += len * (d0 * d0 + d0 * d1 + d1 * d1) / 3.0;
+        acc.second += len;
+      }
+      q.clear();
+      for (const auto& [a, acc] : sq) q[a] = floor2 / (floor2 + acc.first / acc.second);
+      Moments mom;
+      for (int m : f.members) mom.Add(ev[m].a, ev[m].b, q[ev[m].asr]);
+      f.mom = mom;
+      f.Refit(seed_n);
+    }
+    face_quality[fi] = q;
+    // Residual and direction standard error.
+    double sum_len = 0, sum_sq = 0;
+    Moments raw;
+    for (int m : f.members) {
+      const double d0 = f.Offset(ev[m].a), d1 = f.Offset(ev[m].b), len = ev[m].length();
+      sum_sq += q[ev[m].asr] * len * (d0 * d0 + d0 * d1 + d1 * d1) / 3.0;
+      sum_len += q[ev[m].asr] * len;
+      raw.Add(ev[m].a, ev[m].b, 1.0);
+    }
+    const double sigma_r2 = std::max(floor2, sum_sq / std::max(sum_len, 1e-9));
+    const double spread = std::max(f.u.dot(raw.Cov() * f.u) * raw.w, 1e-6);  // integral of (t - tbar)^2
+    f.sigma_theta = std::sqrt(sigma_r2 * o.correlation_length_m / spread);
+    f.tmin = std::numeric_limits<double>::infinity(), f.tmax = -f.tmin;
+    for (int m : f.members) {
+      f.tmin = std::min({f.tmin, f.Along(ev[m].a), f.Along(ev[m].b)});
+      f.tmax = std::max({f.tmax, f.Along(ev[m].a), f.Along(ev[m].b)});
+    }
+  }
+
+  // ---------------------------------------------------------------- dominant direction and squaring
+  {
+    std::vector<double> hist(90, 0.0);
+    for (const Face& f : faces) {
+      const double a = std::atan2(f.u.y(), f.u.x());
+      int bin = static_cast<int>(std::floor((QuarterOffset(a) + kPi / 4) / Deg(1.0)));
+      bin = ((bin % 90) + 90) % 90;
+      hist[bin] += f.mom.w > 0 ? (f.tmax - f.tmin) : 0.0;
+    }
+    int peak = 0;
+    double peak_v = -1;
+    for (int b = 0; b < 90; ++b) {
+      double v = 0;
+      for (int k = -2; k <= 2; ++k) v += hist[((b + k) % 90 + 90) % 90];
+      if (v > peak_v) peak_v = v, peak = b;
+    }
+    const double peak_angle = -kPi / 4 + (peak + 0.5) * Deg(1.0);
+    double sc = 0, ss = 0;
+    for (const Face& f : faces) {
+      const double a = std::atan2(f.u.y(), f.u.x());
+      const double d = QuarterOffset(a - peak_angle);
+      if (std::abs(d) > Deg(5.0)) continue;
+      const double w = f.tmax - f.tmin;
+      sc += w * std::cos(4 * a), ss += w * std::sin(4 * a);
+    }
+    double phi = sc == 0 && ss == 0 ? peak_angle : std::atan2(ss, sc) / 4.0;
+    phi = std::fmod(phi + 2 * kPi, kPi / 2);
+    plan.dominant_direction_rad = phi;
+    const double floor_theta = Deg(o.heading_floor_deg);
+    for (Face& f : faces) {
+      const double a = std::atan2(f.u.y(), f.u.x());
+      const double d = QuarterOffset(a - phi);
+      const double sigma = std::sqrt(f.sigma_theta * f.sigma_theta + floor_theta * floor_theta);
+      if (std::abs(d) <= o.square_z * sigma) {
+        const Vec2 n_old = f.n;
+        f.u = Vec2(std::cos(a - d), std::sin(a - d));
+        f.n = Perp(f.u);
+        if (f.n.dot(n_old) < 0) f.n = -f.n;
+        f.squared = true;
+        f.tmin = std::numeric_limits<double>::infinity(), f.tmax = -f.tmin;
+        for (int m : f.members) {
+          f.tmin = std::min({f.tmin, f.Along(ev[m].a), f.Along(ev[m].b)});
+          f.tmax = std::max({f.tmax, f.Along(ev[m].a), f.Along(ev[m].b)});
+        }
+      }
+    }
+  }
+
+  // ---------------------------------------------------------------- pieces (spans of each face)
+  std::vector<Piece> pieces;
+  for (size_t fi = 0; fi < faces.size(); ++fi) {
+    const Face& f = faces[fi];
+    std::vector<std::pair<double, double>> iv;
+    for (int m : f.members) {
+      const double ta = f.Along(ev[m].a), tb = f.Along(ev[m].b);
+      iv.push_back({std::min(ta, tb), std::max(ta, tb)});
+    }
+    std::sort(iv.begin(), iv.end());
+    std::vector<std::pair<double, double>> spans;
+    for (const auto& s : iv) {
+      if (!spans.empty() && s.first <= spans.back().second + o.join_gap_m)
+        spans.back().second = std::max(spans.back().second, s.second);
+      else
+        spans.push_back(s);
+    }
+    Piece p;
+    p.c = f.c, p.u = f.u, p.n = f.n, p.squared = f.squared;
+    double ext = 0.0;
+    for (const auto& s : spans)
+      if (s.second - s.first >= o.min_wall_m) p.spans.push_back(s), ext += s.second - s.first;
+    if (p.spans.empty()) continue;
+    double seen = 0.0;
+    for (int m : f.members) {
+      p.asrs.insert(asrs[ev[m].asr].id);
+      seen += ev[m].length() * face_quality[fi].at(ev[m].asr);
+    }
+    p.weight = seen;
+    pieces.push_back(std::move(p));
+  }
+
+  // ---------------------------------------------------------------- thin walls: opposite faces that coincide
+  {
+    CellHash hash(2.0);
+    auto box = [](const Piece& p, Vec2* lo, Vec2* hi) {
+      *lo = Vec2(1e300, 1e300), *hi = -*lo;
+      for (const auto& s : p.spans)
+        for (double t : {s.first, s.second}) {
+          const Vec2 q = p.c + t * p.u;
+          *lo = lo->cwiseMin(q), *hi = hi->cwiseMax(q);
+        }
+    };
+    for (size_t i = 0; i < pieces.size(); ++i) {
+      Vec2 lo, hi;
+      box(pieces[i], &lo, &hi);
+      hash.Add(lo, hi, static_cast<int>(i));
+    }
+    std::vector<Piece> merged;
+    const size_t n_pieces = pieces.size();
+    for (size_t i = 0; i < n_pieces; ++i) {
+      Vec2 lo, hi;
+      box(pieces[i], &lo, &hi);
+      const Vec2 m(o.thin_wall_m, o.thin_wall_m);
+      for (int j : hash.Query(lo - m, hi + m)) {
+        if (j <= static_cast<int>(i)) continue;
+        Piece& A = pieces[i];
+        Piece& B = pieces[j];
+        if (A.n.dot(B.n) > -cos_face) continue;
+        // B's spans in A's parameter; overlap with A's spans.
+        for (const auto& sb : std::vector<std::pair<double, double>>(B.spans)) {
+          const Vec2 q0 = B.c + sb.first * B.u, q1 = B.c + sb.second * B.u;
+          const double t0 = std::min(A.u.dot(q0 - A.c), A.u.dot(q1 - A.c));
+          const double t1 = std::max(A.u.dot(q0 - A.c), A.u.dot(q1 - A.c));
+          for (const auto& sa : std::vector<std::pair<double, double>>(A.spans)) {
+            const double o0 = std::max(t0, sa.first), o1 = std::min(t1, sa.second);
+            if (o1 - o0 < 0.1) continue;
+            // Separation at the overlap's two ends: B behind A (opposite A's free side).
+            auto on_b = [&](double t) {
+              const Vec2 pa = A.c + t * A.u;
+              const double along = B.u.dot(pa - B.c);
+              return B.c + along * B.u;
+            };
+            const Vec2 a0 = A.c + o0 * A.u, a1 = A.c + o1 * A.u, b0 = on_b(o0), b1 = on_b(o1);
+            const double s0 = -A.n.dot(b0 - a0), s1 = -A.n.dot(b1 - a1);
+            if (std::abs(s0) >= o.thin_wall_m || std::abs(s1) >= o.thin_wall_m) continue;
+            Piece t;
+            const Vec2 m0 = 0.5 * (a0 + b0), m1 = 0.5 * (a1 + b1);
+            t.c = m0;
+            t.u = (m1 - m0).normalized();
+            t.n = Perp(t.u);
+            if (t.n.dot(A.n) < 0) t.n = -t.n;
+            t.spans = {{0.0, (m1 - m0).norm()}};
+            t.asrs = A.asrs;
+            t.asrs.insert(B.asrs.begin(), B.asrs.end());
+            t.weight = A.weight + B.weight;
+            t.squared = A.squared && B.squared;
+            t.two_sided = true;
+            merged.push_back(t);
+            SubtractSpan(&A.spans, o0, o1);
+            const double u0 = B.u.dot(b0 - B.c), u1 = B.u.dot(b1 - B.c);
+            SubtractSpan(&B.spans, std::min(u0, u1), std::max(u0, u1));
+          }
+        }
+      }
+    }
+    for (auto& p : pieces) {
+      std::vector<std::pair<double, double>> keep;
+      for (const auto& s : p.spans)
+        if (s.second - s.first >= 0.5 * o.min_wall_m) keep.push_back(s);
+      p.spans = std::move(keep);
+    }
+    for (auto& m : merged) pieces.push_back(std::move(m));
+  }
+
+  // Straight walls: one per span.
+  struct Seg {
+    Vec2 a, b, n;
+    size_t piece;
+  };
+  std::vector<Seg> segs;
+  for (size_t i = 0; i < pieces.size(); ++i)
+    for (const auto& s : pieces[i].spans)
+      segs.push_back({pieces[i].c + s.first * pieces[i].u, pieces[i].c + s.second * pieces[i].u, pieces[i].n, i});
+
+  // ---------------------------------------------------------------- corners
+  {
+    CellHash ends(std::max(o.corner_m, 0.2));
+    for (size_t i = 0; i < segs.size(); ++i) {
+      ends.Add(segs[i].a, segs[i].a, static_cast<int>(2 * i));
+      ends.Add(segs[i].b, segs[i].b, static_cast<int>(2 * i + 1));
+    }
+    struct Cand {
+      double cost;
+      int e1, e2;
+      Vec2 x;
+    };
+    std::vector<Cand> cands;
+    const double min_sin = std::sin(Deg(o.corner_min_angle_deg));
+    const Vec2 r(o.corner_m, o.corner_m);
+    for (size_t i = 0; i < segs.size(); ++i)
+      for (int end = 0; end < 2; ++end) {
+        const Vec2 p = end ? segs[i].b : segs[i].a;
+        for (int e2 : ends.Query(p - r, p + r)) {
+          const size_t j = static_cast<size_t>(e2 / 2);
+          if (j <= i) continue;
+          const Vec2 q = (e2 % 2) ? segs[j].b : segs[j].a;
+          const Vec2 du = (segs[i].b - segs[i].a).normalized(), dv = (segs[j].b - segs[j].a).normalized();
+          const double den = Cross(du, dv);
+          if (std::abs(den) < min_sin) continue;
+          // Crossing of the two lines.
+          const double t = Cross(segs[j].a - segs[i].a, dv) / den;
+          const Vec2 x = segs[i].a + t * du;
+          const double d1 = (x - p).norm(), d2 = (x - q).norm();
+          if (d1 > o.corner_m || d2 > o.corner_m) continue;
+          // The end must move along its wall by extending or trimming only a little:
+          // a trim must not eat more than half the wall.
+          if ((x - (end ? segs[i].a : segs[i].b)).norm() < 0.5 * (segs[i].b - segs[i].a).norm()) continue;
+          if ((x - ((e2 % 2) ? segs[j].a : segs[j].b)).norm() < 0.5 * (segs[j].b - segs[j].a).norm()) continue;
+          cands.push_back({d1 + d2, static_cast<int>(2 * i + end), e2, x});
+        }
+      }
+    std::sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) { return a.cost < b.cost; });
+    std::vector<char> used(2 * segs.size(), 0);
+    for (const Cand& c : cands) {
+      if (used[c.e1] || used[c.e2]) continue;
+      used[c.e1] = used[c.e2] = 1;
+      for (int e : {c.e1, c.e2}) (e % 2 ? segs[e / 2].b : segs[e / 2].a) = c.x;
+    }
+  }
+
+  // ---------------------------------------------------------------- doors from exits
+  std::vector<DoorCand> door_cands;
+  {
+    CellHash seg_hash(2.0);
+    for (size_t i = 0; i < segs.size(); ++i) seg_hash.Add(segs[i].a.cwiseMin(segs[i].b), segs[i].a.cwiseMax(segs[i].b), static_cast<int>(i));
+    // One door per exit: an exit is listed by both of its ASRs; average its placed centres.
+    struct ExitAcc {
+      Vec2 sum{0, 0};
+      int n = 0;
+      double width = 0.0;
+      int from = -1, to = -1;
+    };
+    std::vector<ExitAcc> exits;
+    for (size_t i = 0; i < asrs.size(); ++i) {
+      const Pose2 carry = asrs[i].world_from_local_corrected * asrs[i].world_from_local_raw.inverse();
+      for (const asr::Exit& x : asrs[i].exits) {
+        const Vec2 c = carry * x.center_m;
+        bool found = false;
+        for (auto& e : exits)
+          if (e.from == x.from_asr && e.to == x.to_asr && (e.sum / e.n - c).norm() < 1.5) {
+            e.sum += c, ++e.n, found = true;
+            break;
+          }
+        if (!found) exits.push_back({c, 1, x.width_m, x.from_asr, x.to_asr});
+      }
+    }
+    for (const auto& e : exits) {
+      DoorCand d;
+      d.from_asr = e.from, d.to_asr = e.to;
+      const Vec2 c = e.sum / e.n;
+      const double w = std::clamp(e.width, o.min_door_m, o.max_door_m);
+      // The nearest wall line whose extent (grown by a door width) passes the exit.
+      const Vec2 r(o.door_search_m + o.max_door_m, o.door_search_m + o.max_door_m);
+      int best = -1;
+      double best_d = o.door_search_m;
+      for (int si : seg_hash.Query(c - r, c + r)) {
+        const Seg& s = segs[si];
+        const Vec2 u = (s.b - s.a).normalized();
+        const double t = u.dot(c - s.a), len = (s.b - s.a).norm();
+        if (t < -o.max_door_m || t > len + o.max_door_m) continue;
+        const double dist = std::abs(Perp(u).dot(c - s.a));
+        if (dist < best_d) best_d = dist, best = si;
+      }
+      if (best >= 0) {
+        const Seg& s = segs[best];
+        const Vec2 u = (s.b - s.a).normalized();
+        const Vec2 p = s.a + u.dot(c - s.a) * u;
+        // The faces along the door line: their covered spans on it.
+        std::vector<std::pair<double, double>> cov;
+        for (int si : seg_hash.Query(p - r, p + r)) {
+          const Seg& t = segs[si];
+          const Vec2 v = (t.b - t.a).normalized();
+          if (std::abs(v.dot(u)) < std::cos(Deg(o.face_angle_deg))) continue;
+          if (std::abs(Perp(u).dot(0.5 * (t.a + t.b) - p)) > o.wall_thickness_m &&
+              std::abs(Perp(u).dot(t.a - p)) > o.wall_thickness_m)
+            continue;
+          const double ta = u.dot(t.a - p), tb = u.dot(t.b - p);
+          cov.push_back({std::min(ta, tb), std::max(ta, tb)});
+        }
+        double lo = -std::numeric_limits<double>::infinity(), hi = -lo;
+        bool covered = false;
+        for (const auto& [a, b] : cov) {
+          if (a <= 0 && b >= 0) covered = true;
+          if (b <= 0) lo = std::max(lo, b);
+          if (a >= 0) hi = std::min(hi, a);
+        }
+        if (!covered && hi - lo >= o.min_door_m && hi - lo <= o.max_door_m) {
+          d.lo = lo, d.hi = hi;
+        } else {
+          d.lo = -0.5 * w, d.hi = 0.5 * w;
+        }
+        d.in_wall = true;
+        d.line_c = p, d.line_u = u;
+        d.a = p + d.lo * u, d.b = p + d.hi * u;
+      } else {
+        // No wall: an opening across the robot's way (a corridor cut). The
+        // door line is across the heading at the path point nearest the exit.
+        Vec2 dir(1, 0);
+        double nd = std::numeric_limits<double>::infinity();
+        for (int id : {e.from, e.to}) {
+          auto it = index_of.find(id);
+          if (it == index_of.end()) continue;
+          const auto& pp = path[it->second];
+          for (size_t k = 1; k < pp.size(); ++k) {
+            const double dd = PointSegmentDistance(c, pp[k - 1], pp[k]);
+            if (dd < nd && (pp[k] - pp[k - 1]).norm() > 1e-6) nd = dd, dir = (pp[k] - pp[k - 1]).normalized();
+          }
+        }
+        const Vec2 u = Perp(dir);
+        d.in_wall = false;
+        d.line_c = c, d.line_u = u;
+        d.lo = -0.5 * w, d.hi = 0.5 * w;
+        d.a = c + d.lo * u, d.b = c + d.hi * u;
+      }
+      door_cands.push_back(d);
+    }
+  }
+
+  // ---------------------------------------------------------------- room grid
+  RoomGrid g;
+  g.phi = plan.dominant_direction_rad;
+  {
+    Vec2 lo(1e300, 1e300), hi = -lo;
+    auto grow = [&](const Vec2& p) {
+      const Vec2 f = g.ToFrame(p);
+      lo = lo.cwiseMin(f), hi = hi.cwiseMax(f);
+    };
+    for (const auto& s : segs) grow(s.a), grow(s.b);
+    for (const auto& pp : path)
+      for (const auto& p : pp) grow(p);
+    for (const auto& ww : walls)
+      for (const auto& l : ww)
+        for (const auto& p : l) grow(p);
+    if (lo.x() > hi.x()) return plan;
+    lo -= Vec2(1, 1), hi += Vec2(1, 1);
+    g.cell = o.cell_m;
+    const double cells = (hi.x() - lo.x()) * (hi.y() - lo.y()) / (g.cell * g.cell);
+    if (cells > o.max_cells) g.cell *= std::sqrt(cells / o.max_cells);
+    g.lo = lo;
+    g.w = static_cast<int>(std::ceil((hi.x() - lo.x()) / g.cell));
+    g.h = static_cast<int>(std::ceil((hi.y() - lo.y()) / g.cell));
+  }
+  std::vector<uint8_t> wall_mask(static_cast<size_t>(g.w) * g.h, 0);
+  for (const auto& s : segs) g.Block(s.a, s.b, &wall_mask);
+  // A door across an open space reaches from wall to wall (up to 3 m each way).
+  auto door_span = [&](DoorCand* d) {
+    if (d->in_wall) return;
+    for (int side : {-1, 1}) {
+      double t = 0.0;
+      for (; t < 3.0; t += 0.5 * g.cell) {
+        int cx, cy;
+        if (!g.Cell(d->line_c + side * t * d->line_u, &cx, &cy) || wall_mask[g.Idx(cx, cy)]) break;
+      }
+      if (side < 0) d->lo = -t; else d->hi = t;
+    }
+    d->a = d->line_c + d->lo * d->line_u, d->b = d->line_c + d->hi * d->line_u;
+  };
+  for (auto& d : door_cands) door_span(&d);
+
+  // Graph rooms (store ids), slivers absorbed into their neighbour.
+  std::map<int, std::vector<size_t>> graph_members;  // store room id -> asr indices
+  std::vector<int> graph_of(asrs.size());
+  for (size_t i = 0; i < asrs.size(); ++i) {
+    auto it = room_of_asr.find(asrs[i].id);
+    graph_of[i] = it == room_of_asr.end() ? asrs[i].id : it->second;
+    graph_members[graph_of[i]].push_back(i);
+  }
+  // Unit (working room) per ASR: starts as the graph room.
+  std::vector<int> unit_of(asrs.size());
+  std::vector<int> unit_ids;  // graph room id of each unit
+  std::map<int, int> unit_of_graph;
+  for (const auto& [gid, members] : graph_members) {
+    unit_of_graph[gid] = static_cast<int>(unit_ids.size());
+    unit_ids.push_back(gid);
+  }
+  for (size_t i = 0; i < asrs.size(); ++i) unit_of[i] = unit_of_graph[graph_of[i]];
+  int n_units = static_cast<int>(unit_ids.size());
+  std::vector<double> unit_path(n_units, 0.0);
+  for (size_t i = 0; i < asrs.size(); ++i) unit_path[unit_of[i]] += path_len[i];
+  // Exit adjacency between units.
+  std::vector<std::set<int>> unit_adj(n_units);
+  for (const auto& d : door_cands) {
+    auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
+    if (a == index_of.end() || b == index_of.end()) continue;
+    const int ua = unit_of[a->second], ub = unit_of[b->second];
+    if (ua != ub) unit_adj[ua].insert(ub), unit_adj[ub].insert(ua);
+  }
+  UnionFind absorb(n_units);
+  for (int u = 0; u < n_units; ++u) {
+    if (unit_path[u] >= o.sliver_path_m) continue;
+    int best = -1;
+    for (int v : unit_adj[u])
+      if (unit_path[v] >= o.sliver_path_m && (best < 0 || unit_path[v] > unit_path[best])) best = v;
+    if (best < 0) {  // no neighbour through an exit: the nearest ASR before it in time
+      int first = -1, prev_id = std::numeric_limits<int>::min();
+      for (size_t i = 0; i < asrs.size(); ++i)
+        if (unit_of[i] == u && (first < 0 || asrs[i].id < first)) first = asrs[i].id;
+      for (size_t k = 0; k < asrs.size(); ++k)
+        if (asrs[k].id < first && asrs[k].id > prev_id && unit_path[unit_of[k]] >= o.sliver_path_m)
+          prev_id = asrs[k].id, best = unit_of[k];
+    }
+    if (best >= 0) absorb.p[u] = best;  // slivers point at a non-sliver: one step
+  }
+  auto unit_root = [&](int u) { return absorb.Find(u); };
+
+  // Seeds and allowed regions per working room.
+  auto build_regions = [&](const std::vector<int>& room_of_unit, int n_rooms, std::vector<std::vector<size_t>>* seeds,
+                           std::vector<std::vector<Vec2>>* hulls) {
+    seeds->assign(n_rooms, {});
+    hulls->assign(n_rooms, {});
+    std::vector<std::vector<Vec2>> hull_pts(n_rooms);
+    std::vector<std::vector<size_t>> all_path(n_rooms);
+    for (size_t i = 0; i < asrs.size(); ++i) {
+      const int r = room_of_unit[unit_root(unit_of[i])];
+      for (const auto& l : walls[i])
+        for (const auto& p : l) hull_pts[r].push_back(g.ToFrame(p));
+      for (const auto& p : path[i]) {
+        hull_pts[r].push_back(g.ToFrame(p));
+        int cx, cy;
+        if (!g.Cell(p, &cx, &cy)) continue;
+        all_path[r].push_back(g.Idx(cx, cy));
+        bool near_door = false;
+        for (const auto& d : door_cands)
+          if ((d.from_asr == asrs[i].id || d.to_asr == asrs[i].id) &&
+              PointSegmentDistance(p, d.a, d.b) < o.seed_door_clearance_m)
+            near_door = true;
+        if (!near_door) (*seeds)[r].push_back(g.Idx(cx, cy));
+      }
+    }
+    for (int r = 0; r < n_rooms; ++r) {
+      if ((*seeds)[r].empty()) (*seeds)[r] = all_path[r];
+      (*hulls)[r] = ConvexHull(hull_pts[r]);
+    }
+  };
+  auto door_mask = [&](const std::vector<int>& room_of_unit) {
+    std::vector<uint8_t> m = wall_mask;
+    for (const auto& d : door_cands) {
+      auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
+      if (a != index_of.end() && b != index_of.end() &&
+          room_of_unit[unit_root(unit_of[a->second])] == room_of_unit[unit_root(unit_of[b->second])])
+        continue;  // inside one room: no door
+      g.Block(d.a, d.b, &m);
+    }
+    return m;
+  };
+
+  // Pass 1: the units (graph rooms with slivers absorbed) split the free space.
+  std::vector<int> unit_room(n_units, -1);
+  int n1 = 0;
+  for (int u = 0; u < n_units; ++u)
+    if (unit_root(u) == u) unit_room[u] = n1++;
+  std::vector<std::vector<size_t>> seeds;
+  std::vector<std::vector<Vec2>> hulls;
+  build_regions(unit_room, n1, &seeds, &hulls);
+  std::vector<int> label = Flood(g, door_mask(unit_room), seeds, hulls);
+  const std::vector<Shape> shapes = RegionShapes(g, label, n1);
+
+  // Corridor pieces joined through exits are one corridor (a loop stays cut at one door).
+  std::vector<char> corridor_like(n1, 0);
+  for (int r = 0; r < n1; ++r)
+    corridor_like[r] = shapes[r].area_m2 > 0 && shapes[r].width_m <= o.corridor_max_width_m &&
+                       shapes[r].length_m >= o.corridor_min_aspect * shapes[r].width_m;
+  UnionFind corr(n1);
+  std::vector<char> in_corridor(n1, 0);
+  for (int u = 0; u < n_units; ++u) {
+    if (unit_room[u] < 0) continue;
+    for (int v : unit_adj[u]) {
+      const int ru = unit_room[unit_root(u)], rv = unit_room[unit_root(v)];
+      if (ru == rv || !corridor_like[ru] || !corridor_like[rv]) continue;
+      if (corr.Unite(ru, rv)) in_corridor[ru] = in_corridor[rv] = 1;
+    }
+  }
+  // Plan rooms: one per corridor group or remaining unit, ordered by first ASR.
+  std::vector<int> plan_of_r1(n1, -1);
+  std::vector<int> order;
+  for (size_t i = 0; i < asrs.size(); ++i) order.push_back(static_cast<int>(i));
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return asrs[a].id < asrs[b].id; });
+  int n_plan = 0;
+  std::vector<int> root_plan(n1, -1);
+  for (int i : order) {
+    const int r1 = unit_room[unit_root(unit_of[i])];
+    const int root = corr.Find(r1);
+    if (root_plan[root] < 0) root_plan[root] = n_plan++;
+  }
+  for (int r = 0; r < n1; ++r) plan_of_r1[r] = root_plan[corr.Find(r)];
+  std::vector<int> plan_of_unit(n_units, -1);
+  for (int u = 0; u < n_units; ++u) plan_of_unit[u] = plan_of_r1[unit_room[unit_root(u)]];
+
+  // Pass 2: the plan rooms.
+  build_regions(plan_of_unit, n_plan, &seeds, &hulls);
+  label = Flood(g, door_mask(plan_of_unit), seeds, hulls);
+
+  // ---------------------------------------------------------------- room polygons
+  std::vector<Room> rooms(n_plan);
+  std::vector<char> is_corridor(n_plan, 0);
+  for (int r = 0; r < n1; ++r)
+    if (in_corridor[r]) is_corridor[plan_of_r1[r]] = 1;
+  for (size_t i = 0; i < asrs.size(); ++i) {
+    Room& room = rooms[plan_of_unit[unit_of[i]]];
+    room.asr_ids.push_back(asrs[i].id);
+    room.graph_rooms.push_back(graph_of[i]);
+  }
+  std::vector<BPoly> polys(n_plan);
+  std::vector<Vec2> inner(n_plan, Vec2(0, 0));
+  std::vector<std::vector<Vec2>> rings(n_plan);
+  for (int r = 0; r < n_plan; ++r) {
+    Vec2 in_frame(0, 0);
+    std::vector<Vec2> ring = TraceRegion(g, label, r, &in_frame);
+    if (ring.size() < 3) continue;
+    std::vector<Vec2> simple = SimplifyRing(ring, o.polygon_tolerance_m);
+    if (simple.size() < 3 || std::abs(RingArea(simple)) < 1e-9) simple = ring;
+    for (auto& v : simple) v = g.FromFrame(v);
+    BPoly p = ToBoost(simple);
+    if (!bg::is_valid(p)) {
+      for (auto& v : ring) v = g.FromFrame(v);
+      p = ToBoost(ring);
+    }
+    // The region stops at the cells walls pass through, whose middle the
+    // walls run along: grow the outline by half a cell back onto the walls.
+    {
+      BMulti grown;
+      bg::buffer(p, grown, bg::strategy::buffer::distance_symmetric<double>(0.5 * g.cell),
+                 bg::strategy::buffer::side_straight(), bg::strategy::buffer::join_miter(),
+                 bg::strategy::buffer::end_flat(), bg::strategy::buffer::point_square());
+      double best_a = 0.0;
+      for (const auto& q : grown)
+        if (bg::area(q) > best_a) best_a = bg::area(q), p = q;
+      p.inners().clear();
+    }
+    polys[r] = p;
+    inner[r] = g.FromFrame(in_frame);
+  }
+  // No two rooms overlap: each room loses what the rooms before it (larger first) hold.
+  std::vector<int> by_area(n_plan);
+  std::iota(by_area.begin(), by_area.end(), 0);
+  std::vector<double> area0(n_plan);
+  for (int r = 0; r < n_plan; ++r) area0[r] = polys[r].outer().empty() ? 0.0 : bg::area(polys[r]);
+  std::stable_sort(by_area.begin(), by_area.end(), [&](int a, int b) { return area0[a] > area0[b]; });
+  {
+    CellHash held(4.0);
+    std::vector<BPoly> final_polys(n_plan);
+    for (int r : by_area) {
+      if (polys[r].outer().size() < 3) continue;
+      bg::model::box<BPoint> bb;
+      bg::envelope(polys[r], bb);
+      const Vec2 lo(bb.min_corner().x(), bb.min_corner().y()), hi(bb.max_corner().x(), bb.max_corner().y());
+      BMulti cur;
+      cur.push_back(polys[r]);
+      for (int other : held.Query(lo, hi)) {
+        if (!bg::intersects(cur, final_polys[other])) continue;
+        BMulti diff;
+        bg::difference(cur, final_polys[other], diff);
+        cur = std::move(diff);
+      }
+      // The largest piece, without holes.
+      double best_a = 0.0;
+      BPoly best;
+      for (const auto& p : cur) {
+        const double a = bg::area(p);
+        if (a > best_a) best_a = a, best = p;
+      }
+      best.inners().clear();
+      if (best_a < o.min_room_area_m2) continue;
+      final_polys[r] = best;
+      held.Add(lo, hi, r);
+    }
+    polys = std::move(final_polys);
+  }
+
+  // ---------------------------------------------------------------- assemble rooms
+  std::vector<int> room_index(n_plan, -1);  // plan room -> output index
+  int n_corr = 0, n_room = 0;
+  for (int r = 0; r < n_plan; ++r) {
+    if (polys[r].outer().size() < 3) continue;
+    Room room = rooms[r];
+    room.id = static_cast<int>(plan.rooms.size());
+    room.corridor = is_corridor[r];
+    room.name = room.corridor ? "Corridor " + std::to_string(++n_corr) : "Room " + std::to_string(++n_room);
+    room.polygon = FromBoost(polys[r]);
+    if (RingArea(room.polygon) < 0) std::reverse(room.polygon.begin(), room.polygon.end());
+    room.area_m2 = std::abs(RingArea(room.polygon));
+    std::sort(room.asr_ids.begin(), room.asr_ids.end());
+    std::sort(room.graph_rooms.begin(), room.graph_rooms.end());
+    room.graph_rooms.erase(std::unique(room.graph_rooms.begin(), room.graph_rooms.end()), room.graph_rooms.end());
+    room.label = inner[r];
+    if (!bg::within(BPoint(room.label.x(), room.label.y()), polys[r])) {
+      BPoint c;
+      bg::centroid(polys[r], c);
+      room.label = Vec2(c.x(), c.y());
+      if (!bg::within(c, polys[r])) {
+        // A point just inside the first edge.
+        const Vec2 e0 = room.polygon[0], e1 = room.polygon[1];
+        room.label = 0.5 * (e0 + e1) + 1e-3 * Perp((e1 - e0).normalized());
+      }
+    }
+    room_index[r] = room.id;
+    plan.rooms.push_back(std::move(room));
+  }
+
+  // ---------------------------------------------------------------- doors, cuts, edges
+  auto plan_room_of_asr = [&](int asr_id) {
+    auto it = index_of.find(asr_id);
+    if (it == index_of.end()) return -1;
+    return room_index[plan_of_unit[unit_of[it->second]]];
+  };
+  for (const auto& d : door_cands) {
+    const int ra = plan_room_of_asr(d.from_asr), rb = plan_room_of_asr(d.to_asr);
+    auto ia = index_of.find(d.from_asr), ib = index_of.find(d.to_asr);
+    if (ia != index_of.end() && ib != index_of.end() &&
+        plan_of_unit[unit_of[ia->second]] == plan_of_unit[unit_of[ib->second]])
+      continue;  // inside one plan room (corridor pieces, slivers, revisits)
+    Door door;
+    door.id = static_cast<int>(plan.doors.size());
+    door.a = d.a, door.b = d.b;
+    door.room_a = ra, door.room_b = rb;
+    door.from_asr = d.from_asr, door.to_asr = d.to_asr;
+    if (d.in_wall) {
+      // Cut the gap out of every face along the door line.
+      std::vector<Seg> out;
+      for (const Seg& s : segs) {
+        const Vec2 v = (s.b - s.a);
+        const double len = v.norm();
+        if (len <= 0) continue;
+        const Vec2 vu = v / len;
+        const bool along = std::abs(vu.dot(d.line_u)) >= std::cos(Deg(o.face_angle_deg));
+        const bool near = std::abs(Perp(d.line_u).dot(s.a - d.line_c)) <= o.wall_thickness_m ||
+                          std::abs(Perp(d.line_u).dot(s.b - d.line_c)) <= o.wall_thickness_m;
+        const double ta = d.line_u.dot(s.a - d.line_c), tb = d.line_u.dot(s.b - d.line_c);
+        if (!along || !near || std::max(ta, tb) <= d.lo || std::min(ta, tb) >= d.hi) {
+          out.push_back(s);
+          continue;
+        }
+        // Parameter along s of the door's ends.
+        const double k_lo = (d.lo - ta) / (tb - ta), k_hi = (d.hi - ta) / (tb - ta);
+        const double k0 = std::clamp(std::min(k_lo, k_hi), 0.0, 1.0), k1 = std::clamp(std::max(k_lo, k_hi), 0.0, 1.0);
+        if (k0 * len >= 0.05) out.push_back({s.a, s.a + k0 * v, s.n, s.piece});
+        if ((1.0 - k1) * len >= 0.05) out.push_back({s.a + k1 * v, s.b, s.n, s.piece});
+      }
+      segs = std::move(out);
+    }
+    if (ra >= 0) plan.rooms[ra].doors.push_back(door.id);
+    if (rb >= 0 && rb != ra) plan.rooms[rb].doors.push_back(door.id);
+    if (ra >= 0 && rb >= 0 && ra != rb) plan.edges.push_back({ra, rb, door.id});
+    plan.doors.push_back(door);
+  }
+
+  // ---------------------------------------------------------------- walls out
+  for (const Seg& s : segs) {
+    if ((s.b - s.a).norm() < 0.05) continue;
+    const Piece& p = pieces[s.piece];
+    Wall w;
+    w.points = {s.a, s.b};
+    w.free_on_left = Perp(s.b - s.a).dot(s.n) > 0;
+    const double ext = [&] {
+      double e = 0;
+      for (const auto& sp : p.spans) e += sp.second - sp.first;
+      return e;
+    }();
+    w.weight = ext > 0 ? p.weight * (s.b - s.a).norm() / ext : 0.0;
+    w.asr_ids.assign(p.asrs.begin(), p.asrs.end());
+    w.squared = p.squared;
+    w.two_sided = p.two_sided;
+    plan.walls.push_back(std::move(w));
+  }
+
+  // Bounds.
+  Vec2 lo(1e300, 1e300), hi = -lo;
+  for (const auto& w : plan.walls)
+    for (const auto& p : w.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  for (const auto& r : plan.rooms)
+    for (const auto& p : r.polygon) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  if (lo.x() <= hi.x()) plan.min = lo, plan.max = hi;
+  return plan;
+}
+
+Plan TransformPlan(const Pose2& pose, const Plan& plan) {
+  Plan out = plan;
+  for (auto& w : out.walls)
+    for (auto& p : w.points) p = pose * p;
+  for (auto& d : out.doors) d.a = pose * d.a, d.b = pose * d.b;
+  for (auto& r : out.rooms) {
+    for (auto& p : r.polygon) p = pose * p;
+    r.label = pose * r.label;
+  }
+  if (out.home) out.home = pose * *out.home;
+  out.dominant_direction_rad = std::fmod(std::fmod(plan.dominant_direction_rad + pose.theta, kPi / 2) + kPi / 2, kPi / 2);
+  Vec2 lo(1e300, 1e300), hi = -lo;
+  for (const auto& w : out.walls)
+    for (const auto& p : w.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  for (const auto& r : out.rooms)
+    for (const auto& p : r.polygon) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  if (lo.x() <= hi.x()) out.min = lo, out.max = hi;
+  return out;
+}
+
+}  // namespace cogmap::plan

@@ -1,0 +1,292 @@
+#include "cogmap/plan/plan.h"
+
+#include <gtest/gtest.h>
+
+#include <boost/geometry.hpp>
+#include <boost/geometry/geometries/point_xy.hpp>
+#include <boost/geometry/geometries/polygon.hpp>
+#include <cmath>
+
+namespace cogmap::plan {
+namespace {
+
+namespace bg = boost::geometry;
+using BPoint = bg::model::d2::point_xy<double>;
+using BPoly = bg::model::polygon<BPoint, false, false>;
+
+BPoly Poly(const std::vector<Vec2>& ring) {
+  BPoly p;
+  for (const Vec2& v : ring) p.outer().push_back(BPoint(v.x(), v.y()));
+  return p;
+}
+
+// An ASR placed at the identity (raw = corrected), its walls and path in the world.
+asr::Asr MakeAsr(int id, std::vector<Polyline> walls, std::vector<Vec2> path, double t0 = 0.0) {
+  asr::Asr a;
+  a.id = id;
+  a.walls_local = std::move(walls);
+  for (const Vec2& p : path) a.path.push_back(Pose2{p.x(), p.y(), 0.0});
+  a.start_time_s = t0;
+  return a;
+}
+
+// A straight path from a to b, every 0.1 m.
+std::vector<Vec2> Line(const Vec2& a, const Vec2& b) {
+  std::vector<Vec2> out;
+  const int n = std::max(1, static_cast<int>((b - a).norm() / 0.1));
+  for (int i = 0; i <= n; ++i) out.push_back(a + (b - a) * (static_cast<double>(i) / n));
+  return out;
+}
+
+// Walls of a box [x0, x1] x [y0, y1] as one closed polyline.
+Polyline Box(double x0, double y0, double x1, double y1) {
+  return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}, {x0, y0}};
+}
+
+// Does a wall lie on the line x = c (vertical) or y = c (horizontal) within tol?
+bool OnLine(const Wall& w, bool vertical, double c, double tol) {
+  for (const Vec2& p : w.points)
+    if (std::abs((vertical ? p.x() : p.y()) - c) > tol) return false;
+  return true;
+}
+
+TEST(BuildPlan, SquareRoomSeenTwiceGivesFourWalls) {
+  // Two ASRs of one room see the same 4 x 4 m walls, the second 4 cm off.
+  std::vector<asr::Asr> asrs = {
+      MakeAsr(0, {Box(0, 0, 4, 4)}, Line({1, 1}, {3, 1})),
+      MakeAsr(1, {Box(0.04, 0.04, 4.04, 4.04)}, Line({3, 3}, {1, 3}), 10.0),
+  };
+  const Plan plan = BuildPlan(asrs, {{0, 0}, {1, 0}});
+  ASSERT_EQ(plan.walls.size(), 4u);
+  int vertical = 0;
+  for (const Wall& w : plan.walls) {
+    EXPECT_EQ(w.asr_ids, (std::vector<int>{0, 1}));
+    EXPECT_TRUE(w.squared);
+    EXPECT_FALSE(w.two_sided);
+    EXPECT_NEAR(PolylineLength(w.points), 4.0, 0.05);  // corners closed: full length
+    if (OnLine(w, true, 0.02, 0.01) || OnLine(w, true, 4.02, 0.01)) ++vertical;
+  }
+  EXPECT_EQ(vertical, 2);
+  ASSERT_EQ(plan.rooms.size(), 1u);
+  EXPECT_EQ(plan.rooms[0].asr_ids, (std::vector<int>{0, 1}));
+  EXPECT_EQ(plan.rooms[0].graph_rooms, (std::vector<int>{0}));
+  EXPECT_EQ(plan.rooms[0].name, "Room 1");
+  EXPECT_NEAR(plan.rooms[0].area_m2, 16.0, 1.0);
+  ASSERT_TRUE(plan.home.has_value());
+  EXPECT_NEAR(plan.home->x, 1.0, 1e-9);
+  EXPECT_NEAR(plan.home->y, 1.0, 1e-9);
+}
+
+TEST(BuildPlan, EachWallFacesItsFreeSide) {
+  std::vector<asr::Asr> asrs = {MakeAsr(0, {Box(0, 0, 4, 4)}, Line({1, 2}, {3, 2}))};
+  const Plan plan = BuildPlan(asrs, {});
+  ASSERT_EQ(plan.walls.size(), 4u);
+  for (const Wall& w : plan.walls) {
+    const Vec2 d = w.points.back() - w.points.front();
+    const Vec2 left(-d.y(), d.x());
+    const Vec2 to_centre = Vec2(2, 2) - 0.5 * (w.points.front() + w.points.back());
+    EXPECT_EQ(w.free_on_left, left.dot(to_centre) > 0);
+  }
+}
+
+// Two rooms side by side; the wall between them seen from each side.
+std::vector<asr::Asr> TwoRooms(double thickness) {
+  const double xa = 4.0, xb = 4.0 + thickness;
+  return {
+      MakeAsr(0, {{{xa, 0}, {0, 0}, {0, 4}, {xa, 4}, {xa, 0}}}, Line({1, 2}, {3, 2})),
+      MakeAsr(1, {{{xb, 0}, {8, 0}, {8, 4}, {xb, 4}, {xb, 0}}}, Line({5.5, 2}, {7, 2}), 10.0),
+  };
+}
+
+TEST(BuildPlan, ThickWallSeenFromBothSidesStaysTwoWalls) {
+  const Plan plan = BuildPlan(TwoRooms(0.25), {});
+  std::vector<const Wall*> middle;
+  for (const Wall& w : plan.walls)
+    if (OnLine(w, true, 4.0, 0.02) || OnLine(w, true, 4.25, 0.02)) middle.push_back(&w);
+  ASSERT_EQ(middle.size(), 2u);
+  for (const Wall* w : middle) {
+    EXPECT_FALSE(w->two_sided);
+    ASSERT_EQ(w->asr_ids.size(), 1u);
+    const bool left_face = std::abs(w->points[0].x() - 4.0) < 0.02;
+    EXPECT_EQ(w->asr_ids[0], left_face ? 0 : 1);
+    // Free side: -x for the left room's face, +x for the right room's.
+    const Vec2 d = w->points.back() - w->points.front();
+    const Vec2 free = w->free_on_left ? Vec2(-d.y(), d.x()) : Vec2(d.y(), -d.x());
+    EXPECT_EQ(free.x() < 0, left_face);
+  }
+}
+
+TEST(BuildPlan, ThinWallSeenFromBothSidesIsOneWall) {
+  const Plan plan = BuildPlan(TwoRooms(0.06), {});
+  std::vector<const Wall*> middle;
+  for (const Wall& w : plan.walls)
+    if (OnLine(w, true, 4.03, 0.05)) middle.push_back(&w);
+  ASSERT_EQ(middle.size(), 1u);
+  EXPECT_TRUE(middle[0]->two_sided);
+  EXPECT_TRUE(OnLine(*middle[0], true, 4.03, 1e-6));
+  EXPECT_EQ(middle[0]->asr_ids, (std::vector<int>{0, 1}));
+}
+
+TEST(BuildPlan, ExitCutsADoorInTheWall) {
+  // Room A below y = 4, room B above; the wall y = 4 seen whole by both (thin),
+  // the robot went through at x = 3 (exit 0.9 m wide).
+  asr::Asr a = MakeAsr(0, {Box(0, 0, 6, 4)}, Line({3, 1}, {3, 3.5}));
+  asr::Asr b = MakeAsr(1, {Box(0, 4, 6, 8)}, Line({3, 4.5}, {3, 7}), 10.0);
+  a.exits.push_back({{3.0, 4.0}, 0.9, 0, 1});
+  b.exits.push_back({{3.0, 4.0}, 0.9, 0, 1});
+  const Plan plan = BuildPlan({a, b}, {});
+  ASSERT_EQ(plan.doors.size(), 1u);
+  const Door& d = plan.doors[0];
+  EXPECT_NEAR(d.width_m(), 0.9, 1e-6);
+  EXPECT_NEAR(d.center().x(), 3.0, 1e-6);
+  EXPECT_NEAR(d.center().y(), 4.0, 1e-6);
+  EXPECT_EQ(d.room_a, 0);
+  EXPECT_EQ(d.room_b, 1);
+  // The wall y = 4 is two pieces ending at the jambs 2.55 and 3.45.
+  std::vector<const Wall*> on;
+  for (const Wall& w : plan.walls)
+    if (OnLine(w, false, 4.0, 0.01)) on.push_back(&w);
+  ASSERT_EQ(on.size(), 2u);
+  for (const Wall* w : on) {
+    const double lo = std::min(w->points.front().x(), w->points.back().x());
+    const double hi = std::max(w->points.front().x(), w->points.back().x());
+    EXPECT_TRUE(std::abs(hi - 2.55) < 1e-6 || std::abs(lo - 3.45) < 1e-6) << lo << " " << hi;
+  }
+  ASSERT_EQ(plan.edges.size(), 1u);
+  EXPECT_EQ(plan.edges[0].door, 0);
+  EXPECT_EQ(plan.rooms[0].doors, (std::vector<int>{0}));
+  EXPECT_EQ(plan.rooms[1].doors, (std::vector<int>{0}));
+}
+
+TEST(BuildPlan, DoorGapAlreadyOpenIsKeptAtItsJambs) {
+  // The walls already show a 1.0 m gap at x = 2.5..3.5; the exit lies in it.
+  asr::Asr a = MakeAsr(0, {{{2.5, 4}, {0, 4}, {0, 0}, {6, 0}, {6, 4}, {3.5, 4}}}, Line({3, 1}, {3, 3.5}));
+  asr::Asr b = MakeAsr(1, {{{2.5, 4}, {0, 4}, {0, 8}, {6, 8}, {6, 4}, {3.5, 4}}}, Line({3, 4.5}, {3, 7}), 10.0);
+  a.exits.push_back({{3.1, 4.0}, 0.8, 0, 1});
+  const Plan plan = BuildPlan({a, b}, {});
+  ASSERT_EQ(plan.doors.size(), 1u);
+  const Vec2 lo = plan.doors[0].a.cwiseMin(plan.doors[0].b), hi = plan.doors[0].a.cwiseMax(plan.doors[0].b);
+  EXPECT_NEAR(lo.x(), 2.5, 1e-6);
+  EXPECT_NEAR(hi.x(), 3.5, 1e-6);
+}
+
+TEST(BuildPlan, OverlappingFootprintsAreSplitAtTheDoorLine) {
+  // Neither room saw the other's end: both outlines reach into the other room.
+  // The robot crossed from A to B at x = 4.5 (an opening with no wall).
+  asr::Asr a = MakeAsr(0, {{{6, 0}, {0, 0}, {0, 4}, {6, 4}}}, Line({1, 2}, {4.5, 2}));
+  asr::Asr b = MakeAsr(1, {{{3, 0}, {9, 0}, {9, 4}, {3, 4}}}, Line({4.5, 2}, {8, 2}), 10.0);
+  a.exits.push_back({{4.5, 2.0}, 1.0, 0, 1});
+  const Plan plan = BuildPlan({a, b}, {});
+  ASSERT_EQ(plan.rooms.size(), 2u);
+  const BPoly pa = Poly(plan.rooms[0].polygon), pb = Poly(plan.rooms[1].polygon);
+  EXPECT_TRUE(bg::is_valid(pa));
+  EXPECT_TRUE(bg::is_valid(pb));
+  std::vector<BPoly> inter;
+  bg::intersection(pa, pb, inter);
+  double overlap = 0.0;
+  for (const auto& p : inter) overlap += bg::area(p);
+  EXPECT_NEAR(overlap, 0.0, 1e-9);
+  // Each holds its side of the door line (4.5 x 4 m, less the wall cells).
+  EXPECT_NEAR(plan.rooms[0].area_m2, 18.0, 1.0);
+  EXPECT_NEAR(plan.rooms[1].area_m2, 18.0, 1.0);
+  for (const Vec2& v : plan.rooms[0].polygon) EXPECT_LE(v.x(), 4.5 + 0.1);
+  for (const Vec2& v : plan.rooms[1].polygon) EXPECT_GE(v.x(), 4.5 - 0.1);
+  // Counter-clockwise.
+  double area = 0;
+  const auto& r = plan.rooms[0].polygon;
+  for (size_t i = 0; i < r.size(); ++i) area += r[i].x() * r[(i + 1) % r.size()].y() - r[(i + 1) % r.size()].x() * r[i].y();
+  EXPECT_GT(area, 0.0);
+  ASSERT_EQ(plan.doors.size(), 1u);
+  EXPECT_NEAR(plan.doors[0].width_m(), 4.0, 0.25);  // the opening spans the room
+}
+
+TEST(BuildPlan, CorridorInThreePiecesIsOneCorridorRoom) {
+  std::vector<asr::Asr> asrs;
+  for (int k = 0; k < 3; ++k) {
+    const double x0 = 5.0 * k, x1 = x0 + 5.0;
+    std::vector<Polyline> w = {{{x0 - 0.5, 0}, {x1 + 0.5, 0}}, {{x0 - 0.5, 2}, {x1 + 0.5, 2}}};
+    if (k == 0) w.push_back({{0, 0}, {0, 2}});
+    if (k == 2) w.push_back({{15, 0}, {15, 2}});
+    asr::Asr a = MakeAsr(k, w, Line({x0 + 0.2, 1}, {x1 - 0.2, 1}), 10.0 * k);
+    if (k > 0) a.exits.push_back({{x0, 1.0}, 2.0, k - 1, k});
+    asrs.push_back(a);
+  }
+  const Plan plan = BuildPlan(asrs, {});
+  ASSERT_EQ(plan.rooms.size(), 1u);
+  EXPECT_TRUE(plan.rooms[0].corridor);
+  EXPECT_EQ(plan.rooms[0].name, "Corridor 1");
+  EXPECT_EQ(plan.rooms[0].asr_ids, (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(plan.rooms[0].graph_rooms, (std::vector<int>{0, 1, 2}));
+  EXPECT_TRUE(plan.doors.empty());
+  EXPECT_NEAR(plan.rooms[0].area_m2, 30.0, 1.5);
+  // The corridor's two long walls are one wall each.
+  int long_walls = 0;
+  for (const Wall& w : plan.walls)
+    if (PolylineLength(w.points) > 14.0) ++long_walls;
+  EXPECT_EQ(long_walls, 2);
+}
+
+TEST(BuildPlan, SliverIsAbsorbedByItsNeighbour) {
+  asr::Asr a = MakeAsr(0, {Box(0, 0, 4, 4)}, Line({1, 2}, {3.6, 2}));
+  asr::Asr s = MakeAsr(1, {{{4, 0}, {4, 4}}}, Line({3.7, 2}, {3.9, 2}), 5.0);  // 0.2 m of path
+  asr::Asr b = MakeAsr(2, {Box(4, 0, 8, 4)}, Line({4.4, 2}, {7, 2}), 10.0);
+  a.exits.push_back({{3.65, 2.0}, 0.9, 0, 1});
+  s.exits.push_back({{3.95, 2.0}, 0.9, 1, 2});
+  const Plan plan = BuildPlan({a, s, b}, {});
+  ASSERT_EQ(plan.rooms.size(), 2u);
+  int holder = -1;
+  for (const Room& r : plan.rooms)
+    for (int id : r.asr_ids)
+      if (id == 1) holder = r.id;
+  ASSERT_GE(holder, 0);
+  EXPECT_EQ(plan.rooms[holder].asr_ids.size(), 2u);
+}
+
+TEST(BuildPlan, RevisitsShareOneRoom) {
+  std::vector<asr::Asr> asrs = {
+      MakeAsr(0, {Box(0, 0, 4, 4)}, Line({1, 1}, {3, 1})),
+      MakeAsr(5, {Box(0, 0, 4, 4)}, Line({1, 3}, {3, 3}), 50.0),
+  };
+  const Plan plan = BuildPlan(asrs, {{0, 0}, {5, 0}});
+  ASSERT_EQ(plan.rooms.size(), 1u);
+  EXPECT_EQ(plan.rooms[0].asr_ids, (std::vector<int>{0, 5}));
+}
+
+TEST(BuildPlan, AngledWallStaysAngled) {
+  // A free-standing 2 m wall at 30 degrees to the room's walls: not squared.
+  const double c = std::cos(30.0 * 3.14159265358979 / 180.0), s = std::sin(30.0 * 3.14159265358979 / 180.0);
+  std::vector<asr::Asr> asrs = {
+      MakeAsr(0, {Box(0, 0, 6, 4), {{1, 2.5}, {1 + 2 * c, 2.5 + 2 * s}}}, Line({1, 1}, {5, 1}))};
+  const Plan plan = BuildPlan(asrs, {});
+  int angled = 0;
+  for (const Wall& w : plan.walls) {
+    const Vec2 d = w.points.back() - w.points.front();
+    const double a = std::abs(std::atan2(d.y(), d.x())) * 180.0 / 3.14159265358979;
+    if (std::abs(a - 30.0) < 0.5 || std::abs(a - 150.0) < 0.5) {
+      ++angled;
+      EXPECT_FALSE(w.squared);
+    }
+  }
+  EXPECT_EQ(angled, 1);
+}
+
+TEST(BuildPlan, SlightlyTiltedShortWallIsSquared) {
+  // A 1.5 m wall 2 degrees off the building's direction, seen once: within its
+  // uncertainty, so it is squared.
+  const double t = std::tan(2.0 * 3.14159265358979 / 180.0);
+  std::vector<asr::Asr> asrs = {MakeAsr(0, {Box(0, 0, 8, 6), {{2, 3}, {3.5, 3 + 1.5 * t}}}, Line({1, 1}, {7, 1}))};
+  const Plan plan = BuildPlan(asrs, {});
+  bool found = false;
+  for (const Wall& w : plan.walls)
+    if (std::abs(w.points.front().x() - 2.0) < 0.3 && std::abs(w.points.front().y() - 3.0) < 0.3) {
+      found = true;
+      EXPECT_TRUE(w.squared);
+      const Vec2 d = w.points.back() - w.points.front();
+      const double off = std::remainder(std::atan2(d.y(), d.x()) - plan.dominant_direction_rad, 3.14159265358979 / 2);
+      EXPECT_NEAR(off, 0.0, 1e-9);
+    }
+  EXPECT_TRUE(found);
+}
+
+}  // namespace
+}  // namespace cogmap::plan
