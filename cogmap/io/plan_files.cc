@@ -139,11 +139,23 @@ std::string CollectionText(const json& head, const json& features) {
   return out + "]}\n";
 }
 
-std::string Fixed(double v, int digits) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*f", digits, v);
-  return b;
+}  // namespace
+
+double DominantWallDirection(const plan::Plan& plan) {
+  // Mean of 4 phi over the wall segments, weighted by length: walls at right
+  // angles vote for the same direction.
+  double s = 0.0, c = 0.0;
+  for (const auto& w : plan.walls)
+    for (size_t i = 1; i < w.points.size(); ++i) {
+      const Vec2 d = w.points[i] - w.points[i - 1];
+      const double len = d.norm(), phi = std::atan2(d.y(), d.x());
+      s += len * std::sin(4 * phi);
+      c += len * std::cos(4 * phi);
+    }
+  return s == 0.0 && c == 0.0 ? 0.0 : 0.25 * std::atan2(s, c);
 }
+
+namespace {
 
 }  // namespace
 
@@ -473,28 +485,37 @@ std::string FormatPlanAriaMap(const plan::Plan& plan) {
   out << "LineMinPos: " << mm(lo.x()) << " " << mm(lo.y()) << "\n";
   out << "LineMaxPos: " << mm(hi.x()) << " " << mm(hi.y()) << "\n";
   out << "NumLines: " << lines.size() << "\n";
-  out << "MapInfo: SectorType Name=Room \"Label=Room\" \"Desc=Room of the floor plan made by cogmap (bounding "
-         "rectangle of its polygon)\" Shape=Plain\n";
+  out << "MapInfo: SectorType Name=Room \"Label=Room\" \"Desc=Room of the floor plan made by cogmap (the "
+         "rectangle bounding its polygon along the building's walls)\" Shape=Plain\n";
   out << "MapInfo: BoundaryType Name=Doorway \"Label=Doorway\" \"Desc=Door of the floor plan made by cogmap (jamb "
          "to jamb)\"\n";
+  // Angles are whole degrees (the 2D-Map grammar's Theta is an Integer).
   if (plan.home)
     out << "Cairn: RobotHome " << mm(plan.home->x) << " " << mm(plan.home->y) << " "
-        << Fixed(RadToDeg(NormalizeAngle(plan.home->theta)), 1) << " \"\" ICON \"Home\"\n";
+        << std::lround(RadToDeg(NormalizeAngle(plan.home->theta))) << " \"\" ICON \"Home\"\n";
+  // ARIA sectors are rectangles, rotated by the cairn's theta about the map
+  // origin: each room is the rectangle bounding its polygon in the frame of
+  // the building's dominant wall direction.
+  const long theta_deg = std::lround(RadToDeg(DominantWallDirection(plan)));
+  const double theta = DegToRad(static_cast<double>(theta_deg));
+  const Pose2 rotate{0, 0, theta};
+  const Pose2 unrotate = rotate.inverse();
   for (const auto& r : plan.rooms) {
     if (r.polygon.empty()) continue;
-    Vec2 a = r.polygon.front(), b = r.polygon.front();
+    Vec2 a = unrotate * r.polygon.front(), b = a;
     for (const Vec2& p : r.polygon) {
-      a = a.cwiseMin(p);
-      b = b.cwiseMax(p);
+      a = a.cwiseMin(unrotate * p);
+      b = b.cwiseMax(unrotate * p);
     }
-    const Vec2 c = 0.5 * (a + b);
-    // Pose: the centre, rotation 0 (ARIA rotates from/to about the origin by theta).
-    out << "Cairn: Room " << mm(c.x()) << " " << mm(c.y()) << " 0.0 \"\" ICON \"" << aria_name(RoomName(r)) << "\" "
-        << mm(a.x()) << " " << mm(a.y()) << " " << mm(b.x()) << " " << mm(b.y()) << "\n";
+    const Vec2 c = rotate * Vec2(0.5 * (a + b));
+    // Pose: the rectangle's centre (ARIA does not use it for sectors) and the rotation.
+    out << "Cairn: Room " << mm(c.x()) << " " << mm(c.y()) << " " << theta_deg << " \"\" ICON \""
+        << aria_name(RoomName(r)) << "\" " << mm(a.x()) << " " << mm(a.y()) << " " << mm(b.x()) << " " << mm(b.y())
+        << "\n";
   }
   for (const auto& d : plan.doors) {
     const Vec2 c = d.center();
-    out << "Cairn: Doorway " << mm(c.x()) << " " << mm(c.y()) << " 0.0 \"\" ICON \"door" << d.id << "\" "
+    out << "Cairn: Doorway " << mm(c.x()) << " " << mm(c.y()) << " 0 \"\" ICON \"door" << d.id << "\" "
         << mm(d.a.x()) << " " << mm(d.a.y()) << " " << mm(d.b.x()) << " " << mm(d.b.y()) << "\n";
   }
   out << "LINES\n";

@@ -82,10 +82,15 @@ std::string FormatPlanGeoJson(const plan::Plan& plan, const std::optional<GeoAnc
 std::string FormatRouteGraphGeoJson(const plan::Plan& plan);
 
 // map.map: an ARIA 2D-Map: RobotHome, each room as a sector cairn "Room"
-// (ARIA sectors are rectangles: the room polygon's axis-aligned bounding
-// rectangle, with the room's name), each door as a boundary cairn "Doorway"
-// (jamb to jamb), every wall edge in LINES. Integer millimetres.
+// (ARIA sectors are rectangles, rotated by theta about the map origin: the
+// rectangle bounding the room polygon along DominantWallDirection, in whole
+// degrees, with the room's name), each door as a boundary cairn "Doorway"
+// (jamb to jamb), every wall edge in LINES. Integer millimetres and degrees.
 std::string FormatPlanAriaMap(const plan::Plan& plan);
+
+// The building's main wall direction in (-pi/4, pi/4]: the length-weighted
+// mean of the wall segments' directions modulo a right angle (0 without walls).
+double DominantWallDirection(const plan::Plan& plan);
 
 // The map_server cell for 'plan' under 'options' (see PlanFileOptions).
 double PlanRasterCell(const plan::Plan& plan, const PlanFileOptions& options);

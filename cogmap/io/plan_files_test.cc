@@ -542,6 +542,63 @@ TEST(PlanFiles, AriaMapReadsBackWithHomeRoomsDoorsAndLines) {
   EXPECT_EQ(r.plan.max, Vec2(10, 6));
 }
 
+plan::Plan Rotated(plan::Plan p, double angle_rad) {
+  const Pose2 r{0, 0, angle_rad};
+  for (auto& w : p.walls)
+    for (auto& v : w.points) v = r * v;
+  for (auto& room : p.rooms) {
+    for (auto& v : room.polygon) v = r * v;
+    room.label = r * room.label;
+  }
+  for (auto& d : p.doors) {
+    d.a = r * d.a;
+    d.b = r * d.b;
+  }
+  p.home = r * *p.home;
+  p.min = p.max = Vec2(0, 0);  // bounds from the contents
+  return p;
+}
+
+TEST(PlanFiles, DominantWallDirectionIsTheBuildingsAxisModuloRightAngles) {
+  EXPECT_NEAR(DominantWallDirection(CorridorAndTwoRooms()), 0.0, 1e-12);
+  EXPECT_NEAR(DominantWallDirection(Rotated(CorridorAndTwoRooms(), DegToRad(30))), DegToRad(30), 1e-9);
+  EXPECT_NEAR(DominantWallDirection(Rotated(CorridorAndTwoRooms(), DegToRad(120))), DegToRad(30), 1e-9);
+  EXPECT_NEAR(DominantWallDirection(Rotated(CorridorAndTwoRooms(), DegToRad(-70))), DegToRad(20), 1e-9);
+}
+
+// A building at 30 degrees to the map axes: each room is a sector rotated by
+// 30 degrees whose from/to are the room's own corners in the building's frame
+// (axis-aligned boxes would overlap their neighbours).
+TEST(PlanFiles, AriaSectorsFollowARotatedBuilding) {
+  const plan::Plan p = Rotated(CorridorAndTwoRooms(), DegToRad(30));
+  const std::string text = FormatPlanAriaMap(p);
+  EXPECT_NE(text.find("ICON \"Room 2\" 5000 2000 10000 6000\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("Cairn: Room "), std::string::npos);
+  std::istringstream in(text);
+  std::string line;
+  int rooms = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("Cairn: Room ", 0) != 0) continue;
+    ++rooms;
+    std::istringstream f(line.substr(12));
+    double x, y, theta;
+    f >> x >> y >> theta;
+    EXPECT_EQ(theta, 30.0) << line;
+  }
+  EXPECT_EQ(rooms, 3);
+  EXPECT_NE(text.find("Cairn: RobotHome 366 1366 30 \"\" ICON \"Home\""), std::string::npos) << text;
+  // cogmap's reader: the box around the rotated rectangle.
+  const WorldReadResult back = ParseAriaMap(text, "rotated.map");
+  ASSERT_EQ(back.plan.rooms.size(), 3u);
+  Vec2 lo = p.rooms[2].polygon[0], hi = lo;
+  for (const Vec2& v : p.rooms[2].polygon) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  EXPECT_NEAR((back.plan.rooms[2].min - lo).norm(), 0.0, 2e-3);
+  EXPECT_NEAR((back.plan.rooms[2].max - hi).norm(), 0.0, 2e-3);
+}
+
 // ------------------------------------------------------------------ map_server
 
 // 8-connected flood fill over free cells from 'start'.

@@ -165,8 +165,20 @@ WorldReadResult ParseAriaMap(const std::string& text, const std::string& path) {
     } else if (type == "Room" || type == "Doorway") {
       const auto v = numbers(c, 7, 4, "Cairn " + type + " '" + name + "' (x1 y1 x2 y2)");
       const Vec2 a(v[0] / 1000.0, v[1] / 1000.0), b(v[2] / 1000.0, v[3] / 1000.0);
-      if (type == "Room") plan.rooms.push_back({name, a.cwiseMin(b), a.cwiseMax(b)});
-      else plan.doorways.push_back({name, {a, b}});
+      if (type == "Room") {
+        // ARIA rotates a sector's rectangle by theta about the map origin; the
+        // room is the axis-aligned box around the rotated rectangle.
+        const Pose2 rot{0, 0, pose.theta};
+        const Vec2 c[] = {rot * a, rot * Vec2(b.x(), a.y()), rot * b, rot * Vec2(a.x(), b.y())};
+        Vec2 lo = c[0], hi = c[0];
+        for (const Vec2& p : c) {
+          lo = lo.cwiseMin(p);
+          hi = hi.cwiseMax(p);
+        }
+        plan.rooms.push_back({name, lo, hi});
+      } else {
+        plan.doorways.push_back({name, {a, b}});
+      }
     } else {
       result.warnings.push_back(path + ":" + std::to_string(line_no) + ": Cairn type '" + type + "' ('" +
                                 name + "') is not used by cogmap; ignored");

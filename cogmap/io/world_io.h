@@ -10,7 +10,9 @@ namespace cogmap::io {
 // ARIA/MobileSim "2D-Map" files (mm, degrees CCW) as FloorPlans (metres,
 // radians). Understood: LINES (walls), LineMinPos/LineMaxPos, Cairn RobotHome,
 // Cairn GoalWithHeading / Goal named wpNN (the route, in numeric order of NN),
-// and this project's Cairn Room / Doorway with "x1 y1 x2 y2" after the name.
+// and this project's Cairn Room / Doorway with "x1 y1 x2 y2" after the name
+// (a Room rotated by its theta about the origin, as ARIA rotates sectors, is
+// read as the axis-aligned box around the rotated rectangle).
 // Tolerated and ignored: the header keywords of ARIA (MinPos, MaxPos,
 // NumPoints, Resolution, MapInfo, ObjectInfo, ...), DATA points (counted in a
 // warning: they are laser scan points, not walls), other Cairn types
