@@ -152,7 +152,7 @@ py::object MapLog(const std::string& path, const std::string& output, const std:
   py::dict d = Json(s.report);
   d["outputs"] = s.written;
   d["warnings"] = s.warnings;
-  return std::move(d);
+  return d;
 }
 
 // The streaming pipeline, record by record, into a store on disk.

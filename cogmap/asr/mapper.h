@@ -107,6 +107,10 @@ class CognitiveMapper {
   int current_id() const { return current_ ? current_->asr.id : -1; }
   // Cells of the current room grid (0 when none).
   int64_t current_grid_cells() const;
+  // The grid of the room being mapped, in its local frame (nullptr when none),
+  // and where that frame lies in the raw odometry frame.
+  const grid::HimmFusion* current_grid() const { return current_ ? current_->grid.get() : nullptr; }
+  Pose2 current_world_from_local() const { return current_ ? current_->local_from_world.inverse() : Pose2{}; }
 
  private:
   struct Current {

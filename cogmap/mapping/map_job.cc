@@ -105,8 +105,7 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   const auto start = std::chrono::steady_clock::now();
   job.mapping.Validate();
   const sensors::RobotDescription robot = ResolveRobotFor(log, job.robot_spec);
-  std::optional<FloorPlan> truth_plan;
-  if (!job.world.empty()) truth_plan = io::ReadWorld(job.world).plan;
+  if (!job.world.empty()) io::ReadWorld(job.world);  // a bad world fails before mapping
 
   // The output folder (docs/store.md): locked for this run, everything written
   // into its staging folder and moved into place at the end.
@@ -146,16 +145,33 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
     throw;
   }
   const RunResult& run = pipeline.result();
-  const double mapping_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const long rss_mapping_kb = MaxRssKb();
+  OutputContext ctx;
+  ctx.store_path = folder->Final("map.sqlite");
+  ctx.run_id = folder->run_id();
+  ctx.start = start;
+  ctx.mapping_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ctx.rss_mapping_kb = MaxRssKb();
+  MapJobSummary out = WriteMapOutputs(*store, run, job, robot, folder->staging(), ctx);
+  // Everything is written: close the store (checkpointed, without WAL) and
+  // move the files into place, the store last.
+  store.reset();
+  folder->Commit("map.sqlite");
+  return out;
+}
 
+MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& run, const MapJob& job,
+                              const sensors::RobotDescription& robot, const std::string& dir,
+                              const OutputContext& octx) {
+  asr::SqliteAsrStore* store = &store_ref;
+  const std::string& staging = dir;
+  std::optional<FloorPlan> truth_plan;
+  if (!job.world.empty()) truth_plan = io::ReadWorld(job.world).plan;
   // The master map from everything in the store (earlier runs included).
   std::vector<asr::Asr> all;
   for (int id : store->Ids()) all.push_back(*store->Get(id));
   const io::MasterMap master = io::BuildMasterMap(all, !job.raw);
   MapJobSummary out;
   out.written = {"map.sqlite"};
-  const std::string staging = folder->staging();
   for (const auto& f : io::WriteMasterMapFiles(staging, master, {}, 0.05, MapOutputs(job.outputs)))
     out.written.push_back(fs::path(f).filename().string());
 
@@ -247,27 +263,23 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   ctx.heading = &heading;
   ctx.exits = out.exits;
   ctx.rooms = out.rooms;
-  ctx.store_path = folder->Final("map.sqlite");
-  ctx.run_id = folder->run_id();
-  ctx.mapping_seconds = mapping_seconds;
-  ctx.rss_mapping_kb = rss_mapping_kb;
+  ctx.store_path = octx.store_path;
+  ctx.run_id = octx.run_id;
+  ctx.mapping_seconds = octx.mapping_seconds;
+  ctx.rss_mapping_kb = octx.rss_mapping_kb;
   if (truth_plan) {
     const asr::RoomMetrics m = asr::EvaluateRooms(all, truth_plan->rooms);
     out.room_precision = m.room_precision;
     out.room_recall = m.room_recall;
     ctx.room_metrics = m;
   }
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - octx.start).count();
   out.times_real_time = out.seconds > 0 ? run.duration_s() / out.seconds : 0.0;
   ctx.total_seconds = out.seconds;
   out.report = MakeReport(ctx);
   io::WriteFileAtomically((fs::path(staging) / "report.json").string(), out.report.dump(2) + "\n");
   out.run = run;
   out.warnings = run.graph.warnings;
-  // Everything is written: close the store (checkpointed, without WAL) and
-  // move the files into place, the store last.
-  store.reset();
-  folder->Commit("map.sqlite");
   return out;
 }
 

@@ -4,6 +4,7 @@
 // report's pose_graph section). The command line, the Python bindings and the
 // ROS node's "write the floor plan" service call it; MappingPipeline is the
 // streaming part.
+#include <chrono>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -73,5 +74,22 @@ struct MapJobSummary {
 // that fails (an InputError from the log, a full disk) leaves the previous map
 // untouched and its own partial result in OUTDIR/failed-run-*/, then rethrows.
 MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job);
+
+// What report.json says about the run besides the store (RunMapJob fills it).
+struct OutputContext {
+  std::string store_path;
+  std::string run_id;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();  // of the whole job
+  double mapping_seconds = 0.0;
+  long rss_mapping_kb = 0;
+};
+
+// Every output of a mapped store, written into 'dir' (each file atomically):
+// the master map's files, the chosen pictures, walls.json and report.json.
+// 'run' is the pipeline's result for this run (RunMapJob; the ROS node when it
+// writes the floor plan). Returns the summary; does not commit anything.
+MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store, const RunResult& run, const MapJob& job,
+                              const sensors::RobotDescription& robot, const std::string& dir,
+                              const OutputContext& context);
 
 }  // namespace cogmap::mapping

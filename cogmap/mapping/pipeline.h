@@ -124,6 +124,8 @@ class MappingPipeline {
   const sensors::RobotDescription& robot() const { return robot_; }
   const MappingOptions& options() const { return options_; }
   const RunResult& result() const { return result_; }
+  // The mapper itself (the open room's grid, statistics), read-only.
+  const asr::CognitiveMapper& mapper() const { return *mapper_; }
 
  private:
   void Closed(const asr::Asr& x);
