@@ -13,6 +13,7 @@
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
 #include "cogmap/io/log_reader.h"
+#include "cogmap/io/plan_files.h"
 #include "cogmap/mapping/map_job.h"
 #include "cogmap/sensors/robot.h"
 
@@ -38,6 +39,7 @@ struct MapArgs {
   bool resume = false;
   bool raw = false;
   std::string world;
+  std::string geo_anchor;
   std::string output;
 };
 
@@ -66,6 +68,7 @@ int RunMap(const MapArgs& a) {
   job.resume = a.resume;
   job.raw = a.raw;
   job.world = a.world;
+  if (!a.geo_anchor.empty()) job.geo_anchor = io::ParseGeoAnchor(a.geo_anchor);
   ProgressBar bar("map");
   job.progress = [&bar](double f, int asrs) { bar.Update(f, std::to_string(asrs) + " ASRs"); };
   job.notice = [&bar](const std::string& s) {
@@ -81,6 +84,7 @@ int RunMap(const MapArgs& a) {
               "(%.1fx real time)\n",
               a.log.c_str(), s.records, s.asrs, s.asrs_this_run, s.exits, s.bytes_grid / 1024.0,
               s.bytes_polylines / 1024.0, s.seconds, s.times_real_time);
+  std::printf("floor plan: %d rooms, %d walls, %d doors\n", s.plan_rooms, s.plan_walls, s.plan_doors);
   if (s.room_precision)
     std::printf("rooms: precision %.3f recall %.3f\n", *s.room_precision, *s.room_recall);
   if (s.heading_asrs > 0)
@@ -141,10 +145,15 @@ std::function<int()> SetupMap(CLI::App& sub) {
                  "the log's ground truth stays): to test the correction on a real log")
       ->capture_default_str();
   sub.add_option("--outputs", a->outputs,
-                 "Files to write beside map.sqlite, walls.json and report.json, comma-separated: svg, png, pgm "
-                 "(map_server PGM + YAML), geojson, aria (map.map), compare (map_compare.svg/.png), heading "
-                 "(heading_error.png); default = svg,geojson,aria; all = every one")
+                 "Files to write beside map.sqlite, plan.json, walls.json and report.json, comma-separated: svg, "
+                 "png (the master map: every ASR's walls, path, room graph), pgm (map_server PGM + YAML of the "
+                 "floor plan), geojson, aria (map.map), gpkg (GeoPackage), route (route_graph.geojson for Nav2), "
+                 "compare (map_compare.svg/.png), heading (heading_error.png); default = "
+                 "svg,geojson,aria,gpkg,route; all = every one (docs/map-files.md)")
       ->capture_default_str();
+  sub.add_option("--geo-anchor", a->geo_anchor,
+                 "LAT,LON,HEADING_DEG: map.geojson in WGS 84, the map origin at this latitude/longitude and its +x "
+                 "axis at this bearing (degrees clockwise from north); without it map.geojson is in local metres");
   sub.add_flag("--raw", a->raw, "Draw the master map at the raw odometry poses (the store keeps both)");
   sub.add_flag("--resume", a->resume,
                "Continue into OUTDIR/map.sqlite: new ASRs append with the next ids; the log's first pose is "

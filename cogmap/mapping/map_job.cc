@@ -24,6 +24,8 @@
 #include "cogmap/localize/heading_corrector.h"
 #include "cogmap/localize/heading_error.h"
 #include "cogmap/mapping/report.h"
+#include "cogmap/plan/plan.h"
+#include "cogmap/plan/plan_json.h"
 #include "cogmap/sensors/robot_json.h"
 
 namespace cogmap::mapping {
@@ -66,33 +68,38 @@ std::unique_ptr<asr::SqliteAsrStore> OpenStore(io::OutputFolder& folder, bool re
   return asr::SqliteAsrStore::Open(folder.Staged("map.sqlite"), asr::SqliteAsrStore::OpenMode::kReplace);
 }
 
-io::MasterMapOutputs MapOutputs(const OutputChoice& c) { return {c.svg, c.png, c.pgm, c.geojson, c.aria}; }
+// The master map's pictures; its other files come from the floor plan.
+io::MasterMapOutputs MapOutputs(const OutputChoice& c) { return {c.svg, c.png, false, false, false}; }
 
 }  // namespace
 
 OutputChoice OutputChoice::All() {
   OutputChoice c;
-  c.svg = c.png = c.pgm = c.geojson = c.aria = c.compare = c.heading = true;
+  c.svg = c.png = c.pgm = c.geojson = c.aria = c.gpkg = c.route = c.compare = c.heading = true;
   return c;
 }
 
-std::string OutputChoice::Names() { return "default, all, svg, png, pgm, geojson, aria, compare, heading"; }
+std::string OutputChoice::Names() {
+  return "default, all, svg, png, pgm, geojson, aria, gpkg, route, compare, heading";
+}
 
 OutputChoice OutputChoice::Parse(const std::string& text) {
   OutputChoice c;
-  c.svg = c.png = c.pgm = c.geojson = c.aria = c.compare = c.heading = false;
+  c.svg = c.png = c.pgm = c.geojson = c.aria = c.gpkg = c.route = c.compare = c.heading = false;
   std::stringstream in(text);
   std::string item;
   bool any = false;
   while (std::getline(in, item, ',')) {
     any = true;
     if (item == "all") c = All();
-    else if (item == "default") c.svg = c.geojson = c.aria = true;
+    else if (item == "default") c.svg = c.geojson = c.aria = c.gpkg = c.route = true;
     else if (item == "svg") c.svg = true;
     else if (item == "png") c.png = true;
     else if (item == "pgm") c.pgm = true;
     else if (item == "geojson") c.geojson = true;
     else if (item == "aria") c.aria = true;
+    else if (item == "gpkg") c.gpkg = true;
+    else if (item == "route") c.route = true;
     else if (item == "compare") c.compare = true;
     else if (item == "heading") c.heading = true;
     else throw InputError("--outputs " + text + ": unknown output '" + item + "' (expected " + Names() + ")");
@@ -175,6 +182,30 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   for (const auto& f : io::WriteMasterMapFiles(staging, master, {}, 0.05, MapOutputs(job.outputs)))
     out.written.push_back(fs::path(f).filename().string());
 
+  // The robot's path through each ASR as placed (drift inside it removed).
+  std::map<int, std::vector<Pose2>> placed_paths;
+  for (int id : store->Ids())
+    if (auto p = store->GetPlacement(id)) placed_paths[id] = std::move(p->corrected_path);
+
+  // The floor plan (docs/floor-plan.md): plan.json always (cogmap eval reads
+  // it), and the files made from it.
+  std::map<int, int> room_of;
+  for (int id : store->Ids()) room_of[id] = store->RoomOf(id);
+  const plan::Plan floor_plan = plan::BuildPlan(all, room_of, {}, placed_paths);
+  io::WriteFileAtomically((fs::path(staging) / "plan.json").string(), plan::PlanToJsonText(floor_plan));
+  out.written.push_back("plan.json");
+  io::PlanFileOptions pf;
+  pf.geo_anchor = job.geo_anchor;
+  pf.gpkg = job.outputs.gpkg;
+  pf.geojson = job.outputs.geojson;
+  pf.route_graph = job.outputs.route;
+  pf.aria = job.outputs.aria;
+  pf.map_server = job.outputs.pgm;
+  for (const auto& f : io::WritePlanFiles(staging, floor_plan, pf)) out.written.push_back(fs::path(f).filename().string());
+  out.plan_rooms = static_cast<int>(floor_plan.rooms.size());
+  out.plan_walls = static_cast<int>(floor_plan.walls.size());
+  out.plan_doors = static_cast<int>(floor_plan.doors.size());
+
   // Before / after correction side by side.
   if (job.outputs.compare) {
     const io::MasterMap raw_map = io::BuildMasterMap(all, false);
@@ -202,9 +233,6 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
     out.written.push_back("map_compare.png");
   }
   // The heading error per ASR against the truth, on the path as placed.
-  std::map<int, std::vector<Pose2>> placed_paths;
-  for (int id : store->Ids())
-    if (auto p = store->GetPlacement(id)) placed_paths[id] = std::move(p->corrected_path);
   const localize::HeadingErrorStats heading = localize::ComputeHeadingErrors(all, placed_paths);
   if (job.outputs.heading && heading.asrs > 0) {
     io::WritePng((fs::path(staging) / "heading_error.png").string(), localize::PlotHeadingErrors(heading));

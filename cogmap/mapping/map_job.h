@@ -12,17 +12,22 @@
 #include <vector>
 
 #include "cogmap/io/log_reader.h"
+#include "cogmap/io/plan_files.h"
 #include "cogmap/mapping/pipeline.h"
 
 namespace cogmap::mapping {
 
-// `--outputs`: which files beside map.sqlite, walls.json and report.json.
+// `--outputs`: which files beside map.sqlite, plan.json, walls.json and
+// report.json. The floor plan's files (docs/map-files.md) are made from the
+// floor plan (docs/floor-plan.md); the master map pictures from the ASRs.
 struct OutputChoice {
-  bool svg = true;       // map.svg
+  bool svg = true;       // map.svg (every ASR's walls, the path, the room graph)
   bool png = false;      // map.png
-  bool pgm = false;      // map.pgm + map.yaml (ROS map_server)
-  bool geojson = true;   // map.geojson
-  bool aria = true;      // map.map (ARIA 2D-Map)
+  bool pgm = false;      // map.pgm + map.yaml (ROS map_server: the floor plan's free space)
+  bool geojson = true;   // map.geojson (floor plan: local metres, or WGS 84 with a geo anchor)
+  bool aria = true;      // map.map (ARIA 2D-Map: walls, RobotHome, rooms, doors)
+  bool gpkg = true;      // map.gpkg (GeoPackage: rooms, walls, doors, room graph)
+  bool route = true;     // route_graph.geojson (Nav2 Route Server)
   bool compare = false;  // map_compare.svg/.png
   bool heading = false;  // heading_error.png
   static OutputChoice All();
@@ -42,6 +47,7 @@ struct MapJob {
   bool resume = false;                   // continue OUTDIR/map.sqlite
   bool raw = false;                      // draw the master map at the raw odometry poses
   std::string world;                     // ground-truth world: room precision / recall
+  std::optional<io::GeoAnchor> geo_anchor;  // map.geojson in WGS 84 at this anchor
   // Progress: fraction of the log read, ASRs closed. Called every 256 records.
   std::function<void(double fraction, int asrs)> progress;
   // Messages for the user that cannot wait for the summary (a failed run's
@@ -64,6 +70,7 @@ struct MapJobSummary {
   double heading_median_raw_deg = 0.0, heading_max_raw_deg = 0.0;
   RunResult run;
   int rooms = 0;              // store rooms (revisits share one)
+  int plan_rooms = 0, plan_walls = 0, plan_doors = 0;  // the floor plan
   std::vector<std::string> written;  // file names in the output folder
   std::vector<std::string> warnings; // for the user (one line each)
   nlohmann::json report;             // what report.json holds
