@@ -15,6 +15,7 @@
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
 #include "cogmap/io/log_reader.h"
+#include "cogmap/mapping/evaluate.h"
 #include "cogmap/mapping/map_job.h"
 #include "cogmap/mapping/pipeline.h"
 #include "cogmap/sensors/robot.h"
@@ -285,5 +286,15 @@ PYBIND11_MODULE(cogmap, m) {
       .def("room_of", &Store::RoomOf)
       .def("asr", &Store::Asr, "One ASR: pose, walls (map frame), path as placed, exits, room")
       .def("meta", &Store::Meta);
+  m.def(
+      "evaluate",
+      [](const std::string& dir, const std::string& world, double range_m) {
+        cogmap::mapping::EvaluateOptions o;
+        o.world = world;
+        o.range_m = range_m;
+        return Json(cogmap::mapping::EvaluateFolder(dir, o).metrics);
+      },
+      py::arg("folder"), py::arg("world") = "", py::arg("range_m") = -1.0,
+      "Scores a map folder as `cogmap eval --json` does (against a world when given); returns the metrics as a dict");
   m.def("open_store", [](const std::string& path) { return Store(path); }, py::arg("path"));
 }

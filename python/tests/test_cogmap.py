@@ -96,6 +96,18 @@ def test_store_gives_walls_paths_and_rooms(command_map):
         store.asr(10**6)
 
 
+def test_evaluate_equals_the_command(command_map):
+    out, _ = command_map
+    world = os.path.join(SHARED, "worlds", "nine_rooms.map")
+    cmd = json.loads(subprocess.run([COGMAP, "eval", str(out), "--world", world, "--json"], check=True,
+                                    capture_output=True, text=True).stdout)
+    py = cogmap.evaluate(str(out), world=world)
+    assert py.keys() == cmd.keys()
+    for key in ("wall_precision_p95_m", "wall_recall", "ate_rmse_m", "room_recall", "asr_count"):
+        assert py[key] == pytest.approx(cmd[key]), key
+    assert py["ate_rmse_m"] < py["ate_rmse_m_raw"]  # the pose graph corrects the 1 deg/m drift
+
+
 def test_a_bad_log_is_an_input_error_naming_file_and_line(tmp_path):
     bad = tmp_path / "bad.log"
     bad.write_text("# cogmap-log 1\nrobot pioneer16\nODOM 0 0 0 0\nSWEEP 0 1 0 nan\n")

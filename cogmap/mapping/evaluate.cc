@@ -1,0 +1,258 @@
+#include "cogmap/mapping/evaluate.h"
+
+#include <algorithm>
+#include <cstdarg>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <optional>
+
+#include "cogmap/asr/room_metrics.h"
+#include "cogmap/asr/store.h"
+#include "cogmap/core/error.h"
+#include "cogmap/eval/plan_metrics.h"
+#include "cogmap/eval/trajectory_metrics.h"
+#include "cogmap/eval/wall_metrics.h"
+#include "cogmap/io/image.h"
+#include "cogmap/io/log_reader.h"
+#include "cogmap/io/polyline_io.h"
+#include "cogmap/io/stages_picture.h"
+#include "cogmap/io/svg.h"
+#include "cogmap/io/world_io.h"
+#include "cogmap/localize/heading_error.h"
+#include "cogmap/plan/plan_json.h"
+
+namespace cogmap::mapping {
+namespace {
+
+void Append(std::string* out, const char* format, ...) {
+  char buf[1024];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(buf, sizeof buf, format, args);
+  va_end(args);
+  *out += buf;
+}
+
+std::string Num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+}  // namespace
+
+Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o) {
+  const std::filesystem::path dir(dir_text);
+  const std::string walls_path = std::filesystem::is_directory(dir) ? (dir / "walls.json").string() : dir_text;
+  const io::WallsFile wf = io::ReadWallsJson(walls_path);
+  // Without a world (a real log with a reference trajectory, such as the
+  // corrected CARMEN logs) only the heading errors and sizes can be scored.
+  const bool have_world = !o.world.empty();
+  io::WorldReadResult world;
+  if (have_world) {
+    world = io::ReadWorld(o.world);
+    if (world.plan.walls.empty()) throw InputError(o.world, 0, "the world has no walls (LINES)");
+  }
+  if (!wf.has_truth)
+    throw InputError(wf.log_path, 0, "the log has no ground-truth poses: eval needs a run with truth "
+                                     "(e.g. from cogmap simulate, or a corrected CARMEN log)");
+  std::vector<Vec2> true_path;
+  // The true path from the folder's store when there is one (the folder is
+  // then self-contained: moved or copied, it evaluates without the log);
+  // else (cogmap vectorize's folder) from the log.
+  const std::filesystem::path folder_store =
+      std::filesystem::is_directory(dir) ? dir / "map.sqlite" : dir.parent_path() / "map.sqlite";
+  if (have_world && std::filesystem::exists(folder_store)) {
+    auto store = asr::SqliteAsrStore::Open(folder_store.string(), asr::SqliteAsrStore::OpenMode::kReadOnly);
+    for (int id : store->Ids())
+      if (auto x = store->Get(id))
+        for (const auto& p : x->true_path) true_path.push_back(p.translation());
+  }
+  if (have_world && true_path.empty()) {
+    auto log = io::OpenLog(wf.log_path, wf.log_format);
+    sensors::LogRecord rec;
+    while (log->Next(&rec))
+      if (rec.truth) true_path.push_back(rec.truth->translation());
+  }
+
+  const auto map_walls = Transform(wf.world_from_map, wf.polylines);
+  eval::WallMetricsOptions mo;
+  mo.sensor_range_m = o.range_m > 0.0 ? o.range_m : (wf.sensor_range_m > 0.0 ? wf.sensor_range_m : 3.0);
+  const auto prec = have_world ? eval::WallPrecision(map_walls, world.plan.walls, mo) : eval::PrecisionStats{};
+  const auto rec_st = have_world ? eval::WallRecall(map_walls, world.plan.walls, true_path, mo) : eval::RecallStats{};
+
+  if (!o.png.empty() && have_world) {
+    Vec2 lo = world.plan.min, hi = world.plan.max;
+    for (const auto& w : world.plan.walls) lo = lo.cwiseMin(w.a).cwiseMin(w.b), hi = hi.cwiseMax(w.a).cwiseMax(w.b);
+    for (const auto& l : map_walls)
+      for (const auto& v : l) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    lo -= Vec2(0.5, 0.5);
+    hi += Vec2(0.5, 0.5);
+    const double px_per_m = std::clamp(1600.0 / std::max(hi.x() - lo.x(), hi.y() - lo.y()), 5.0, 100.0);
+    io::WritePng(o.png, io::DrawWalls(map_walls, world.plan.walls, lo, hi, px_per_m));
+  }
+
+  Evaluation out;
+  nlohmann::json& j = out.metrics;
+  // No map walls: precision is undefined (null), recall 0.
+  if (prec.samples > 0) {
+    j["wall_precision_mean_m"] = prec.mean_m;
+    j["wall_precision_p95_m"] = prec.p95_m;
+    j["wall_precision_max_m"] = prec.max_m;
+  } else {
+    j["wall_precision_mean_m"] = nullptr;
+    j["wall_precision_p95_m"] = nullptr;
+    j["wall_precision_max_m"] = nullptr;
+  }
+  if (have_world) {
+    j["wall_recall"] = rec_st.recall();
+  } else {
+    j["wall_recall"] = nullptr;  // no world: nothing to compare the walls with
+  }
+  j["seeable_wall_length_m"] = rec_st.seeable_length_m;
+  j["found_wall_length_m"] = rec_st.found_length_m;
+  j["sensor_range_m"] = mo.sensor_range_m;
+  j["map_samples"] = prec.samples;
+  j["polylines"] = wf.polylines.size();
+  j["vertex_count"] = wf.vertex_count;
+  j["bytes_grid"] = wf.bytes_grid;
+  j["bytes_vertices"] = wf.bytes_vertices;
+  j["bytes_polylines"] = wf.bytes_polylines;
+  j["polylines_over_grid"] = wf.bytes_grid > 0 ? static_cast<double>(wf.bytes_polylines) / wf.bytes_grid : 0.0;
+  // A `cogmap map` folder: the ASRs add the room and heading metrics.
+  std::optional<asr::RoomMetrics> rooms;
+  std::optional<localize::HeadingErrorStats> headings;
+  std::optional<eval::TrajectoryMetrics> trajectory;
+  std::optional<eval::PoseCalibration> calibration;
+  const std::filesystem::path store_path = std::filesystem::is_directory(dir) ? dir / "map.sqlite" : dir.parent_path() / "map.sqlite";
+  if (std::filesystem::exists(store_path)) {
+    // Read only: works on a read-only folder or copy, and changes nothing.
+    auto store = asr::SqliteAsrStore::Open(store_path.string(), asr::SqliteAsrStore::OpenMode::kReadOnly);
+    std::vector<asr::Asr> asrs;
+    for (int id : store->Ids())
+      if (auto one = store->Get(id)) asrs.push_back(std::move(*one));
+    rooms = asr::EvaluateRooms(asrs, world.plan.rooms);
+    j["asr_count"] = rooms->asr_count;
+    if (have_world && !world.plan.rooms.empty()) {
+      j["room_precision"] = rooms->room_precision;
+      j["room_recall"] = rooms->room_recall;
+    } else {
+      j["room_precision"] = nullptr;  // the world has no ground-truth Room areas
+      j["room_recall"] = nullptr;
+    }
+    std::map<int, std::vector<Pose2>> placed_paths;
+    for (const auto& x : asrs)
+      if (auto p = store->GetPlacement(x.id)) placed_paths[x.id] = std::move(p->corrected_path);
+    headings = localize::ComputeHeadingErrors(asrs, placed_paths);
+    for (const auto& [key, value] : localize::HeadingErrorEvalKeys(*headings)) j[key] = value;
+    // ATE/RPE of the corrected and the raw trajectories against the log's
+    // reference poses (the same with or without a world: ATE aligns once, RPE
+    // is frame-free).
+    std::map<int, std::vector<Pose2>> corrected_paths;
+    for (const auto& x : asrs)
+      if (auto p = store->GetPlacement(x.id)) corrected_paths[x.id] = std::move(p->corrected_path);
+    const eval::AsrTrajectories traj = eval::PairAsrTrajectories(asrs, corrected_paths);
+    trajectory = eval::ComputeTrajectoryMetrics(traj);
+    for (const auto& [key, value] : eval::TrajectoryEvalKeys(*trajectory)) {
+      if (value) j[key] = *value;
+      else j[key] = nullptr;
+    }
+    // Calibration of the pose graph's covariances (issue 10): the ASRs the
+    // graph placed with a covariance, against their true frame poses.
+    std::map<int, Eigen::Matrix3d> covariances;
+    for (const auto& one : asrs)
+      if (const auto p = store->GetPlacement(one.id)) covariances[one.id] = p->covariance;
+    calibration = eval::ComputePoseCalibration(asrs, covariances);
+    for (const auto& [key, value] : eval::PoseCalibrationEvalKeys(*calibration)) {
+      if (value) j[key] = *value;
+      else j[key] = nullptr;
+    }
+  }
+  // The floor plan (issue 11), when the folder has one: in the world frame
+  // through walls.json's world_from_map, as the walls are.
+  std::optional<eval::PlanMetrics> plan_metrics;
+  const std::filesystem::path plan_path = std::filesystem::is_directory(dir) ? dir / "plan.json" : dir.parent_path() / "plan.json";
+  if (std::filesystem::exists(plan_path)) {
+    const plan::Plan fp = plan::TransformPlan(wf.world_from_map, plan::ReadPlanJson(plan_path.string()));
+    eval::PlanMetricsOptions po;
+    po.sensor_range_m = mo.sensor_range_m;
+    plan_metrics = have_world ? eval::EvaluatePlan(fp, world.plan, true_path, po) : eval::DescribePlan(fp);
+    for (const auto& [key, value] : eval::PlanEvalKeys(*plan_metrics, have_world)) {
+      if (value) j[key] = *value;
+      else j[key] = nullptr;
+    }
+    if (have_world && world.plan.rooms.empty()) j["room_iou_median"] = nullptr;  // no true rooms
+  }
+  j["mode"] = wf.mode;
+  j["log"] = wf.log_path;
+  if (have_world) j["world"] = o.world; else j["world"] = nullptr;
+  {
+    Append(&out.text, "%s vs %s (%s mode)\n", walls_path.c_str(), have_world ? o.world.c_str() : "(no world: headings only)",
+                wf.mode.c_str());
+    if (!have_world)
+      ;
+    else if (prec.samples > 0)
+      Append(&out.text, "  wall precision: mean %.3f m, p95 %.3f m, max %.3f m (%lld samples)\n", prec.mean_m, prec.p95_m,
+                  prec.max_m, static_cast<long long>(prec.samples));
+    else
+      Append(&out.text, "  wall precision: n/a (the map has no walls)\n");
+    if (have_world) Append(&out.text, "  wall recall: %.3f (%.1f of %.1f m seeable within %.1f m of the true path)\n", rec_st.recall(),
+                rec_st.found_length_m, rec_st.seeable_length_m, mo.sensor_range_m);
+    Append(&out.text, "  %zu polylines, %lld vertices; bytes grid %lld, vertices %lld, polylines %lld (%.2f%% of grid)\n",
+                wf.polylines.size(), static_cast<long long>(wf.vertex_count), static_cast<long long>(wf.bytes_grid),
+                static_cast<long long>(wf.bytes_vertices), static_cast<long long>(wf.bytes_polylines),
+                100.0 * j["polylines_over_grid"].get<double>());
+    if (rooms) {
+      if (have_world) Append(&out.text, "  %d ASRs; rooms: precision %.3f, recall %.3f (%d of %d rooms matched)\n", rooms->asr_count,
+                  rooms->room_precision, rooms->room_recall, rooms->matched_rooms, rooms->room_count);
+    }
+    if (plan_metrics) {
+      const auto& pm = *plan_metrics;
+      Append(&out.text, "  floor plan: %d walls (%.1f m, %.2f vertices/m), %d rooms, %d doors; room overlap %.2f m2\n", pm.walls,
+                  pm.wall_length_m, pm.vertices_per_m, pm.rooms, pm.doors, pm.room_overlap_m2);
+      if (have_world && pm.precision_p95_m)
+        Append(&out.text, "  floor-plan walls: precision p50 %.3f m, p95 %.3f m; recall %.3f; duplication %s; "
+                    "room IoU median %s\n",
+                    *pm.precision_p50_m, *pm.precision_p95_m, pm.recall,
+                    pm.duplication ? Num(*pm.duplication).c_str() : "n/a",
+                    pm.room_iou_median && !world.plan.rooms.empty() ? Num(*pm.room_iou_median).c_str() : "n/a");
+    }
+    if (j.contains("heading_error_deg_median")) {
+      Append(&out.text, "  heading error (deg, one global rotation removed): corrected median %.2f, max %.2f; "
+                  "raw median %.2f, max %.2f\n",
+                  j["heading_error_deg_median"].get<double>(), j["heading_error_deg_max"].get<double>(),
+                  j["heading_error_deg_median_raw"].get<double>(), j["heading_error_deg_max_raw"].get<double>());
+    }
+    if (trajectory && trajectory->ate.poses > 0) {
+      const auto& t = *trajectory;
+      Append(&out.text, "  trajectory (%d poses): ATE RMSE corrected %.3f m (median %.3f, max %.3f), raw %.3f m "
+                  "(median %.3f, max %.3f)\n",
+                  t.ate.poses, t.ate.rmse_m, t.ate.median_m, t.ate.max_m, t.ate_raw.rmse_m, t.ate_raw.median_m,
+                  t.ate_raw.max_m);
+      std::string line = "  RPE RMSE corrected / raw:";
+      for (size_t k = 0; k < t.rpe.size(); ++k) {
+        line += " " + Num(eval::TrajectoryDistances()[k]) + " m: ";
+        if (!t.rpe[k]) {
+          line += "n/a;";
+          continue;
+        }
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "%.3f / %.3f m, %.2f / %.2f deg;", t.rpe[k]->trans_rmse_m,
+                      t.rpe_raw[k]->trans_rmse_m, t.rpe[k]->rot_rmse_deg, t.rpe_raw[k]->rot_rmse_deg);
+        line += buf;
+      }
+      line.pop_back();
+      Append(&out.text, "%s\n", line.c_str());
+    }
+    if (calibration && calibration->checked() > 0) {
+      const auto& c = *calibration;
+      Append(&out.text, "  pose calibration: %d of %d placed ASRs within 3 sigma of the truth (position %d, heading %d; "
+                  "relative to ASR %d)\n",
+                  c.within(), c.checked(), c.position_within(), c.heading_within(), c.reference_asr);
+    }
+  }
+  return out;
+}
+
+}  // namespace cogmap::mapping
