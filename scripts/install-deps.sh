@@ -10,6 +10,8 @@ PKGS=(
   libboost-dev
   # ROS 1 bags (cogmap/io/ros1_bag*): rosbag_storage and the message headers
   librosbag-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev libgeometry-msgs-dev libstd-msgs-dev
+  # MRPT rawlogs (cogmap/io/mrpt_rawlog*)
+  libmrpt-dev
   python3
   gdal-bin  # ogrinfo: tests read map.gpkg and map.geojson back with GDAL
   pybind11-dev python3-dev python3-numpy python3-pytest
@@ -19,7 +21,7 @@ PKGS=(
 )
 # Peers for side-by-side comparisons (bench/), large: only with --peers.
 if [[ "${1:-}" == "--peers" ]]; then
-  PKGS+=(libopencv-dev libmrpt-dev mrpt-apps python3 python3-matplotlib)
+  PKGS+=(libopencv-dev mrpt-apps python3-matplotlib)
 fi
 missing=()
 for p in "${PKGS[@]}"; do

@@ -1,6 +1,7 @@
 #include "cogmap/io/log_reader.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -12,6 +13,7 @@
 #include "cogmap/io/pioneer_log.h"
 #include "cogmap/io/ros1_bag.h"
 #include "cogmap/io/ros2_bag.h"
+#include "cogmap/io/mrpt_rawlog.h"
 
 namespace cogmap::io {
 namespace {
@@ -83,6 +85,7 @@ std::string SniffFormat(const std::string& path) {
   if (base == "measurement.txt" || base == "poses.txt") return "pioneer";
   if (base == "metadata.yaml" || EndsWith(base, ".db3") || EndsWith(base, ".mcap")) return "ros2bag";
   if (HeadBytes(path, 12) == kRos1BagMagic) return "rosbag";
+  if (LooksLikeMrptRawlog(path)) return "rawlog";
   if (HeadBytes(path, 7) == "#ROSBAG")
     throw InputError(path, 1, "a ROS bag of another version than 2.0 ('" + HeadBytes(path, 12) + "'): cogmap reads 2.0");
   LineSource src(path);
@@ -94,13 +97,32 @@ std::string SniffFormat(const std::string& path) {
 
 }  // namespace
 
+std::optional<sensors::RobotDescription> MatchingBuiltinRobot(const sensors::RobotDescription& robot,
+                                                              double tolerance) {
+  auto near = [&](double a, double b) { return std::abs(a - b) <= tolerance; };
+  for (const auto& name : sensors::BuiltinRobotNames()) {
+    sensors::RobotDescription b = sensors::BuiltinRobot(name);
+    if (b.sensors.size() != robot.sensors.size()) continue;
+    bool same = true;
+    for (size_t i = 0; same && i < b.sensors.size(); ++i) {
+      const auto &p = b.sensors[i], &q = robot.sensors[i];
+      same = near(p.robot_from_sensor.x, q.robot_from_sensor.x) && near(p.robot_from_sensor.y, q.robot_from_sensor.y) &&
+             near(NormalizeAngle(p.robot_from_sensor.theta - q.robot_from_sensor.theta), 0.0) &&
+             near(p.beam_width_rad, q.beam_width_rad) && near(p.min_range_m, q.min_range_m) &&
+             near(p.max_range_m, q.max_range_m) && p.kind == q.kind;
+    }
+    if (same) return b;
+  }
+  return std::nullopt;
+}
+
 std::string DetectLogFormat(const std::string& path) {
   std::error_code ec;
   if (path != kStdinPath && !fs::exists(path, ec)) throw InputError(path, 0, "cannot open: no such file or folder");
   return SniffFormat(path);
 }
 
-std::vector<std::string> LogFormatNames() { return {"auto", "native", "carmen", "pioneer", "ev3", "rosbag", "ros2bag"}; }
+std::vector<std::string> LogFormatNames() { return {"auto", "native", "carmen", "pioneer", "ev3", "rosbag", "ros2bag", "rawlog"}; }
 
 std::unique_ptr<LogReader> OpenLog(const std::string& path, const std::string& format) {
   LogOpenOptions o;
@@ -115,6 +137,10 @@ std::unique_ptr<LogReader> OpenLog(const std::string& path, const LogOpenOptions
     if (path == kStdinPath)
       throw InputError(kStdinName, 0, "a ROS bag cannot be read from standard input (rosbag needs to seek): give its path");
     return OpenRos1Bag(path, options);
+  }
+  if (f == "rawlog") {
+    if (path == kStdinPath) throw InputError(kStdinName, 0, "an MRPT rawlog is read from its file: give its path");
+    return OpenMrptRawlog(path, options);
   }
   if (f == "ros2bag") {
     if (path == kStdinPath) throw InputError(kStdinName, 0, "a ROS 2 bag is a folder: give its path");

@@ -57,6 +57,13 @@ struct LogOpenOptions {
   std::optional<sensors::RobotDescription> robot;
 };
 
+// The built-in robot (sensors::BuiltinRobot) whose sensors equal 'robot's
+// within 'tolerance' (poses in metres and radians, cones, ranges), if any: a
+// log that stores geometry as float32 or quaternions reads back as the robot
+// it was written from.
+std::optional<sensors::RobotDescription> MatchingBuiltinRobot(const sensors::RobotDescription& robot,
+                                                              double tolerance = 1e-6);
+
 // Log formats: "native", "carmen", "pioneer" (measurement.txt + poses.txt:
 // give either file or their folder), "ev3", "rosbag" (ROS 1 .bag), "ros2bag"
 // (ROS 2 sqlite3 bag: its folder, metadata.yaml or a .db3), or "auto" (by

@@ -12,7 +12,7 @@ using ::testing::HasSubstr;
 using namespace testing_util;
 
 TEST(OpenLog, FormatNames) {
-  EXPECT_THAT(LogFormatNames(), ElementsAre("auto", "native", "carmen", "pioneer", "ev3", "rosbag", "ros2bag"));
+  EXPECT_THAT(LogFormatNames(), ElementsAre("auto", "native", "carmen", "pioneer", "ev3", "rosbag", "ros2bag", "rawlog"));
 }
 
 TEST(OpenLog, SniffsNative) {

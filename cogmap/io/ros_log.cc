@@ -597,13 +597,7 @@ class BagReader : public LogReader {
       robot_ = *options_.robot;
       return;
     }
-    for (const auto& name : sensors::BuiltinRobotNames()) {
-      const auto named = sensors::BuiltinRobot(name);
-      if (SameSensors(named.sensors, robot_.sensors, kBuiltinMatchTolerance)) {
-        robot_ = named;
-        return;
-      }
-    }
+    if (auto named = MatchingBuiltinRobot(robot_, kBuiltinMatchTolerance)) robot_ = *named;
   }
 
   // The transducers of a sonar cloud in frame F as tf frames F_0, F_1, ...
