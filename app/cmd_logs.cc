@@ -15,6 +15,7 @@
 #include "cogmap/io/ev3_log.h"
 #include "cogmap/io/log_reader.h"
 #include "cogmap/io/native_log.h"
+#include "cogmap/io/mrpt_rawlog.h"
 #include "cogmap/io/ros1_bag.h"
 #include "cogmap/sensors/as_sonar.h"
 #include "cogmap/sensors/robot_json.h"
@@ -181,6 +182,8 @@ int RunConvert(const std::string& path, const std::string& format, const std::ve
   };
   if (to == "rosbag") {
     io::WriteRosAriaBag(out_path, sonar ? *sonar : robot, next);
+  } else if (to == "rawlog") {
+    io::WriteMrptRawlog(out_path, sonar ? *sonar : robot, next);
   } else {
     io::WriteFileAtomically(out_path, [&](std::ostream& out) {
       io::NativeLogWriter writer(out, sonar ? *sonar : robot);
@@ -218,7 +221,7 @@ const bool kInfoRegistered = RegisterCommand(
      }});
 
 const bool kConvertRegistered = RegisterCommand(
-    {"convert", "Convert a log (CARMEN, pioneer, EV3, bags, native) into the native text log or a RosAria-style ROS 1 bag", 11,
+    {"convert", "Convert a log (CARMEN, pioneer, EV3, bags, rawlogs, native) into the native text log, a RosAria-style ROS 1 bag or an MRPT rawlog", 11,
      [](CLI::App& sub) -> std::function<int()> {
        auto path = std::make_shared<std::string>();
        auto format = std::make_shared<std::string>("auto");
@@ -234,8 +237,10 @@ const bool kConvertRegistered = RegisterCommand(
        sub.add_option("--to", *to,
                       "Output format: native (the text log), or rosbag (a ROS 1 bag as RosAria records it: "
                       "/RosAria/pose Odometry, /tf, sonar as PointCloud on /RosAria/sonar, lasers as LaserScan on "
-                      "/scan, /base_pose_ground_truth, sensor frames in /tf_static; docs/inputs.md)")
-           ->check(CLI::IsMember({"native", "rosbag"}))
+                      "/scan, /base_pose_ground_truth, sensor frames in /tf_static), or rawlog (an MRPT "
+                      "observations-only rawlog: CObservationOdometry, CObservationRange, CObservation2DRangeScan); "
+                      "docs/inputs.md")
+           ->check(CLI::IsMember({"native", "rosbag", "rawlog"}))
            ->capture_default_str();
        sub.add_option("--robot", *robot,
                       "Robot to write: a built-in name (pioneer16, pioneer8, pioneer8-course, p2at16, laser) or a "

@@ -64,6 +64,15 @@ struct LogOpenOptions {
 std::optional<sensors::RobotDescription> MatchingBuiltinRobot(const sensors::RobotDescription& robot,
                                                               double tolerance = 1e-6);
 
+// A laser of the robot as a scanner: consecutive laser sensors at one place
+// with one range interval, evenly spaced in angle (beam k at angle_min_rad +
+// k * increment_rad). For writers of formats with scans (bags, rawlogs).
+struct LaserFan {
+  int first = 0, count = 0;
+  double angle_min_rad = 0, increment_rad = 0;
+};
+std::vector<LaserFan> LaserFans(const sensors::RobotDescription& robot);
+
 // Log formats: "native", "carmen", "pioneer" (measurement.txt + poses.txt:
 // give either file or their folder), "ev3", "rosbag" (ROS 1 .bag), "ros2bag"
 // (ROS 2 sqlite3 bag: its folder, metadata.yaml or a .db3), or "auto" (by

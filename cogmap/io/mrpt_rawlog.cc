@@ -2,6 +2,7 @@
 
 #include <mrpt/core/Clock.h>
 #include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -13,6 +14,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <deque>
 #include <filesystem>
@@ -353,6 +355,96 @@ class RawlogReader : public LogReader {
 
 std::unique_ptr<LogReader> OpenMrptRawlog(const std::string& path, const LogOpenOptions& options) {
   return std::make_unique<RawlogReader>(path, options);
+}
+
+long WriteMrptRawlog(const std::string& path, const sensors::RobotDescription& robot,
+                     const std::function<bool(sensors::LogRecord*)>& next) {
+  const auto fans = LaserFans(robot);
+  std::vector<int> fan_of(robot.sensors.size(), -1);
+  for (size_t f = 0; f < fans.size(); ++f)
+    for (int k = 0; k < fans[f].count; ++k) fan_of[fans[f].first + k] = static_cast<int>(f);
+  const std::string tmp = path + ".partial";
+  long records = 0;
+  try {
+    {
+      mrpt::io::CFileGZOutputStream file;
+      if (!file.open(tmp)) throw InputError(path, 0, "cannot write");
+      auto arch = mrpt::serialization::archiveFrom(file);
+      sensors::LogRecord r;
+      while (next(&r)) {
+        ++records;
+        const auto stamp = mrpt::Clock::fromDouble(r.time_s);
+        mrpt::obs::CObservationOdometry odo;
+        odo.sensorLabel = "ODOMETRY";
+        odo.timestamp = stamp;
+        odo.odometry = mrpt::poses::CPose2D(r.odom.x, r.odom.y, r.odom.theta);
+        arch << odo;
+        if (r.ranges.empty()) continue;
+        mrpt::obs::CObservationRange sonar;
+        std::vector<mrpt::obs::CObservation2DRangeScan> scans(fans.size());
+        std::vector<bool> used(fans.size(), false);
+        for (const auto& q : r.ranges) {
+          if (q.sensor < 0 || q.sensor >= static_cast<int>(robot.sensors.size()))
+            throw InputError(path + ": record " + std::to_string(records) + ": reading of sensor " +
+                             std::to_string(q.sensor) + " but robot '" + robot.name + "' has " +
+                             std::to_string(robot.sensors.size()) + " sensors");
+          const auto& s = robot.sensors[q.sensor];
+          if (s.kind == sensors::SensorKind::kSonar) {
+            if (sonar.sensedData.empty()) {
+              sonar.sensorLabel = "SONAR";
+              sonar.timestamp = stamp;
+              sonar.minSensorDistance = static_cast<float>(s.min_range_m);
+              sonar.maxSensorDistance = static_cast<float>(s.max_range_m);
+              sonar.sensorConeApperture = static_cast<float>(s.beam_width_rad);
+            }
+            mrpt::obs::CObservationRange::TMeasurement m;
+            m.sensorID = static_cast<uint16_t>(q.sensor);
+            m.sensorPose = mrpt::math::TPose3D(s.robot_from_sensor.x, s.robot_from_sensor.y, 0.0,
+                                               s.robot_from_sensor.theta, 0.0, 0.0);
+            m.sensedDistance = static_cast<float>(q.range_m);
+            sonar.sensedData.push_back(m);
+            continue;
+          }
+          const int f = fan_of[q.sensor];
+          auto& scan = scans[f];
+          const LaserFan& fan = fans[f];
+          if (!used[f]) {
+            used[f] = true;
+            const double span = (fan.count - 1) * fan.increment_rad;
+            const auto& first = robot.sensors[fan.first].robot_from_sensor;
+            scan.sensorLabel = f == 0 ? "LASER" : "LASER" + std::to_string(f + 1);
+            scan.timestamp = stamp;
+            scan.aperture = static_cast<float>(std::abs(span));
+            scan.rightToLeft = span >= 0;
+            scan.maxRange = static_cast<float>(s.max_range_m);
+            scan.sensorPose = mrpt::poses::CPose3D(first.x, first.y, 0.0, fan.angle_min_rad + span / 2, 0.0, 0.0);
+            scan.resizeScan(fan.count);
+            for (int k = 0; k < fan.count; ++k) {
+              scan.setScanRange(k, static_cast<float>(s.max_range_m));
+              scan.setScanRangeValidity(k, false);
+            }
+          }
+          const int k = q.sensor - fan.first;
+          scan.setScanRange(k, static_cast<float>(q.range_m));
+          scan.setScanRangeValidity(k, q.range_m < s.max_range_m);
+        }
+        if (!sonar.sensedData.empty()) arch << sonar;
+        for (size_t f = 0; f < fans.size(); ++f)
+          if (used[f]) arch << scans[f];
+      }
+      file.close();
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) throw InputError(path, 0, "cannot write (" + ec.message() + ")");
+  } catch (const InputError&) {
+    std::remove(tmp.c_str());
+    throw;
+  } catch (const std::exception& e) {
+    std::remove(tmp.c_str());
+    throw InputError(path, 0, std::string("cannot write the rawlog (MRPT: ") + e.what() + ")");
+  }
+  return records;
 }
 
 bool LooksLikeMrptRawlog(const std::string& path) {

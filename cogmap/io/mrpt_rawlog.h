@@ -26,6 +26,7 @@
 // Bad input: a file MRPT cannot deserialize (not a rawlog, another MRPT
 // version's classes, a truncated entry) is one InputError naming the file and
 // the entry index.
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -34,6 +35,15 @@
 namespace cogmap::io {
 
 std::unique_ptr<LogReader> OpenMrptRawlog(const std::string& path, const LogOpenOptions& options = {});
+
+// Writes records as an observations-only rawlog (gzip): per record a
+// CObservationOdometry ("ODOMETRY") and, when it has readings, a
+// CObservationRange ("SONAR": sensorID = sensor index, sensorPose = the
+// sensor's pose) for sonar readings and a CObservation2DRangeScan ("LASER",
+// "LASER2", ... per laser fan, invalid where a beam has no reading) for laser
+// readings. Written all or nothing. Returns the number of records.
+long WriteMrptRawlog(const std::string& path, const sensors::RobotDescription& robot,
+                     const std::function<bool(sensors::LogRecord*)>& next);
 
 // True when the first bytes (gzip or not) look like an MRPT serialized object:
 // a class-name length byte with the high bit set followed by the class name.

@@ -14,37 +14,6 @@ namespace {
 
 namespace msg = cogmap::io::ros;  // the neutral messages; ::ros is ROS 1's namespace
 
-// A laser fan of the robot: consecutive laser sensors at one position,
-// evenly spaced in angle.
-struct Fan {
-  int first = 0, count = 0;
-  double angle_min = 0, increment = 0;
-};
-
-std::vector<Fan> LaserFans(const sensors::RobotDescription& robot) {
-  std::vector<Fan> fans;
-  const auto& s = robot.sensors;
-  for (size_t i = 0; i < s.size(); ++i) {
-    if (s[i].kind != sensors::SensorKind::kLaser) continue;
-    if (!fans.empty()) {
-      Fan& f = fans.back();
-      const auto& a = s[f.first];
-      const size_t last = f.first + f.count - 1;
-      const bool same_place = last + 1 == i && s[i].robot_from_sensor.x == a.robot_from_sensor.x &&
-                              s[i].robot_from_sensor.y == a.robot_from_sensor.y &&
-                              s[i].max_range_m == a.max_range_m && s[i].min_range_m == a.min_range_m;
-      const double step = NormalizeAngle(s[i].robot_from_sensor.theta - s[last].robot_from_sensor.theta);
-      if (same_place && (f.count == 1 || std::abs(step - f.increment) < 1e-9)) {
-        if (f.count == 1) f.increment = step;
-        ++f.count;
-        continue;
-      }
-    }
-    fans.push_back({static_cast<int>(i), 1, s[i].robot_from_sensor.theta, 0.0});
-  }
-  return fans;
-}
-
 msg::TransformStamped Stamped(int64_t ns, const std::string& parent, const std::string& child, double x, double y,
                              double yaw) {
   return {{ns, parent}, child, msg::FromPose2(x, y, yaw)};
@@ -122,10 +91,10 @@ long WriteRosAriaBag(const std::string& path, const sensors::RobotDescription& r
           auto& scan = scans[f];
           if (!used[f]) {
             used[f] = true;
-            const Fan& fan = fans[f];
+            const LaserFan& fan = fans[f];
             scan.header = {ns, fan_name(f, "laser")};
-            scan.angle_min_rad = fan.angle_min;
-            scan.angle_increment_rad = fan.increment;
+            scan.angle_min_rad = fan.angle_min_rad;
+            scan.angle_increment_rad = fan.increment_rad;
             scan.range_min_m = robot.sensors[fan.first].min_range_m;
             scan.range_max_m = robot.sensors[fan.first].max_range_m;
             scan.ranges.assign(fan.count, std::numeric_limits<float>::quiet_NaN());
