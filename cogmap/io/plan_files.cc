@@ -237,13 +237,13 @@ std::vector<GpkgLayer> PlanGpkgLayers(const plan::Plan& plan) {
 
   GpkgLayer walls{"walls", "Wall faces of the floor plan (one per physical face)", GpkgGeometryType::kLineString,
                   {{"weight", T::kReal}, {"squared", T::kBoolean}, {"free_on_left", T::kBoolean},
-                   {"length_m", T::kReal}, {"asr_ids", T::kText}},
+                   {"two_sided", T::kBoolean}, {"length_m", T::kReal}, {"asr_ids", T::kText}},
                   {}};
   for (const auto& w : plan.walls) {
     const auto pts = Dedupe(w.points, kEps);
     if (pts.size() < 2) continue;  // no degenerate lines
     walls.features.push_back(
-        {{GpkgGeometryType::kLineString, pts}, {w.weight, w.squared, w.free_on_left, PolylineLength(pts), ids_text(w.asr_ids)}});
+        {{GpkgGeometryType::kLineString, pts}, {w.weight, w.squared, w.free_on_left, w.two_sided, PolylineLength(pts), ids_text(w.asr_ids)}});
   }
   layers.push_back(std::move(walls));
 
@@ -332,6 +332,7 @@ std::string FormatPlanGeoJson(const plan::Plan& plan, const std::optional<GeoAnc
                                 {"weight", mm(w.weight)},
                                 {"squared", w.squared},
                                 {"free_on_left", w.free_on_left},
+                                {"two_sided", w.two_sided},
                                 {"length_m", mm(PolylineLength(w.points))}}));
   }
   for (const auto& d : plan.doors) {

@@ -20,6 +20,7 @@
 #include "cogmap/core/test_temp.h"
 #include "cogmap/io/grid_io.h"
 #include "cogmap/io/world_io.h"
+#include "cogmap/plan/plan.h"
 #include "cogmap/sim/building.h"
 
 namespace cogmap::io {
@@ -293,7 +294,7 @@ TEST(PlanFiles, GpkgLayersCarryTheAttributes) {
   EXPECT_TRUE(std::get<bool>(layers[0].features[0].values[3]));
   EXPECT_EQ(layers[1].name, "walls");
   EXPECT_EQ(layers[1].features.size(), 6u);  // the degenerate one left out
-  EXPECT_EQ(std::get<double>(layers[1].features[0].values[3]), 32.0);  // length_m of the outline
+  EXPECT_EQ(std::get<double>(layers[1].features[0].values[4]), 32.0);  // length_m of the outline
   EXPECT_EQ(layers[2].name, "doors");
   EXPECT_EQ(std::get<std::string>(layers[2].features[2].values[4]), "Room 1 | Room 2");
   EXPECT_NEAR(std::get<double>(layers[2].features[2].values[1]), 0.9, 1e-12);
@@ -707,6 +708,47 @@ TEST(PlanFiles, WritesEveryFileAtomically) {
   }
   EXPECT_EQ(files, expected.size());
   EXPECT_THROW(WritePlanFiles(dir + "/missing", CorridorAndTwoRooms()), InputError);
+}
+
+// The real floor plan (plan::BuildPlan) of two placed ASRs joined by an exit:
+// every file is written, the GeoPackage's geometries are valid for GDAL, the
+// route graph is the plan's room graph and the raster joins both rooms.
+TEST(PlanFiles, RealFloorPlanOfTwoRooms) {
+  auto make = [](int id, Polyline walls, Vec2 a, Vec2 b, double t0) {
+    asr::Asr x;
+    x.id = id;
+    x.walls_local = {std::move(walls)};
+    for (int i = 0; i <= 25; ++i) {
+      const Vec2 p = a + (b - a) * (i / 25.0);
+      x.path.push_back(Pose2{p.x(), p.y(), kPi / 2});
+    }
+    x.start_time_s = t0;
+    return x;
+  };
+  asr::Asr a = make(0, {{0, 0}, {6, 0}, {6, 4}, {0, 4}, {0, 0}}, {3, 1}, {3, 3.5}, 0.0);
+  asr::Asr b = make(1, {{0, 4}, {6, 4}, {6, 8}, {0, 8}, {0, 4}}, {3, 4.5}, {3, 7}, 10.0);
+  a.exits.push_back({{3.0, 4.0}, 0.9, 0, 1});
+  b.exits.push_back({{3.0, 4.0}, 0.9, 0, 1});
+  plan::Plan p = plan::BuildPlan({a, b}, {});
+  p.home = a.path.front();
+  ASSERT_EQ(p.rooms.size(), 2u);
+  ASSERT_EQ(p.edges.size(), 1u);
+  const std::string dir = FreshDir("real_plan");
+  EXPECT_EQ(WritePlanFiles(dir, p).size(), 6u);
+  size_t nodes = 0, edges = 0;
+  EXPECT_EQ(RoomLinksOfRouteGraph(json::parse(Slurp(dir + "/route_graph.geojson")), &nodes, &edges),
+            RoomLinksOfPlan(p));
+  const MapServerMap m = ReadMapServer(dir + "/map.yaml");
+  const auto& lim = m.occupancy.limits();
+  const auto seen = Reach(ClassesFromMapServer(m), lim.CellOf(p.home->translation()));
+  for (const auto& r : p.rooms) EXPECT_TRUE(seen[lim.Flat(lim.CellOf(r.label))]) << r.name;
+  EXPECT_EQ(ReadWorld(dir + "/map.map").plan.rooms.size(), 2u);
+  if (HaveTool("ogrinfo"))
+    for (const char* layer : {"rooms", "walls", "doors", "room_graph"}) {
+      const auto [rc, out] = Shell(std::string("ogrinfo -ro -dialect sqlite -sql \"SELECT COUNT(*) AS bad FROM ") +
+                                   layer + " WHERE geom IS NOT NULL AND ST_IsValid(geom) <> 1\" " + dir + "/map.gpkg");
+      EXPECT_NE(out.find("bad (Integer) = 0"), std::string::npos) << layer << ":\n" << out;
+    }
 }
 
 // nine_rooms' truth as a plan: every file opens in its tool, the route
