@@ -22,6 +22,10 @@ EVAL_KEYS = [
     "room_precision", "room_recall",
     "heading_error_deg_median", "heading_error_deg_max",
     "heading_error_deg_median_raw", "heading_error_deg_max_raw",
+] + [
+    # The floor plan (issue 11), when the map folder has plan.json.
+    "plan_wall_precision_p50_m", "plan_wall_precision_p95_m", "plan_wall_recall", "plan_duplication",
+    "room_iou_median", "room_overlap_m2", "plan_vertices_per_m", "plan_walls", "plan_rooms",
 ]
 # Derived by the suite from the map report and the timing of `cogmap map`.
 SPEED_KEYS = ["map_s", "log_duration_s", "times_real_time", "seconds_per_asr", "map_peak_rss_mib"]
@@ -180,6 +184,7 @@ def sim_job(ctx, world, robot, drift, seed, map_extra=(), variant=""):
             v = lookup(report, k) if isinstance(report, dict) else None
             if finite(v):
                 res["metrics"][k] = float(v)
+        add_plan(ctx, res, out)
         if not c.has("eval"):
             res["na"]["eval"] = c.missing_reason("eval")
         else:
@@ -217,6 +222,25 @@ def sim_job(ctx, world, robot, drift, seed, map_extra=(), variant=""):
 
 HEADING_KEYS = ["heading_error_deg_median", "heading_error_deg_max",
                 "heading_error_deg_median_raw", "heading_error_deg_max_raw"]
+
+
+def add_plan(ctx, res, out):
+    """Until `cogmap map` writes plan.json itself, the suite's helper builds the
+    floor plan from OUTDIR/map.sqlite (cogmap::plan::BuildPlan) into
+    OUTDIR/plan.json, which `cogmap eval` then scores."""
+    if os.path.exists(os.path.join(out, "plan.json")):
+        res.setdefault("plan_source", "cogmap map")
+        return
+    helper = os.path.join(ctx.build_dir, "bench", "cogmap_suite_plan_from_store")
+    if not os.access(helper, os.X_OK):
+        res["na"]["plan"] = "no plan.json in the map folder and no `cogmap_suite_plan_from_store` built"
+        return
+    s = ctx.run([helper, out])
+    res["steps"]["plan"] = _step_summary(s)
+    if not s.ok:
+        res["na"]["plan"] = s.reason()
+    else:
+        res["plan_source"] = "cogmap_suite_plan_from_store"
 
 
 def add_heading_errors(ctx, res, out):

@@ -188,6 +188,40 @@ class Report:
             out.append("")
         return out
 
+    def floor_plan(self):
+        """Issue 11: the floor plan's figures beside the ASR walls it was made from."""
+        sims = [r for r in self.r.get("sim", []) if not r["params"].get("variant")]
+        out = ["## Floor plan (issue 11)", "",
+               "Median [min–max] over seeds. `plan_duplication`: plan wall length lying on true walls / "
+               "true wall length it covers (target <= 1.15); room IoU: each true room against its best plan "
+               "room, median (target >= 0.80); overlap: area where plan rooms overlap (target 0); wall p95: "
+               "plan walls against the ASR walls they were made from (target: no worse). "
+               "docs/floor-plan.md describes the plan.", ""]
+        helper = [r for r in sims if r.get("plan_source") == "cogmap_suite_plan_from_store"]
+        if helper:
+            out += [f"The plan of {len(helper)} of the {len(sims)} runs was built by the suite's helper "
+                    "`bench/suite/plan_from_store.cc` (`cogmap::plan::BuildPlan` on the run's `map.sqlite`): "
+                    "`cogmap map` did not write plan.json in this build.", ""]
+        out += ["| world | robot | drift °/m | duplication | room IoU median | overlap m² | "
+                "wall p95 m plan / ASR | wall p50 m plan | recall plan / ASR | vertices / m | walls | rooms |",
+                "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        groups = collections.OrderedDict()
+        for s in sims:
+            groups.setdefault((s["params"]["world_name"], s["params"]["robot"], s["params"]["drift_deg_per_m"]),
+                              []).append(s)
+        for (world, robot, drift), g in groups.items():
+            out.append("| " + " | ".join([
+                world, robot, f"{drift:g}",
+                self.cell(g, "plan_duplication"), self.cell(g, "room_iou_median"),
+                self.cell(g, "room_overlap_m2", 2),
+                f"{self.cell(g, 'plan_wall_precision_p95_m')} / {self.cell(g, 'wall_precision_p95_m')}",
+                self.cell(g, "plan_wall_precision_p50_m"),
+                f"{self.cell(g, 'plan_wall_recall')} / {self.cell(g, 'wall_recall')}",
+                self.cell(g, "plan_vertices_per_m", 2), self.cell(g, "plan_walls", 0),
+                self.cell(g, "plan_rooms", 0)]) + " |")
+        out.append("")
+        return out
+
     def size_speed(self):
         sims = self.r.get("sim", [])
         out = ["## Size and speed per world and robot", "",
@@ -555,6 +589,7 @@ class Report:
     def markdown(self):
         body = []
         body += self.accuracy()
+        body += self.floor_plan()
         body += self.size_speed()
         body += self.thesis_speed()
         body += self.scale()

@@ -307,12 +307,26 @@ std::vector<int> Flood(const RoomGrid& g, const std::vector<uint8_t>& blocked,
 
 // The outline of the cells labelled 'r' (their largest 4-connected component,
 // holes filled), counter-clockwise, in the building frame; empty when none.
-std::vector<Vec2> TraceRegion(const RoomGrid& g, const std::vector<int>& label, int r, Vec2* inner_point) {
-  // Bounding box of the label.
-  int x0 = g.w, y0 = g.h, x1 = -1, y1 = -1;
+struct CellBox {
+  int x0 = std::numeric_limits<int>::max(), y0 = std::numeric_limits<int>::max(), x1 = -1, y1 = -1;
+};
+
+// The cell box of every label, in one pass.
+std::vector<CellBox> LabelBoxes(const RoomGrid& g, const std::vector<int>& label, int n) {
+  std::vector<CellBox> b(n);
   for (int y = 0; y < g.h; ++y)
-    for (int x = 0; x < g.w; ++x)
-      if (label[g.Idx(x, y)] == r) x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    for (int x = 0; x < g.w; ++x) {
+      const int r = label[g.Idx(x, y)];
+      if (r < 0) continue;
+      b[r].x0 = std::min(b[r].x0, x), b[r].x1 = std::max(b[r].x1, x);
+      b[r].y0 = std::min(b[r].y0, y), b[r].y1 = std::max(b[r].y1, y);
+    }
+  return b;
+}
+
+std::vector<Vec2> TraceRegion(const RoomGrid& g, const std::vector<int>& label, int r, const CellBox& box,
+                              Vec2* inner_point) {
+  const int x0 = box.x0, y0 = box.y0, x1 = box.x1, y1 = box.y1;
   if (x1 < 0) return {};
   // Local mask with a one-cell frame.
   const int W = x1 - x0 + 3, H = y1 - y0 + 3;
@@ -645,7 +659,27 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
     double phi = sc == 0 && ss == 0 ? peak_angle : std::atan2(ss, sc) / 4.0;
     phi = std::fmod(phi + 2 * kPi, kPi / 2);
     plan.dominant_direction_rad = phi;
-    const double floor_theta = Deg(o.heading_floor_deg);
+    // The scatter of the walls' directions that the fits do not explain (the
+    // ASRs' heading errors, the vectorizer): 1.4826 x the length-weighted
+    // median offset of the faces within 10 degrees of the building's
+    // direction (a robust sigma), at least heading_floor_deg.
+    std::vector<std::pair<double, double>> offs;  // |offset|, length
+    double total = 0.0;
+    for (const Face& f : faces) {
+      const double d = std::abs(QuarterOffset(std::atan2(f.u.y(), f.u.x()) - phi));
+      if (d < Deg(10.0)) offs.push_back({d, f.tmax - f.tmin}), total += f.tmax - f.tmin;
+    }
+    std::sort(offs.begin(), offs.end());
+    double acc = 0.0, med = 0.0;
+    for (const auto& [d, w] : offs) {
+      acc += w;
+      if (acc >= 0.5 * total) {
+        med = d;
+        break;
+      }
+    }
+    const double floor_theta = std::max(Deg(o.heading_floor_deg), 1.4826 * med);
+    plan.direction_scatter_rad = floor_theta;
     for (Face& f : faces) {
       const double a = std::atan2(f.u.y(), f.u.x());
       const double d = QuarterOffset(a - phi);
@@ -794,6 +828,47 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
     };
     std::vector<Cand> cands;
     const double min_sin = std::sin(Deg(o.corner_min_angle_deg));
+    // Chamfers: a short diagonal wall (30-60 degrees off the building's
+    // direction) between the ends of two walls that meet at a corner is how a
+    // sonar sees that corner; it goes, and the corner below closes.
+    std::vector<char> drop(segs.size(), 0);
+    for (size_t i = 0; i < segs.size(); ++i) {
+      const Vec2 d = segs[i].b - segs[i].a;
+      if (d.norm() > o.chamfer_max_m || pieces[segs[i].piece].two_sided) continue;
+      const double off = std::abs(QuarterOffset(std::atan2(d.y(), d.x()) - plan.dominant_direction_rad));
+      if (off < Deg(30.0)) continue;
+      const Vec2 e(o.chamfer_end_m, o.chamfer_end_m);
+      bool found = false;
+      for (int ea : ends.Query(segs[i].a - e, segs[i].a + e)) {
+        const size_t ja = static_cast<size_t>(ea / 2);
+        const Vec2 pa = (ea % 2) ? segs[ja].b : segs[ja].a;
+        if (ja == i || drop[ja] || (pa - segs[i].a).norm() > o.chamfer_end_m) continue;
+        for (int eb : ends.Query(segs[i].b - e, segs[i].b + e)) {
+          const size_t jb = static_cast<size_t>(eb / 2);
+          const Vec2 pb = (eb % 2) ? segs[jb].b : segs[jb].a;
+          if (jb == i || jb == ja || drop[jb] || (pb - segs[i].b).norm() > o.chamfer_end_m) continue;
+          const Vec2 du = (segs[ja].b - segs[ja].a).normalized(), dv = (segs[jb].b - segs[jb].a).normalized();
+          const double den = Cross(du, dv);
+          if (std::abs(den) < std::sin(Deg(60.0))) continue;
+          const Vec2 x = segs[ja].a + (Cross(segs[jb].a - segs[ja].a, dv) / den) * du;
+          if ((x - pa).norm() <= o.corner_m && (x - pb).norm() <= o.corner_m) found = true;
+        }
+      }
+      if (found) drop[i] = 1;
+    }
+    {
+      std::vector<Seg> kept;
+      for (size_t i = 0; i < segs.size(); ++i)
+        if (!drop[i]) kept.push_back(segs[i]);
+      if (kept.size() != segs.size()) {
+        segs = std::move(kept);
+        ends = CellHash(std::max(o.corner_m, 0.2));
+        for (size_t i = 0; i < segs.size(); ++i) {
+          ends.Add(segs[i].a, segs[i].a, static_cast<int>(2 * i));
+          ends.Add(segs[i].b, segs[i].b, static_cast<int>(2 * i + 1));
+        }
+      }
+    }
     const Vec2 r(o.corner_m, o.corner_m);
     for (size_t i = 0; i < segs.size(); ++i)
       for (int end = 0; end < 2; ++end) {
@@ -839,17 +914,24 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
       int from = -1, to = -1;
     };
     std::vector<ExitAcc> exits;
+    std::map<std::pair<int, int>, std::vector<size_t>> exits_of_pair;
     for (size_t i = 0; i < asrs.size(); ++i) {
       const Pose2 carry = asrs[i].world_from_local_corrected * asrs[i].world_from_local_raw.inverse();
       for (const asr::Exit& x : asrs[i].exits) {
         const Vec2 c = carry * x.center_m;
         bool found = false;
-        for (auto& e : exits)
-          if (e.from == x.from_asr && e.to == x.to_asr && (e.sum / e.n - c).norm() < 1.5) {
+        auto& same = exits_of_pair[{x.from_asr, x.to_asr}];
+        for (size_t k : same) {
+          ExitAcc& e = exits[k];
+          if ((e.sum / e.n - c).norm() < 1.5) {
             e.sum += c, ++e.n, found = true;
             break;
           }
-        if (!found) exits.push_back({c, 1, x.width_m, x.from_asr, x.to_asr});
+        }
+        if (!found) {
+          same.push_back(exits.size());
+          exits.push_back({c, 1, x.width_m, x.from_asr, x.to_asr});
+        }
       }
     }
     for (const auto& e : exits) {
@@ -1018,7 +1100,13 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
     hulls->assign(n_rooms, {});
     std::vector<std::vector<Vec2>> hull_pts(n_rooms);
     std::vector<std::vector<size_t>> all_path(n_rooms);
+    std::map<int, std::vector<const DoorCand*>> doors_of_asr;
+    for (const auto& d : door_cands) {
+      doors_of_asr[d.from_asr].push_back(&d);
+      if (d.to_asr != d.from_asr) doors_of_asr[d.to_asr].push_back(&d);
+    }
     for (size_t i = 0; i < asrs.size(); ++i) {
+      const auto& own_doors = doors_of_asr[asrs[i].id];
       const int r = room_of_unit[unit_root(unit_of[i])];
       for (const auto& l : walls[i])
         for (const auto& p : l) hull_pts[r].push_back(g.ToFrame(p));
@@ -1028,10 +1116,8 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
         if (!g.Cell(p, &cx, &cy)) continue;
         all_path[r].push_back(g.Idx(cx, cy));
         bool near_door = false;
-        for (const auto& d : door_cands)
-          if ((d.from_asr == asrs[i].id || d.to_asr == asrs[i].id) &&
-              PointSegmentDistance(p, d.a, d.b) < o.seed_door_clearance_m)
-            near_door = true;
+        for (const DoorCand* d : own_doors)
+          if (PointSegmentDistance(p, d->a, d->b) < o.seed_door_clearance_m) near_door = true;
         if (!near_door) (*seeds)[r].push_back(g.Idx(cx, cy));
       }
     }
@@ -1064,17 +1150,21 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
   const std::vector<Shape> shapes = RegionShapes(g, label, n1);
 
   // Corridor pieces joined through exits are one corridor (a loop stays cut at one door).
-  std::vector<char> corridor_like(n1, 0);
-  for (int r = 0; r < n1; ++r)
-    corridor_like[r] = shapes[r].area_m2 > 0 && shapes[r].width_m <= o.corridor_max_width_m &&
-                       shapes[r].length_m >= o.corridor_min_aspect * shapes[r].width_m;
+  // A piece is narrow when at most corridor_max_width_m wide, elongated when
+  // also corridor_min_aspect times longer; two narrow pieces joined through an
+  // exit, one of them elongated, are one corridor.
+  std::vector<char> narrow(n1, 0), elongated(n1, 0);
+  for (int r = 0; r < n1; ++r) {
+    narrow[r] = shapes[r].area_m2 > 0 && shapes[r].width_m <= o.corridor_max_width_m;
+    elongated[r] = narrow[r] && shapes[r].length_m >= o.corridor_min_aspect * shapes[r].width_m;
+  }
   UnionFind corr(n1);
   std::vector<char> in_corridor(n1, 0);
   for (int u = 0; u < n_units; ++u) {
     if (unit_room[u] < 0) continue;
     for (int v : unit_adj[u]) {
       const int ru = unit_room[unit_root(u)], rv = unit_room[unit_root(v)];
-      if (ru == rv || !corridor_like[ru] || !corridor_like[rv]) continue;
+      if (ru == rv || !narrow[ru] || !narrow[rv] || !(elongated[ru] || elongated[rv])) continue;
       if (corr.Unite(ru, rv)) in_corridor[ru] = in_corridor[rv] = 1;
     }
   }
@@ -1111,9 +1201,10 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
   std::vector<BPoly> polys(n_plan);
   std::vector<Vec2> inner(n_plan, Vec2(0, 0));
   std::vector<std::vector<Vec2>> rings(n_plan);
+  const std::vector<CellBox> boxes = LabelBoxes(g, label, n_plan);
   for (int r = 0; r < n_plan; ++r) {
     Vec2 in_frame(0, 0);
-    std::vector<Vec2> ring = TraceRegion(g, label, r, &in_frame);
+    std::vector<Vec2> ring = TraceRegion(g, label, r, boxes[r], &in_frame);
     if (ring.size() < 3) continue;
     std::vector<Vec2> simple = SimplifyRing(ring, o.polygon_tolerance_m);
     if (simple.size() < 3 || std::abs(RingArea(simple)) < 1e-9) simple = ring;
@@ -1211,6 +1302,10 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
     if (it == index_of.end()) return -1;
     return room_index[plan_of_unit[unit_of[it->second]]];
   };
+  CellHash cut_hash(2.0);
+  for (size_t i = 0; i < segs.size(); ++i)
+    cut_hash.Add(segs[i].a.cwiseMin(segs[i].b), segs[i].a.cwiseMax(segs[i].b), static_cast<int>(i));
+  std::map<int, std::vector<std::pair<double, double>>> cuts;  // segment -> cut spans (0..1)
   for (const auto& d : door_cands) {
     const int ra = plan_room_of_asr(d.from_asr), rb = plan_room_of_asr(d.to_asr);
     auto ia = index_of.find(d.from_asr), ib = index_of.find(d.to_asr);
@@ -1223,9 +1318,10 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
     door.room_a = ra, door.room_b = rb;
     door.from_asr = d.from_asr, door.to_asr = d.to_asr;
     if (d.in_wall) {
-      // Cut the gap out of every face along the door line.
-      std::vector<Seg> out;
-      for (const Seg& s : segs) {
+      // The gap, to be cut out of every face along the door line.
+      const Vec2 r(o.wall_thickness_m + o.max_door_m, o.wall_thickness_m + o.max_door_m);
+      for (int si : cut_hash.Query(d.line_c - r, d.line_c + r)) {
+        const Seg& s = segs[si];
         const Vec2 v = (s.b - s.a);
         const double len = v.norm();
         if (len <= 0) continue;
@@ -1234,22 +1330,36 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
         const bool near = std::abs(Perp(d.line_u).dot(s.a - d.line_c)) <= o.wall_thickness_m ||
                           std::abs(Perp(d.line_u).dot(s.b - d.line_c)) <= o.wall_thickness_m;
         const double ta = d.line_u.dot(s.a - d.line_c), tb = d.line_u.dot(s.b - d.line_c);
-        if (!along || !near || std::max(ta, tb) <= d.lo || std::min(ta, tb) >= d.hi) {
-          out.push_back(s);
-          continue;
-        }
-        // Parameter along s of the door's ends.
+        if (!along || !near || std::max(ta, tb) <= d.lo || std::min(ta, tb) >= d.hi) continue;
+        // Parameters along s of the door's ends.
         const double k_lo = (d.lo - ta) / (tb - ta), k_hi = (d.hi - ta) / (tb - ta);
-        const double k0 = std::clamp(std::min(k_lo, k_hi), 0.0, 1.0), k1 = std::clamp(std::max(k_lo, k_hi), 0.0, 1.0);
-        if (k0 * len >= 0.05) out.push_back({s.a, s.a + k0 * v, s.n, s.piece});
-        if ((1.0 - k1) * len >= 0.05) out.push_back({s.a + k1 * v, s.b, s.n, s.piece});
+        cuts[si].push_back({std::clamp(std::min(k_lo, k_hi), 0.0, 1.0), std::clamp(std::max(k_lo, k_hi), 0.0, 1.0)});
       }
-      segs = std::move(out);
     }
     if (ra >= 0) plan.rooms[ra].doors.push_back(door.id);
     if (rb >= 0 && rb != ra) plan.rooms[rb].doors.push_back(door.id);
     if (ra >= 0 && rb >= 0 && ra != rb) plan.edges.push_back({ra, rb, door.id});
     plan.doors.push_back(door);
+  }
+
+  // Cut the doors out of the walls.
+  {
+    std::vector<Seg> out;
+    for (size_t i = 0; i < segs.size(); ++i) {
+      auto it = cuts.find(static_cast<int>(i));
+      if (it == cuts.end()) {
+        out.push_back(segs[i]);
+        continue;
+      }
+      const Seg& s = segs[i];
+      const Vec2 v = s.b - s.a;
+      const double len = v.norm();
+      std::vector<std::pair<double, double>> keep = {{0.0, 1.0}};
+      for (const auto& [k0, k1] : it->second) SubtractSpan(&keep, k0, k1);
+      for (const auto& [k0, k1] : keep)
+        if ((k1 - k0) * len >= 0.05) out.push_back({s.a + k0 * v, s.a + k1 * v, s.n, s.piece});
+    }
+    segs = std::move(out);
   }
 
   // ---------------------------------------------------------------- walls out

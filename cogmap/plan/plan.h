@@ -67,6 +67,7 @@ struct Plan {
   std::optional<Pose2> home;  // the robot's first pose
   Vec2 min{0, 0}, max{0, 0};  // bounds of walls and rooms
   double dominant_direction_rad = 0.0;  // the building's wall direction, modulo a quarter turn, in [0, pi/2)
+  double direction_scatter_rad = 0.0;   // wall-direction scatter the squaring test allowed for (BuildPlan)
 };
 
 // How BuildPlan fuses walls and cuts rooms (docs/floor-plan.md).
@@ -85,6 +86,8 @@ struct PlanOptions {
   double square_z = 2.576;             // squared when within this many sigma of a dominant direction (99 %)
   double corner_m = 0.6;               // two wall ends this close to their lines' crossing are joined there
   double corner_min_angle_deg = 30.0;  // ... when the walls differ in direction by at least this
+  double chamfer_max_m = 0.9;          // a diagonal wall this short between two walls' ends is a chamfer ...
+  double chamfer_end_m = 0.35;         // ... when its ends lie this close to theirs: removed, the corner closed
   // Doors: each exit (asr::Exit) is a gap in the walls near it.
   double door_search_m = 0.8;          // the exit's centre within this of a wall line
   double wall_thickness_m = 0.4;       // faces within this of the door line are cut
@@ -94,7 +97,7 @@ struct PlanOptions {
   double cell_m = 0.1;
   double max_cells = 3.0e7;            // the cell grows beyond cell_m when the map would need more
   double seed_door_clearance_m = 0.8;  // path poses this close to an exit do not seed its room
-  double corridor_max_width_m = 2.6;   // a corridor piece: at most this wide ...
+  double corridor_max_width_m = 3.0;   // a corridor piece: at most this wide ...
   double corridor_min_aspect = 2.0;    // ... and at least this many times longer than wide
   double sliver_path_m = 0.5;          // a store room with less path than this is absorbed by a neighbour
   double polygon_tolerance_m = 0.12;   // Douglas-Peucker tolerance of room outlines

@@ -79,6 +79,7 @@ json PlanToJson(const Plan& plan) {
   j["version"] = kPlanFormatVersion;
   j["frame"] = "map: metres, x east, y north (the corrected odometry frame of the run)";
   j["dominant_direction_rad"] = plan.dominant_direction_rad;
+  j["direction_scatter_rad"] = plan.direction_scatter_rad;
   if (plan.home) j["home"] = {{"x", plan.home->x}, {"y", plan.home->y}, {"theta", plan.home->theta}};
   else j["home"] = nullptr;
   j["bounds"] = {{"min", Pt(plan.min)}, {"max", Pt(plan.max)}};
@@ -123,6 +124,8 @@ Plan PlanFromJson(const json& j, const std::string& source) {
                            std::to_string(kPlanFormatVersion) + ")");
   Plan plan;
   plan.dominant_direction_rad = rd.Number(rd.Field(j, "top level", "dominant_direction_rad"), "dominant_direction_rad");
+  if (j.contains("direction_scatter_rad"))
+    plan.direction_scatter_rad = rd.Number(j["direction_scatter_rad"], "direction_scatter_rad");
   const json& home = rd.Field(j, "top level", "home");
   if (!home.is_null())
     plan.home = Pose2{rd.Number(rd.Field(home, "home", "x"), "home.x"), rd.Number(rd.Field(home, "home", "y"), "home.y"),
