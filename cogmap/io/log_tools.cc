@@ -1,0 +1,204 @@
+#include "cogmap/io/log_tools.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <limits>
+#include <optional>
+
+#include "cogmap/core/angles.h"
+#include "cogmap/core/error.h"
+#include "cogmap/io/atomic_file.h"
+#include "cogmap/io/ev3_log.h"
+#include "cogmap/io/log_reader.h"
+#include "cogmap/io/mrpt_rawlog.h"
+#include "cogmap/io/native_log.h"
+#include "cogmap/io/ros1_bag.h"
+#include "cogmap/sensors/as_sonar.h"
+#include "cogmap/sensors/robot_json.h"
+
+namespace cogmap::io {
+namespace {
+
+void Append(std::string* out, const char* format, ...) {
+  char buf[1024];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(buf, sizeof buf, format, args);
+  va_end(args);
+  *out += buf;
+}
+
+LogOpenOptions OpenOptions(const std::string& format, const std::vector<std::string>& topics,
+                               const std::string& robot) {
+  LogOpenOptions o;
+  o.format = format;
+  o.topics = topics;
+  if (!robot.empty()) o.robot = sensors::ResolveRobot(robot);
+  return o;
+}
+
+std::string RobotSummary(const sensors::RobotDescription& r) {
+  char buf[256];
+  double max_range = 0;
+  for (const auto& s : r.sensors) max_range = std::max(max_range, s.max_range_m);
+  std::snprintf(buf, sizeof buf, "%s (%zu sensors, max range %.4g m)", r.name.c_str(), r.sensors.size(), max_range);
+  return buf;
+}
+
+// The sensors, one line per run of sensors of one kind at one place
+// ("  0-180  laser at (0, 0): -90 to 90 deg, step 1 deg, 0.02-8 m").
+void DescribeSensors(const sensors::RobotDescription& r, std::string* out) {
+  const auto& s = r.sensors;
+  for (size_t i = 0; i < s.size();) {
+    size_t j = i + 1;
+    if (s[i].kind == sensors::SensorKind::kLaser)
+      while (j < s.size() && s[j].kind == s[i].kind && s[j].robot_from_sensor.x == s[i].robot_from_sensor.x &&
+             s[j].robot_from_sensor.y == s[i].robot_from_sensor.y && s[j].max_range_m == s[i].max_range_m)
+        ++j;
+    const auto& a = s[i];
+    const bool laser = a.kind == sensors::SensorKind::kLaser;
+    if (j - i == 1) {
+      Append(out, "  %-9zu %s at (%.3f, %.3f) facing %.1f deg, cone %.1f deg, %.3g-%.3g m\n", i,
+                  laser ? "laser beam" : "sonar", a.robot_from_sensor.x, a.robot_from_sensor.y,
+                  RadToDeg(a.robot_from_sensor.theta), RadToDeg(a.beam_width_rad), a.min_range_m, a.max_range_m);
+    } else {
+      const std::string ids = std::to_string(i) + "-" + std::to_string(j - 1);
+      Append(out, "  %-9s laser of %zu beams at (%.3f, %.3f): %.2f to %.2f deg, %.3g-%.3g m\n", ids.c_str(), j - i,
+                  a.robot_from_sensor.x, a.robot_from_sensor.y, RadToDeg(a.robot_from_sensor.theta),
+                  RadToDeg(s[j - 1].robot_from_sensor.theta), a.min_range_m, a.max_range_m);
+    }
+    i = j;
+  }
+}
+
+}  // namespace
+
+LogSummary SummarizeLog(const std::string& path, const LogToolOptions& o,
+                        const std::function<void(double)>& progress) {
+  const std::string detected = o.format == "auto" ? DetectLogFormat(path) : o.format;
+  auto reader = OpenLog(path, OpenOptions(detected, o.topics, o.robot));
+  const auto robot = reader->robot_hint();
+  long records = 0, sweeps = 0, readings = 0, no_echo = 0, truths = 0, backwards = 0;
+  double t_last = 0, t_min = std::numeric_limits<double>::infinity(), t_max = -t_min;
+  double odom_m = 0, truth_m = 0;
+  Pose2 last_odom;
+  std::optional<Pose2> last_truth;
+  sensors::LogRecord r;
+  while (reader->Next(&r)) {
+    if (records > 0) {
+      odom_m += std::hypot(r.odom.x - last_odom.x, r.odom.y - last_odom.y);
+      if (r.time_s < t_last) ++backwards;
+    }
+    if (r.truth) {
+      ++truths;
+      if (last_truth) truth_m += std::hypot(r.truth->x - last_truth->x, r.truth->y - last_truth->y);
+      last_truth = r.truth;
+    }
+    last_odom = r.odom;
+    t_last = r.time_s;
+    t_min = std::min(t_min, r.time_s);
+    t_max = std::max(t_max, r.time_s);
+    if (!r.ranges.empty()) ++sweeps;
+    readings += static_cast<long>(r.ranges.size());
+    if (robot)
+      for (const auto& q : r.ranges)
+        if (q.sensor >= 0 && q.sensor < static_cast<int>(robot->sensors.size()) &&
+            q.range_m >= robot->sensors[q.sensor].max_range_m)
+          ++no_echo;
+    ++records;
+    if (records % 1024 == 0 && progress) progress(reader->progress());
+  }
+  LogSummary s;
+  s.skipped = reader->skipped();
+  std::string* out = &s.text;
+  Append(out, "log:            %s\n", path.c_str());
+  Append(out, "format:         %s\n", detected.c_str());
+  Append(out, "robot hint:     %s\n", robot ? RobotSummary(*robot).c_str() : "none (give --robot)");
+  Append(out, "records:        %ld (%ld with readings)\n", records, sweeps);
+  Append(out, "readings:       %ld (%ld at or beyond max range = no echo)\n", readings, no_echo);
+  Append(out, "time:           %.6g s to %.6g s, duration %.6g s%s\n", t_min, t_max, t_max - t_min,
+              backwards ? (" (" + std::to_string(backwards) + " steps back in time)").c_str() : "");
+  Append(out, "odometry path:  %.3f m\n", odom_m);
+  if (truths)
+    Append(out, "ground truth:   yes, %ld records, path %.3f m\n", truths, truth_m);
+  else
+    Append(out, "ground truth:   no\n");
+  const auto contents = reader->contents();
+  if (!contents.empty()) {
+    Append(out, "contents:       %zu topics or message types\n", contents.size());
+    size_t w = 0;
+    for (const auto& c : contents) w = std::max(w, c.name.size());
+    for (const auto& c : contents)
+      Append(out, "  %-*s %-26s %8ld  %s\n", static_cast<int>(w), c.name.c_str(), c.type.c_str(), c.count,
+                  c.use.empty() ? "not used" : c.use.c_str());
+  }
+  if (robot) {
+    Append(out, "robot sensors:\n");
+    DescribeSensors(*robot, out);
+  }
+  if (const auto* ev3 = dynamic_cast<const Ev3LogReader*>(reader.get()))
+    Append(out, "ev3 samples:    %d per bearing; %ld lines where a bearing's samples spread over %.0f cm\n",
+                ev3->samples_per_bearing(), ev3->disagreeing_lines(), kEv3DisagreeCm);
+  return s;
+}
+
+ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, const std::string& to,
+                          const std::string& out_path, const std::function<void(double)>& progress) {
+  auto reader = OpenLog(path, OpenOptions(o.format, o.topics, o.robot));
+  sensors::RobotDescription robot;
+  if (!o.robot.empty()) robot = sensors::ResolveRobot(o.robot);
+  else if (reader->robot_hint()) robot = *reader->robot_hint();
+  else throw InputError(path, 0, "the log does not say which robot recorded it: give --robot NAME|FILE");
+  const int n_sensors = static_cast<int>(robot.sensors.size());
+  // --as-sonar: the log's readings become those of a sonar ring (the nearest
+  // echo in each sonar's cone), written under the sonar robot's name.
+  std::optional<sensors::RobotDescription> sonar;
+  std::optional<sensors::AsSonar> as_sonar;
+  if (!o.as_sonar.empty()) {
+    sonar = sensors::ResolveRobot(o.as_sonar);
+    as_sonar.emplace(robot, *sonar);
+  }
+  long records = 0, readings = 0;
+  // The next record, checked against the robot and turned to sonar if asked.
+  auto next = [&](sensors::LogRecord* r) {
+    if (!reader->Next(r)) return false;
+    for (const auto& q : r->ranges)
+      if (q.sensor < 0 || q.sensor >= n_sensors)
+        throw InputError(path, 0, "reading of sensor " + std::to_string(q.sensor) + " but robot '" + robot.name +
+                                      "' has " + std::to_string(n_sensors) + " sensors");
+    if (as_sonar) r->ranges = as_sonar->Convert(r->ranges);
+    ++records;
+    readings += static_cast<long>(r->ranges.size());
+    if (records % 1024 == 0 && progress) progress(reader->progress());
+    return true;
+  };
+  if (to == "rosbag") {
+    WriteRosAriaBag(out_path, sonar ? *sonar : robot, next);
+  } else if (to == "rawlog") {
+    WriteMrptRawlog(out_path, sonar ? *sonar : robot, next);
+  } else {
+    WriteFileAtomically(out_path, [&](std::ostream& out) {
+      NativeLogWriter writer(out, sonar ? *sonar : robot);
+      sensors::LogRecord r;
+      while (next(&r)) writer.Write(r);
+    });
+  }
+  ConvertSummary s;
+  s.skipped = reader->skipped();
+  std::string* out = &s.text;
+  Append(out, "wrote %s: %ld records, %ld readings, robot %s%s\n", out_path.c_str(), records, readings,
+              sonar ? sonar->name.c_str() : robot.name.c_str(),
+              sonar ? (" (sonar readings derived from " + robot.name + ")").c_str() : "");
+  if (as_sonar) {
+    int unseen = 0;
+    for (bool c : as_sonar->covered()) unseen += c ? 0 : 1;
+    if (unseen)
+      Append(out, "%d of %zu sonars point where %s does not look: they have no readings\n", unseen,
+                  sonar->sensors.size(), robot.name.c_str());
+  }
+  return s;
+}
+
+}  // namespace cogmap::io
