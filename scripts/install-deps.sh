@@ -18,6 +18,7 @@ PKGS=(
   # the live ROS 1 node (ros/) and its test against a real roscore
   libroscpp-dev libstd-srvs-dev libvisualization-msgs-dev ros-core python3-rospy python3-rosbag
   python3-rosservice python3-rostopic python3-visualization-msgs python3-nav-msgs python3-std-srvs
+  libcairo2-dev libpango1.0-dev fonts-dejavu-core chromium
 )
 # Peers for side-by-side comparisons (bench/), large: only with --peers.
 if [[ "${1:-}" == "--peers" ]]; then

@@ -2,12 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "cogmap/core/bresenham.h"
 #include "cogmap/io/atomic_file.h"
@@ -19,29 +17,6 @@
 namespace cogmap::io {
 
 namespace {
-
-// Colours per ASR (walls), cycling.
-const Rgb kPalette[] = {{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {148, 103, 189}, {140, 86, 75},
-                        {227, 119, 194}, {23, 190, 207}, {188, 189, 34}, {255, 127, 14}, {60, 60, 60}};
-Rgb RoomColour(int id) { return kPalette[static_cast<unsigned>(id) % (sizeof(kPalette) / sizeof(kPalette[0]))]; }
-
-std::string Hex(Rgb c) {
-  char b[8];
-  std::snprintf(b, sizeof(b), "#%02x%02x%02x", c.r, c.g, c.b);
-  return b;
-}
-
-std::string Num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof(b), "%.3f", v);
-  return b;
-}
-
-const MasterRoom* FindRoom(const MasterMap& map, int id) {
-  for (const auto& r : map.rooms)
-    if (r.id == id) return &r;
-  return nullptr;
-}
 
 std::vector<Vec2> Footprint(const MasterRoom& room) {
   std::vector<Vec2> pts = room.path;
@@ -125,107 +100,6 @@ MasterMap BuildMasterMap(const std::vector<asr::Asr>& asrs, bool corrected) {
   map.min = lo;
   map.max = hi;
   return map;
-}
-
-std::string FormatMapSvg(const MasterMap& map, const MasterMapStyle& style) {
-  const Vec2 lo = map.min - Vec2(style.margin_m, style.margin_m);
-  const Vec2 hi = map.max + Vec2(style.margin_m, style.margin_m);
-  const double w = hi.x() - lo.x(), h = hi.y() - lo.y();
-  auto X = [&](const Vec2& p) { return Num(p.x() - lo.x()); };
-  auto Y = [&](const Vec2& p) { return Num(hi.y() - p.y()); };
-  std::ostringstream s;
-  s << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-    << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << Num(w * style.px_per_m) << "\" height=\""
-    << Num(h * style.px_per_m) << "\" viewBox=\"0 0 " << Num(w) << " " << Num(h) << "\">\n"
-    << "<!-- cogmap master map: metres, map frame; origin of the view at (" << Num(lo.x()) << ", "
-    << Num(hi.y()) << ") -->\n"
-    << "<rect x=\"0\" y=\"0\" width=\"" << Num(w) << "\" height=\"" << Num(h) << "\" fill=\"white\"/>\n";
-  if (style.path) {
-    s << "<g id=\"path\" fill=\"none\" stroke=\"#bbbbbb\" stroke-width=\"0.04\">\n";
-    for (const auto& r : map.rooms) {
-      if (r.path.size() < 2) continue;
-      s << "<polyline points=\"";
-      for (const auto& p : r.path) s << X(p) << "," << Y(p) << " ";
-      s << "\"/>\n";
-    }
-    s << "</g>\n";
-  }
-  s << "<g id=\"walls\" fill=\"none\" stroke-width=\"0.08\" stroke-linecap=\"round\" stroke-linejoin=\"round\">\n";
-  for (const auto& r : map.rooms)
-    for (const auto& l : r.walls) {
-      if (l.size() < 2) continue;
-      s << "<polyline data-asr=\"" << r.id << "\" stroke=\"" << Hex(RoomColour(r.id)) << "\" points=\"";
-      for (const auto& p : l) s << X(p) << "," << Y(p) << " ";
-      s << "\"/>\n";
-    }
-  s << "</g>\n";
-  if (style.graph) {
-    s << "<g id=\"graph\" stroke=\"#ff8800\" stroke-width=\"0.05\" stroke-dasharray=\"0.2,0.1\" fill=\"none\">\n";
-    for (const auto& e : map.exits) {
-      const MasterRoom* a = FindRoom(map, e.from_asr);
-      const MasterRoom* b = FindRoom(map, e.to_asr);
-      if (!a || !b) continue;
-      s << "<polyline data-from=\"" << e.from_asr << "\" data-to=\"" << e.to_asr << "\" points=\"" << X(a->label_m)
-        << "," << Y(a->label_m) << " " << X(e.center_m) << "," << Y(e.center_m) << " " << X(b->label_m) << ","
-        << Y(b->label_m) << "\"/>\n";
-    }
-    s << "</g>\n";
-  }
-  s << "<g id=\"exits\" fill=\"#00aa00\">\n";
-  for (const auto& e : map.exits)
-    s << "<circle data-from=\"" << e.from_asr << "\" data-to=\"" << e.to_asr << "\" data-width=\""
-      << Num(e.width_m) << "\" cx=\"" << X(e.center_m) << "\" cy=\"" << Y(e.center_m) << "\" r=\"0.15\"/>\n";
-  s << "</g>\n";
-  if (style.labels) {
-    s << "<g id=\"labels\" font-family=\"sans-serif\" font-size=\"0.5\" text-anchor=\"middle\" fill=\"#000000\">\n";
-    for (const auto& r : map.rooms)
-      s << "<text data-asr=\"" << r.id << "\" x=\"" << X(r.label_m) << "\" y=\"" << Y(r.label_m) << "\">A" << r.id
-        << "</text>\n";
-    s << "</g>\n";
-  }
-  s << "</svg>\n";
-  return s.str();
-}
-
-RgbImage RenderMap(const MasterMap& map, const MasterMapStyle& style) {
-  const Vec2 lo = map.min - Vec2(style.margin_m, style.margin_m);
-  const Vec2 hi = map.max + Vec2(style.margin_m, style.margin_m);
-  const double k = style.px_per_m;
-  const int width = std::max(1, static_cast<int>(std::ceil((hi.x() - lo.x()) * k)));
-  const int height = std::max(1, static_cast<int>(std::ceil((hi.y() - lo.y()) * k)));
-  RgbImage img(width, height);
-  auto px = [&](const Vec2& p) { return Vec2((p.x() - lo.x()) * k, (hi.y() - p.y()) * k); };
-  auto line = [&](const Vec2& a, const Vec2& b, Rgb c, int t) {
-    const Vec2 pa = px(a), pb = px(b);
-    img.DrawLine(pa.x(), pa.y(), pb.x(), pb.y(), c, t);
-  };
-  if (style.path)
-    for (const auto& r : map.rooms)
-      for (size_t i = 1; i < r.path.size(); ++i) line(r.path[i - 1], r.path[i], {190, 190, 190}, 1);
-  for (const auto& r : map.rooms)
-    for (const auto& l : r.walls)
-      for (size_t i = 1; i < l.size(); ++i) line(l[i - 1], l[i], RoomColour(r.id), 2);
-  if (style.graph)
-    for (const auto& e : map.exits) {
-      const MasterRoom* a = FindRoom(map, e.from_asr);
-      const MasterRoom* b = FindRoom(map, e.to_asr);
-      if (!a || !b) continue;
-      line(a->label_m, e.center_m, {255, 136, 0}, 1);
-      line(e.center_m, b->label_m, {255, 136, 0}, 1);
-    }
-  for (const auto& e : map.exits) {
-    const Vec2 p = px(e.center_m);
-    img.DrawDisc(p.x(), p.y(), std::max(2.0, 0.15 * k), {0, 170, 0});
-  }
-  if (style.labels)
-    for (const auto& r : map.rooms) {
-      const Vec2 p = px(r.label_m);
-      const std::string text = "A" + std::to_string(r.id);
-      const int scale = k >= 15 ? 2 : 1;
-      img.DrawText(static_cast<int>(p.x()) - static_cast<int>(text.size()) * 3 * scale,
-                   static_cast<int>(p.y()) - 4 * scale, text, {0, 0, 0}, scale);
-    }
-  return img;
 }
 
 grid::Grid2D<grid::CellClass> RasterizeMap(const MasterMap& map, double cell_m, double margin_m) {
@@ -340,14 +214,6 @@ std::vector<std::string> WriteMasterMapFiles(const std::string& dir, const Maste
                                              const MasterMapOutputs& outputs) {
   const std::string base = (std::filesystem::path(dir) / "map").string();
   std::vector<std::string> written;
-  if (outputs.svg) {
-    WriteFileAtomically(base + ".svg", FormatMapSvg(map, style));
-    written.push_back(base + ".svg");
-  }
-  if (outputs.png) {
-    WritePng(base + ".png", RenderMap(map, style));
-    written.push_back(base + ".png");
-  }
   if (outputs.pgm) {
     WriteMapServer(base, RasterizeMap(map, raster_cell_m, style.margin_m));
     written.push_back(base + ".pgm");

@@ -6,7 +6,6 @@
 #include "cogmap/core/floor_plan.h"
 #include "cogmap/grid/grid2d.h"
 #include "cogmap/grid/range_fusion.h"
-#include "cogmap/io/image.h"
 
 namespace cogmap::io {
 
@@ -36,20 +35,11 @@ struct MasterMap {
 // the ASR they lead out of.
 MasterMap BuildMasterMap(const std::vector<asr::Asr>& asrs, bool corrected = true);
 
+// The master map's pictures (map.svg, map.png) are drawn by cogmap/draw
+// (draw::DrawMasterMap, draw::WriteMasterMapPictures).
 struct MasterMapStyle {
-  double px_per_m = 20.0;   // PNG scale (and SVG user units per metre x this)
-  double margin_m = 1.0;
-  bool path = true;         // the robot's path
-  bool graph = true;        // the room graph: label -> exit -> label
-  bool labels = true;
+  double margin_m = 1.0;  // around the map in the map_server raster
 };
-
-// SVG: walls (one colour per ASR), the path, exits (disc + width bar), the room
-// graph over the plan, room labels "A<id>". Coordinates in metres (viewBox),
-// y flipped so that north is up.
-std::string FormatMapSvg(const MasterMap& map, const MasterMapStyle& style = {});
-// PNG picture of the same.
-RgbImage RenderMap(const MasterMap& map, const MasterMapStyle& style = {});
 
 // The walls rasterised for ROS map_server: wall cells occupied, cells inside an
 // ASR's footprint (the convex hull of its walls and path) free, the rest
@@ -70,17 +60,18 @@ std::string FormatMapGeoJson(const MasterMap& map);
 // polyline edge; route/home left empty.
 FloorPlan MapFloorPlan(const MasterMap& map);
 
-// Writes map.svg, map.png, map.pgm + map.yaml, map.geojson and map.map into
-// 'dir' (each file atomically). Returns the paths written.
 // Which of the master map's files to write (`cogmap map --outputs`).
 struct MasterMapOutputs {
-  bool svg = true;      // map.svg
-  bool png = true;      // map.png
+  bool svg = true;      // map.svg (written by draw::WriteMasterMapPictures)
+  bool png = true;      // map.png (written by draw::WriteMasterMapPictures)
   bool pgm = true;      // map.pgm + map.yaml (ROS map_server)
   bool geojson = true;  // map.geojson
   bool aria = true;     // map.map (ARIA 2D-Map)
 };
 
+// Writes map.pgm + map.yaml, map.geojson and map.map into 'dir' (each file
+// atomically), as 'outputs' asks (its svg and png are for the pictures, which
+// cogmap/draw writes). Returns the paths written.
 std::vector<std::string> WriteMasterMapFiles(const std::string& dir, const MasterMap& map,
                                              const MasterMapStyle& style = {},
                                              double raster_cell_m = 0.05, const MasterMapOutputs& outputs = {});

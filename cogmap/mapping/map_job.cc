@@ -15,12 +15,13 @@
 #include "cogmap/asr/store.h"
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
+#include "cogmap/draw/map_picture.h"
+#include "cogmap/draw/plots.h"
 #include "cogmap/io/atomic_file.h"
 #include "cogmap/io/map_files.h"
 #include "cogmap/io/output_folder.h"
 #include "cogmap/io/polyline_io.h"
 #include "cogmap/io/world_io.h"
-#include "cogmap/localize/correction_figures.h"
 #include "cogmap/localize/heading_corrector.h"
 #include "cogmap/localize/heading_error.h"
 #include "cogmap/mapping/report.h"
@@ -179,7 +180,10 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   const io::MasterMap master = io::BuildMasterMap(all, !job.raw);
   MapJobSummary out;
   out.written = {"map.sqlite"};
-  for (const auto& f : io::WriteMasterMapFiles(staging, master, {}, 0.05, MapOutputs(job.outputs)))
+  const io::MasterMapOutputs map_outputs = MapOutputs(job.outputs);
+  for (const auto& f : draw::WriteMasterMapPictures(staging, master, map_outputs.svg, map_outputs.png))
+    out.written.push_back(fs::path(f).filename().string());
+  for (const auto& f : io::WriteMasterMapFiles(staging, master, {}, 0.05, map_outputs))
     out.written.push_back(fs::path(f).filename().string());
 
   // The robot's path through each ASR as placed (drift inside it removed).
@@ -210,32 +214,23 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   if (job.outputs.compare) {
     const io::MasterMap raw_map = io::BuildMasterMap(all, false);
     const io::MasterMap cor_map = job.raw ? io::BuildMasterMap(all, true) : master;
-    auto style_for = [](const io::MasterMap& m) {
-      io::MasterMapStyle st;
-      const double extent = std::max(m.max.x() - m.min.x(), m.max.y() - m.min.y()) + 2.0 * st.margin_m;
-      st.px_per_m = std::clamp(1000.0 / std::max(extent, 1e-6), 2.0, 40.0);
-      return st;
-    };
     // With pre-correction each ASR's walls were mapped on corrected odometry:
     // the left picture places them by odometry (the true raw map: --no-correct).
-    const std::string lt = run.correction == Correction::kDriftFilter ? "BEFORE: ASRS AT THEIR ODOMETRY POSES"
-                                                                      : "BEFORE: ODOMETRY";
-    const std::string rt = run.correction == Correction::kNone        ? "AFTER: NOT CORRECTED (--NO-CORRECT)"
-                           : run.correction == Correction::kPoseGraph ? std::string("AFTER: POSE GRAPH (DEFAULT)")
-                           : "AFTER: HEADING CORRECTION (" + std::string(job.mapping.paper ? "paper" : "default") + ")";
-    io::WriteFileAtomically((fs::path(staging) / "map_compare.svg").string(),
-                            localize::SideBySideSvg(io::FormatMapSvg(raw_map, style_for(raw_map)), lt,
-                                                    io::FormatMapSvg(cor_map, style_for(cor_map)), rt));
-    io::WritePng((fs::path(staging) / "map_compare.png").string(),
-                 localize::SideBySide(io::RenderMap(raw_map, style_for(raw_map)), lt,
-                                      io::RenderMap(cor_map, style_for(cor_map)), rt));
+    const std::string lt = run.correction == Correction::kDriftFilter ? "Before: ASRs at their odometry poses"
+                                                                      : "Before: odometry";
+    const std::string rt = run.correction == Correction::kNone        ? "After: not corrected (--no-correct)"
+                           : run.correction == Correction::kPoseGraph ? std::string("After: pose graph (default)")
+                           : "After: heading correction (" + std::string(job.mapping.paper ? "paper" : "default") + ")";
+    const draw::Drawing compare = draw::DrawSideBySide(raw_map, lt, cor_map, rt);
+    compare.Write((fs::path(staging) / "map_compare.svg").string());
+    compare.Write((fs::path(staging) / "map_compare.png").string());
     out.written.push_back("map_compare.svg");
     out.written.push_back("map_compare.png");
   }
   // The heading error per ASR against the truth, on the path as placed.
   const localize::HeadingErrorStats heading = localize::ComputeHeadingErrors(all, placed_paths);
   if (job.outputs.heading && heading.asrs > 0) {
-    io::WritePng((fs::path(staging) / "heading_error.png").string(), localize::PlotHeadingErrors(heading));
+    draw::PlotHeadingErrors(heading).Write((fs::path(staging) / "heading_error.png").string());
     out.written.push_back("heading_error.png");
   }
 

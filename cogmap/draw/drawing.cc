@@ -1,0 +1,311 @@
+#include "cogmap/draw/drawing.h"
+
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
+#include <cairo.h>
+#include <pango/pangocairo.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "cogmap/core/error.h"
+#include "cogmap/io/atomic_file.h"
+
+namespace cogmap::draw {
+
+namespace {
+
+// The largest raster side cairo's image surfaces take.
+constexpr int kMaxRasterSide = 32767;
+
+void SetColour(cairo_t* cr, const Colour& c) { cairo_set_source_rgba(cr, c.r, c.g, c.b, c.a); }
+
+void ApplyStroke(cairo_t* cr, const Stroke& s) {
+  SetColour(cr, s.colour);
+  cairo_set_line_width(cr, s.width_px);
+  cairo_set_line_cap(cr, s.round ? CAIRO_LINE_CAP_ROUND : CAIRO_LINE_CAP_BUTT);
+  cairo_set_line_join(cr, s.round ? CAIRO_LINE_JOIN_ROUND : CAIRO_LINE_JOIN_MITER);
+  cairo_set_dash(cr, s.dash_px.empty() ? nullptr : s.dash_px.data(), static_cast<int>(s.dash_px.size()), 0.0);
+}
+
+// Text layout: the same font options on every surface (no hinting of metrics),
+// so that a label measures the same in SVG, PNG and PDF.
+PangoLayout* MakeLayout(cairo_t* cr, const std::string& text, const Font& font) {
+  PangoLayout* layout = pango_cairo_create_layout(cr);
+  cairo_font_options_t* fo = cairo_font_options_create();
+  cairo_font_options_set_hint_metrics(fo, CAIRO_HINT_METRICS_OFF);
+  cairo_font_options_set_hint_style(fo, CAIRO_HINT_STYLE_NONE);
+  pango_cairo_context_set_font_options(pango_layout_get_context(layout), fo);
+  cairo_font_options_destroy(fo);
+  pango_layout_context_changed(layout);
+  PangoFontDescription* desc = pango_font_description_from_string("DejaVu Sans, sans-serif");
+  pango_font_description_set_absolute_size(desc, font.size_px * PANGO_SCALE);
+  pango_font_description_set_weight(desc, font.bold ? PANGO_WEIGHT_BOLD : PANGO_WEIGHT_NORMAL);
+  pango_layout_set_font_description(layout, desc);
+  pango_font_description_free(desc);
+  pango_layout_set_text(layout, text.c_str(), static_cast<int>(text.size()));
+  return layout;
+}
+
+// A context for measuring text (thread-local: pango layouts are not shared).
+cairo_t* MeasureContext() {
+  thread_local struct Holder {
+    cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 1, 1);
+    cairo_t* cr = cairo_create(surface);
+    ~Holder() {
+      cairo_destroy(cr);
+      cairo_surface_destroy(surface);
+    }
+  } holder;
+  return holder.cr;
+}
+
+cairo_status_t AppendBytes(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
+}
+
+void CheckStatus(cairo_status_t status, const char* what) {
+  if (status != CAIRO_STATUS_SUCCESS)
+    throw std::runtime_error(std::string("cairo: ") + what + ": " + cairo_status_to_string(status));
+}
+
+void RasterSize(double width, double height, int* w, int* h) {
+  *w = std::max(1, static_cast<int>(std::ceil(width - 1e-9)));
+  *h = std::max(1, static_cast<int>(std::ceil(height - 1e-9)));
+  if (*w > kMaxRasterSide || *h > kMaxRasterSide)
+    throw std::invalid_argument("drawing of " + std::to_string(*w) + " x " + std::to_string(*h) +
+                                " px is larger than a raster can be (" + std::to_string(kMaxRasterSide) + ")");
+}
+
+}  // namespace
+
+Format FormatOfPath(const std::string& path) {
+  const auto dot = path.rfind('.');
+  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == "svg") return Format::kSvg;
+  if (ext == "png") return Format::kPng;
+  if (ext == "pdf") return Format::kPdf;
+  throw InputError(path + ": a picture is written as .svg, .png or .pdf");
+}
+
+Drawing::Drawing(double width_px, double height_px, Colour background)
+    : width_(std::max(1.0, width_px)),
+      height_(std::max(1.0, height_px)),
+      background_(background),
+      steps_(std::make_shared<std::vector<Step>>()) {}
+
+void Drawing::Line(const Vec2& a, const Vec2& b, const Stroke& stroke) {
+  steps_->push_back([a, b, stroke](cairo_t* cr) {
+    ApplyStroke(cr, stroke);
+    cairo_move_to(cr, a.x(), a.y());
+    cairo_line_to(cr, b.x(), b.y());
+    cairo_stroke(cr);
+  });
+}
+
+void Drawing::Polyline(const std::vector<Vec2>& points, const Stroke& stroke, bool closed) {
+  if (points.size() < 2) return;
+  steps_->push_back([points, stroke, closed](cairo_t* cr) {
+    ApplyStroke(cr, stroke);
+    cairo_move_to(cr, points[0].x(), points[0].y());
+    for (size_t i = 1; i < points.size(); ++i) cairo_line_to(cr, points[i].x(), points[i].y());
+    if (closed) cairo_close_path(cr);
+    cairo_stroke(cr);
+  });
+}
+
+void Drawing::Polygon(const std::vector<Vec2>& points, Colour fill, const Stroke& outline) {
+  if (points.size() < 3) return;
+  steps_->push_back([points, fill, outline](cairo_t* cr) {
+    cairo_move_to(cr, points[0].x(), points[0].y());
+    for (size_t i = 1; i < points.size(); ++i) cairo_line_to(cr, points[i].x(), points[i].y());
+    cairo_close_path(cr);
+    SetColour(cr, fill);
+    if (outline.width_px > 0) {
+      cairo_fill_preserve(cr);
+      ApplyStroke(cr, outline);
+      cairo_stroke(cr);
+    } else {
+      cairo_fill(cr);
+    }
+  });
+}
+
+void Drawing::Circle(const Vec2& centre, double radius_px, Colour fill) {
+  steps_->push_back([centre, radius_px, fill](cairo_t* cr) {
+    cairo_new_sub_path(cr);
+    cairo_arc(cr, centre.x(), centre.y(), radius_px, 0, 2 * M_PI);
+    SetColour(cr, fill);
+    cairo_fill(cr);
+  });
+}
+
+void Drawing::Rectangle(const Box& box, Colour fill, const Stroke& outline) {
+  steps_->push_back([box, fill, outline](cairo_t* cr) {
+    cairo_rectangle(cr, box.x0, box.y0, box.width(), box.height());
+    SetColour(cr, fill);
+    if (outline.width_px > 0) {
+      cairo_fill_preserve(cr);
+      ApplyStroke(cr, outline);
+      cairo_stroke(cr);
+    } else {
+      cairo_fill(cr);
+    }
+  });
+}
+
+Box Drawing::MeasureText(const std::string& text, const Font& font) {
+  PangoLayout* layout = MakeLayout(MeasureContext(), text, font);
+  PangoRectangle logical;
+  pango_layout_get_extents(layout, nullptr, &logical);
+  g_object_unref(layout);
+  return Box{0, 0, static_cast<double>(logical.width) / PANGO_SCALE, static_cast<double>(logical.height) / PANGO_SCALE};
+}
+
+Box Drawing::Text(const Vec2& at, const std::string& text, const Font& font, Colour colour, Align align,
+                  VAlign valign) {
+  const Box size = MeasureText(text, font);
+  double x = at.x(), y = at.y();
+  if (align == Align::kCenter) x -= size.width() / 2;
+  if (align == Align::kRight) x -= size.width();
+  if (valign == VAlign::kMiddle) y -= size.height() / 2;
+  if (valign == VAlign::kBottom) y -= size.height();
+  steps_->push_back([x, y, text, font, colour](cairo_t* cr) {
+    PangoLayout* layout = MakeLayout(cr, text, font);
+    SetColour(cr, colour);
+    cairo_move_to(cr, x, y);
+    pango_cairo_show_layout(cr, layout);
+    g_object_unref(layout);
+  });
+  return Box{x, y, x + size.width(), y + size.height()};
+}
+
+void Drawing::Image(const io::RgbImage& image, double x, double y, double scale) {
+  if (image.width() <= 0 || image.height() <= 0) return;
+  // Cairo's RGB24: one 32-bit word per pixel, native endian, 0x00RRGGBB.
+  auto data = std::make_shared<std::vector<uint32_t>>(static_cast<size_t>(image.width()) * image.height());
+  for (int j = 0; j < image.height(); ++j)
+    for (int i = 0; i < image.width(); ++i) {
+      const io::Rgb c = image.at(i, j);
+      (*data)[static_cast<size_t>(j) * image.width() + i] =
+          (static_cast<uint32_t>(c.r) << 16) | (static_cast<uint32_t>(c.g) << 8) | c.b;
+    }
+  const int w = image.width(), h = image.height();
+  steps_->push_back([data, w, h, x, y, scale](cairo_t* cr) {
+    cairo_surface_t* s = cairo_image_surface_create_for_data(reinterpret_cast<unsigned char*>(data->data()),
+                                                             CAIRO_FORMAT_RGB24, w, h, w * 4);
+    cairo_save(cr);
+    cairo_translate(cr, x, y);
+    cairo_scale(cr, scale, scale);
+    cairo_set_source_surface(cr, s, 0, 0);
+    cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+    cairo_rectangle(cr, 0, 0, w, h);
+    cairo_fill(cr);
+    cairo_restore(cr);
+    cairo_surface_destroy(s);
+  });
+}
+
+void Drawing::Place(const Drawing& other, double x, double y, double scale) {
+  auto steps = std::make_shared<std::vector<Step>>(*other.steps_);
+  const Colour bg = other.background_;
+  const double w = other.width_, h = other.height_;
+  steps_->push_back([steps, bg, w, h, x, y, scale](cairo_t* cr) {
+    cairo_save(cr);
+    cairo_translate(cr, x, y);
+    cairo_scale(cr, scale, scale);
+    cairo_rectangle(cr, 0, 0, w, h);
+    cairo_clip(cr);
+    if (bg.a > 0) {
+      SetColour(cr, bg);
+      cairo_paint(cr);
+    }
+    for (const auto& s : *steps) {
+      cairo_save(cr);
+      s(cr);
+      cairo_restore(cr);
+    }
+    cairo_restore(cr);
+  });
+}
+
+void Drawing::Replay(cairo_t* cr) const {
+  cairo_save(cr);
+  SetColour(cr, background_);
+  cairo_rectangle(cr, 0, 0, width_, height_);
+  cairo_fill(cr);
+  cairo_restore(cr);
+  for (const auto& s : *steps_) {
+    cairo_save(cr);
+    s(cr);
+    cairo_restore(cr);
+  }
+}
+
+std::string Drawing::Encode(Format format) const {
+  std::string bytes;
+  cairo_surface_t* surface = nullptr;
+  if (format == Format::kSvg) {
+    surface = cairo_svg_surface_create_for_stream(AppendBytes, &bytes, width_, height_);
+    cairo_svg_surface_set_document_unit(surface, CAIRO_SVG_UNIT_PX);
+  } else if (format == Format::kPdf) {
+    surface = cairo_pdf_surface_create_for_stream(AppendBytes, &bytes, width_, height_);
+    cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATOR, "cogmap");
+  } else {
+    int w = 0, h = 0;
+    RasterSize(width_, height_, &w, &h);
+    surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
+  }
+  CheckStatus(cairo_surface_status(surface), "surface");
+  cairo_t* cr = cairo_create(surface);
+  Replay(cr);
+  const cairo_status_t drawn = cairo_status(cr);
+  cairo_destroy(cr);
+  if (format == Format::kPng && drawn == CAIRO_STATUS_SUCCESS) {
+    cairo_surface_flush(surface);
+    const cairo_status_t written = cairo_surface_write_to_png_stream(surface, AppendBytes, &bytes);
+    cairo_surface_destroy(surface);
+    CheckStatus(written, "PNG");
+    return bytes;
+  }
+  cairo_surface_finish(surface);
+  const cairo_status_t finished = cairo_surface_status(surface);
+  cairo_surface_destroy(surface);
+  CheckStatus(drawn, "drawing");
+  CheckStatus(finished, "finishing");
+  return bytes;
+}
+
+io::RgbImage Drawing::Rasterize() const {
+  int w = 0, h = 0;
+  RasterSize(width_, height_, &w, &h);
+  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
+  CheckStatus(cairo_surface_status(surface), "surface");
+  cairo_t* cr = cairo_create(surface);
+  Replay(cr);
+  cairo_destroy(cr);
+  cairo_surface_flush(surface);
+  io::RgbImage out(w, h);
+  const unsigned char* data = cairo_image_surface_get_data(surface);
+  const int stride = cairo_image_surface_get_stride(surface);
+  for (int j = 0; j < h; ++j) {
+    const auto* row = reinterpret_cast<const uint32_t*>(data + static_cast<size_t>(j) * stride);
+    for (int i = 0; i < w; ++i)
+      out.at(i, j) = io::Rgb{static_cast<uint8_t>(row[i] >> 16), static_cast<uint8_t>(row[i] >> 8),
+                             static_cast<uint8_t>(row[i])};
+  }
+  cairo_surface_destroy(surface);
+  return out;
+}
+
+void Drawing::Write(const std::string& path) const {
+  const Format format = FormatOfPath(path);
+  io::WriteFileAtomically(path, Encode(format));
+}
+
+}  // namespace cogmap::draw
