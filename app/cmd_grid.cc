@@ -12,7 +12,7 @@
 #include "cogmap/grid/grid_summary.h"
 #include "cogmap/grid/range_fusion.h"
 #include "cogmap/io/grid_io.h"
-#include "cogmap/io/image.h"
+#include "cogmap/draw/grid_picture.h"
 #include "cogmap/io/log_reader.h"
 #include "cogmap/sensors/robot_json.h"
 
@@ -28,7 +28,8 @@ struct GridArgs {
   double window_m = 3.0;
   std::string output;
   std::string pgm;
-  int scale = 1;
+  int scale = 0;          // pixels per cell side; 0: fit the pixel budget
+  double px_per_m = 0.0;  // pixels per metre; 0: fit the pixel budget
   bool truth = false;
   bool stats = false;
 };
@@ -38,7 +39,9 @@ int RunGrid(const GridArgs& a) {
   if (!(a.cell_m > 0.0) || a.cell_m > 10.0)
     throw InputError("--cell " + Num(a.cell_m) + ": must be in (0, 10] metres");
   if (!(a.window_m > 0.0)) throw InputError("--window " + Num(a.window_m) + ": must be positive");
-  if (a.scale < 1 || a.scale > 64) throw InputError("--scale " + std::to_string(a.scale) + ": must be in [1, 64]");
+  if (a.scale < 0 || a.scale > 64) throw InputError("--scale " + std::to_string(a.scale) + ": must be in [1, 64]");
+  if (!(a.px_per_m >= 0) || a.px_per_m > 1000) throw InputError("--px-per-m: must be in (0, 1000]");
+  draw::FormatOfPath(a.output);  // a picture format, before any work
   const grid::FusionRule rule = grid::ParseFusionRule(a.fusion);
 
   auto log = io::OpenLog(a.log, a.format);
@@ -61,9 +64,10 @@ int RunGrid(const GridArgs& a) {
       io::FuseLog(*log, robot, *fusion, fuse, [&](double f) { bar.Update(f); });
   bar.Finish();
 
-  io::GridRenderOptions render;
-  render.scale = a.scale;
-  io::WritePng(a.output, io::RenderFusion(*fusion, render));
+  draw::PictureOptions picture;
+  picture.px_per_m = a.scale > 0 ? a.scale / a.cell_m : a.px_per_m;
+  picture.title = "Occupancy grid (" + grid::FusionRuleName(rule) + "): " + std::filesystem::path(a.log).filename().string();
+  draw::DrawGrid(*fusion, picture).Write(a.output);
   if (!a.pgm.empty()) io::WriteMapServer(a.pgm, fusion->Classes());
 
   const double seconds =
@@ -105,13 +109,14 @@ std::function<int()> SetupGrid(CLI::App& sub) {
                  "Window w in metres: readings nearer mark a hit; farther ones (and no echo) "
                  "only clear the beam up to w (mhimm, bayes, ds) or are ignored (himm)")
       ->capture_default_str();
-  sub.add_option("-o,--output", a->output, "PNG to write (world y up; MHIMM colours: grey "
+  sub.add_option("-o,--output", a->output, "Picture to write, .png, .svg or .pdf (world y up; MHIMM colours: grey "
                                            "unknown, white empty, black occupied, red robot path)")
       ->required();
   sub.add_option("--pgm", a->pgm,
                  "Also write the ROS map_server pair PGM.pgm + PGM.yaml (trinary: 0 occupied, "
                  "254 free, 205 unknown)");
-  sub.add_option("--scale", a->scale, "Pixels per cell side in the PNG")->capture_default_str();
+  sub.add_option("--scale", a->scale, "Pixels per cell side (default: the picture fits 2000 px on its longest side)");
+  sub.add_option("--px-per-m", a->px_per_m, "Pixels per metre (default: fit 2000 px)");
   sub.add_flag("--truth", a->truth, "Fuse at the log's ground-truth poses where it has them "
                                     "(e.g. the corrected CARMEN logs) instead of odometry");
   sub.add_flag("--stats", a->stats,

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,7 +16,7 @@
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
 #include "cogmap/io/atomic_file.h"
-#include "cogmap/io/image.h"
+#include "cogmap/draw/world_picture.h"
 #include "cogmap/io/log_reader.h"
 #include "cogmap/io/native_log.h"
 #include "cogmap/io/world_io.h"
@@ -159,12 +160,13 @@ struct RenderArgs {
   std::string world;
   std::string log;
   std::string output;
-  double px_per_m = 40.0;
+  double px_per_m = 0.0;  // 0: fit the picture to the pixel budget
   double m_per_pixel = 0.05;
 };
 
 int RunRender(const RenderArgs& a) {
-  if (!(a.px_per_m > 0) || a.px_per_m > 1000) throw InputError("--px-per-m must be in (0, 1000]");
+  if (!(a.px_per_m >= 0) || a.px_per_m > 1000) throw InputError("--px-per-m must be in (0, 1000]");
+  draw::FormatOfPath(a.output);  // a picture format, before any work
   const io::WorldReadResult world = LoadWorld(a.world, a.m_per_pixel);
   const FloorPlan& p = world.plan;
   std::vector<Vec2> truth, odom;
@@ -172,74 +174,19 @@ int RunRender(const RenderArgs& a) {
     auto log = io::OpenLog(a.log);
     sensors::LogRecord r;
     while (log->Next(&r)) {
-      const double min_step = 0.5 / a.px_per_m;
+      const double min_step = a.px_per_m > 0 ? 0.5 / a.px_per_m : 0.01;
       if (odom.empty() || (r.odom.translation() - odom.back()).norm() >= min_step)
         odom.push_back(r.odom.translation());
       if (r.truth && (truth.empty() || (r.truth->translation() - truth.back()).norm() >= min_step))
         truth.push_back(r.truth->translation());
     }
   }
-  Vec2 lo = p.min, hi = p.max;
-  auto grow = [&](const Vec2& v) {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  };
-  for (const auto& w : p.walls) {
-    grow(w.a);
-    grow(w.b);
-  }
-  for (const auto& v : truth) grow(v);
-  for (const auto& v : odom) grow(v);
-  const double margin_m = 0.5;
-  lo -= Vec2(margin_m, margin_m);
-  hi += Vec2(margin_m, margin_m);
-  const double s = a.px_per_m;
-  const long w = std::lround((hi.x() - lo.x()) * s), h = std::lround((hi.y() - lo.y()) * s);
-  if (w <= 0 || h <= 0 || w * h > 100'000'000L)
-    throw InputError(a.world, 0, "picture would be " + std::to_string(w) + "x" + std::to_string(h) +
-                                     " pixels: lower --px-per-m");
-  io::RgbImage img(static_cast<int>(w), static_cast<int>(h));
-  auto px = [&](const Vec2& v) { return Vec2((v.x() - lo.x()) * s, (hi.y() - v.y()) * s); };
-  const int thick = std::max(1, static_cast<int>(std::lround(0.05 * s)));
-  // Rooms: pale fills and their names.
-  const io::Rgb fills[] = {{235, 242, 255}, {255, 245, 230}, {235, 255, 240}, {250, 235, 250}, {255, 255, 225}};
-  for (size_t i = 0; i < p.rooms.size(); ++i) {
-    const Vec2 a0 = px({p.rooms[i].min.x(), p.rooms[i].max.y()}), a1 = px({p.rooms[i].max.x(), p.rooms[i].min.y()});
-    for (int y = std::max(0, static_cast<int>(a0.y())); y < std::min<long>(h, static_cast<long>(a1.y())); ++y)
-      for (int x = std::max(0, static_cast<int>(a0.x())); x < std::min<long>(w, static_cast<long>(a1.x())); ++x)
-        img.at(x, y) = fills[i % 5];
-  }
-  for (const auto& r : p.rooms) {
-    const Vec2 c = px({r.min.x(), r.max.y()});
-    img.DrawText(static_cast<int>(c.x()) + 4, static_cast<int>(c.y()) + 4, r.name, {90, 90, 140}, std::max(1, static_cast<int>(s / 40)));
-  }
-  for (const auto& wall : p.walls) {
-    const Vec2 a0 = px(wall.a), a1 = px(wall.b);
-    img.DrawLine(a0.x(), a0.y(), a1.x(), a1.y(), {0, 0, 0}, thick);
-  }
-  for (const auto& d : p.doorways) {
-    const Vec2 a0 = px(d.line.a), a1 = px(d.line.b);
-    img.DrawLine(a0.x(), a0.y(), a1.x(), a1.y(), {255, 150, 0}, thick);
-  }
-  for (const auto& wp : p.route) {
-    const Vec2 c = px(wp.pose.translation());
-    img.DrawDisc(c.x(), c.y(), std::max(2.0, 0.06 * s), {60, 90, 255});
-  }
-  auto path = [&](const std::vector<Vec2>& pts, io::Rgb c) {
-    for (size_t i = 1; i < pts.size(); ++i) {
-      const Vec2 a0 = px(pts[i - 1]), a1 = px(pts[i]);
-      img.DrawLine(a0.x(), a0.y(), a1.x(), a1.y(), c, std::max(1, thick / 2 + 1));
-    }
-  };
-  path(odom, {230, 0, 0});
-  path(truth, {0, 170, 0});
-  if (p.home) {
-    const Vec2 c = px(p.home->translation());
-    img.DrawDisc(c.x(), c.y(), std::max(3.0, 0.13 * s), {0, 120, 0});
-    const Vec2 t = c + Vec2(std::cos(p.home->theta), -std::sin(p.home->theta)) * std::max(6.0, 0.3 * s);
-    img.DrawLine(c.x(), c.y(), t.x(), t.y(), {0, 120, 0}, thick);
-  }
-  io::WritePng(a.output, img);
+  draw::PictureOptions picture;
+  picture.px_per_m = a.px_per_m;
+  picture.title = std::filesystem::path(a.world).filename().string();
+  const draw::MapPicture pic = draw::DrawWorld(p, truth, odom, picture);
+  pic.drawing.Write(a.output);
+  const long w = std::lround(std::ceil(pic.drawing.width())), h = std::lround(std::ceil(pic.drawing.height()));
   std::printf("%s: %zu walls, %zu rooms, %zu doors, %zu waypoints%s -> %s (%ldx%ld)\n", a.world.c_str(),
               p.walls.size(), p.rooms.size(), p.doorways.size(), p.route.size(),
               a.log.empty() ? "" : (", paths of " + a.log + " (green true, red odometry)").c_str(),
@@ -252,9 +199,10 @@ std::function<int()> SetupRender(CLI::App& sub) {
   sub.add_option("WORLD", a->world, "World: an ARIA 2D-Map file, a PNG occupancy image, or a ROS map.yaml")
       ->required();
   sub.add_option("--log", a->log, "A run to draw: true path in green, odometry path in red");
-  sub.add_option("--px-per-m", a->px_per_m, "Pixels per metre")->capture_default_str();
+  sub.add_option("--px-per-m", a->px_per_m,
+                 "Pixels per metre (default: the picture fits 2000 px on its longest side)");
   sub.add_option("--m-per-pixel", a->m_per_pixel, "Metres per pixel of a PNG world")->capture_default_str();
-  sub.add_option("-o,--output", a->output, "PNG to write")->required();
+  sub.add_option("-o,--output", a->output, "Picture to write: .png, .svg or .pdf")->required();
   return [a] { return RunRender(*a); };
 }
 

@@ -25,8 +25,7 @@
 #include "cogmap/io/image.h"
 #include "cogmap/io/log_reader.h"
 #include "cogmap/io/polyline_io.h"
-#include "cogmap/io/stages_picture.h"
-#include "cogmap/io/svg.h"
+#include "cogmap/draw/stages_picture.h"
 #include "cogmap/io/world_io.h"
 #include "cogmap/localize/heading_error.h"
 #include "cogmap/mapping/evaluate.h"
@@ -142,31 +141,13 @@ int RunVectorize(const VectorizeArgs& a) {
   const std::filesystem::path out(a.outdir);
   io::WriteWallsJson((out / "walls.json").string(), wf);
 
-  // walls.svg: the box of the walls and the path, the path faint, the walls black.
   const auto& lim = values.limits();
-  Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
-  for (const auto& p : path) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  for (const auto& l : r.polylines)
-    for (const auto& v : l) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
-  if (lo.x() > hi.x()) lo = lim.origin(), hi = lim.max();
-  lo -= Vec2(0.5, 0.5);
-  hi += Vec2(0.5, 0.5);
-  io::SvgWriter svg(lo, hi, 50.0);
-  svg.AddRaw("<rect x=\"" + Num(lo.x()) + "\" y=\"" + Num(-hi.y()) + "\" width=\"" + Num(hi.x() - lo.x()) +
-             "\" height=\"" + Num(hi.y() - lo.y()) + "\" fill=\"white\"/>\n");
-  svg.BeginGroup("path", "opacity=\"0.6\"");
-  svg.AddPolyline(path, "#f88", 0.03);
-  svg.EndGroup();
-  svg.BeginGroup("walls");
-  for (const auto& l : r.polylines) svg.AddPolyline(l, "black", 0.05);
-  svg.EndGroup();
-  svg.BeginGroup("vertices");
-  for (const auto& l : r.polylines)
-    for (const auto& v : l) svg.AddCircle(v, 0.04, "#c00");
-  svg.EndGroup();
-  svg.Write((out / "walls.svg").string());
+  // walls.svg: the walls (black, vertices red) over the path (faint).
+  draw::PictureOptions walls_picture;
+  walls_picture.title = "Walls: " + std::filesystem::path(a.log).filename().string();
+  draw::DrawWalls(r.polylines, {}, path, walls_picture).drawing.Write((out / "walls.svg").string());
 
-  io::WritePng((out / "stages.png").string(), io::DrawStages(values, r));
+  draw::DrawStages(values, r).Write((out / "stages.png").string());
 
   nlohmann::json rep;
   rep["log"] = wf.log_path;

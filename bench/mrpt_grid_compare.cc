@@ -48,6 +48,7 @@
 #include <vector>
 
 #include "cogmap/core/error.h"
+#include "cogmap/draw/drawing.h"
 #include "cogmap/core/geometry.h"
 #include "cogmap/grid/range_fusion.h"
 #include "cogmap/io/atomic_file.h"
@@ -311,7 +312,6 @@ void DrawSideBySide(const std::string& path, const cogmap::grid::HimmFusion* our
   const int h = static_cast<int>(std::ceil((hi_y - lo_y) / cell));
   const int scale = std::max(1, std::min(4, 600 / std::max(w, h)));
   const int margin = 8, header = 40;
-  cogmap::io::RgbImage img(2 * w * scale + 3 * margin, h * scale + header + margin, {255, 255, 255});
   cogmap::io::RgbImage left(w * scale, h * scale), right(w * scale, h * scale);
   for (int row = 0; row < h; ++row)
     for (int col = 0; col < w; ++col) {
@@ -334,11 +334,12 @@ void DrawSideBySide(const std::string& path, const cogmap::grid::HimmFusion* our
           right.at(col * scale + dx, row * scale + dy) = b;
         }
     }
-  img.Blit(left, margin, header);
-  img.Blit(right, 2 * margin + w * scale, header);
-  img.DrawText(margin, 6, "COGMAP MHIMM  " + title, {0, 0, 0}, 2);
-  img.DrawText(2 * margin + w * scale, 6, "MRPT COCCUPANCYGRIDMAP2D", {0, 0, 0}, 2);
-  cogmap::io::WritePng(path, img);
+  cogmap::draw::Drawing img(2 * w * scale + 3 * margin, h * scale + header + margin);
+  img.Image(left, margin, header, 1.0);
+  img.Image(right, 2 * margin + w * scale, header, 1.0);
+  img.Text(cogmap::Vec2(margin, 8), "cogmap MHIMM  " + title, cogmap::draw::Font{16, true});
+  img.Text(cogmap::Vec2(2 * margin + w * scale, 8), "MRPT COccupancyGridMap2D", cogmap::draw::Font{16, true});
+  img.Write(path);
 }
 
 // ---- accuracy against the true walls -------------------------------------

@@ -14,20 +14,6 @@
 namespace cogmap::io {
 namespace {
 
-uint8_t Lerp(uint8_t a, uint8_t b, float t) {
-  t = std::clamp(t, 0.0f, 1.0f);
-  return static_cast<uint8_t>(std::lround(a + (static_cast<float>(b) - a) * t));
-}
-
-Rgb Grey(uint8_t v) { return {v, v, v}; }
-
-// Paints cell (x, y) as a scale x scale block, world y up.
-void PaintCell(RgbImage* img, int x, int y, int grid_height, int scale, Rgb c) {
-  const int row0 = (grid_height - 1 - y) * scale, col0 = x * scale;
-  for (int r = 0; r < scale; ++r)
-    for (int k = 0; k < scale; ++k) img->at(col0 + k, row0 + r) = c;
-}
-
 std::string Trim(const std::string& s) {
   size_t a = 0, b = s.size();
   while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
@@ -56,58 +42,6 @@ std::string ReadWholeFile(const std::string& path) {
 }
 
 }  // namespace
-
-RgbImage RenderCertainty(const grid::Grid2D<float>& values, const GridRenderOptions& options) {
-  const int w = values.limits().width(), h = values.limits().height(), s = std::max(1, options.scale);
-  RgbImage img(w * s, h * s, kUnknownRgb);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const float v = values.at(x, y);
-      Rgb c = kUnknownRgb;
-      if (v == options.robot_path) c = kRobotPathRgb;
-      else if (v > options.occupied_threshold) c = kOccupiedRgb;
-      else if (v > 0) c = Grey(Lerp(kUnknownRgb.r, 64, v / options.occupied_threshold));
-      else if (v < 0) c = Grey(Lerp(kUnknownRgb.r, kEmptyRgb.r, v / options.min_value));
-      PaintCell(&img, x, y, h, s, c);
-    }
-  return img;
-}
-
-RgbImage RenderProbability(const grid::Grid2D<float>& occupancy,
-                           const grid::Grid2D<grid::CellClass>& classes, int scale) {
-  const int w = occupancy.limits().width(), h = occupancy.limits().height(), s = std::max(1, scale);
-  RgbImage img(w * s, h * s, kUnknownRgb);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const grid::CellClass k = classes.get(x, y);
-      Rgb c;
-      if (k == grid::CellClass::kRobotPath) c = kRobotPathRgb;
-      else if (k == grid::CellClass::kUnknown && occupancy.at(x, y) == 0.5f) c = kUnknownRgb;
-      else c = Grey(Lerp(255, 0, occupancy.at(x, y)));
-      PaintCell(&img, x, y, h, s, c);
-    }
-  return img;
-}
-
-RgbImage RenderFusion(const grid::RangeFusion& fusion, const GridRenderOptions& options) {
-  switch (fusion.rule()) {
-    case grid::FusionRule::kHimm:
-    case grid::FusionRule::kMhimm: {
-      GridRenderOptions o = options;
-      if (const auto* h = dynamic_cast<const grid::HimmFusion*>(&fusion)) {
-        o.occupied_threshold = h->options().occupied_threshold;
-        o.min_value = h->options().min_value < 0 ? h->options().min_value : -1.0f;
-        if (fusion.rule() == grid::FusionRule::kMhimm) o.robot_path = h->options().robot_path;
-        else o.robot_path = -1e30f;
-      }
-      return RenderCertainty(fusion.Values(), o);
-    }
-    case grid::FusionRule::kBayes:
-    case grid::FusionRule::kDempsterShafer:
-      return RenderProbability(fusion.Occupancy(), fusion.Classes(), options.scale);
-  }
-  return {};
-}
 
 // ---------------------------------------------------------------- map_server
 

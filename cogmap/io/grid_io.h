@@ -7,37 +7,9 @@
 #include "cogmap/core/pose2.h"
 #include "cogmap/grid/grid2d.h"
 #include "cogmap/grid/range_fusion.h"
-#include "cogmap/io/image.h"
 #include "cogmap/io/log_reader.h"
 
 namespace cogmap::io {
-
-// How grids become pictures. Images put world y up (row 0 = the grid's top row).
-struct GridRenderOptions {
-  int scale = 1;                    // pixels per cell side
-  float occupied_threshold = 7.0f;  // epsilon (table 4.1): darker than this = black
-  float min_value = -3.0f;          // MHIMM's lower clamp: whitest
-  float robot_path = -100.0f;       // MHIMM's path marker: red
-};
-
-// The MHIMM colours: unknown (0) grey, empty (< 0) white, occupied (> epsilon)
-// black, robot path red; values between are shaded (0 -> min_value fades grey
-// to white, 0 -> epsilon fades grey to dark grey). HIMM values render the same
-// way (HIMM's 0 is "unknown or empty": grey).
-constexpr Rgb kUnknownRgb{160, 160, 160};
-constexpr Rgb kEmptyRgb{255, 255, 255};
-constexpr Rgb kOccupiedRgb{0, 0, 0};
-constexpr Rgb kRobotPathRgb{220, 0, 0};
-RgbImage RenderCertainty(const grid::Grid2D<float>& values, const GridRenderOptions& options = {});
-
-// Probability of occupied as grey (0 white, 1 black); untouched cells grey
-// (kUnknownRgb) and robot path cells red, from 'classes'.
-RgbImage RenderProbability(const grid::Grid2D<float>& occupancy,
-                           const grid::Grid2D<grid::CellClass>& classes, int scale = 1);
-
-// Picks the picture that suits the rule: certainty colours for HIMM / MHIMM,
-// probability grey for Bayes / Dempster-Shafer.
-RgbImage RenderFusion(const grid::RangeFusion& fusion, const GridRenderOptions& options = {});
 
 // ROS map_server's map: a P5 PGM and its YAML (trinary mode).
 struct MapServerYaml {

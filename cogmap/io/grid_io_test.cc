@@ -35,64 +35,6 @@ void WriteText(const std::string& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
 }
 
-TEST(RenderCertainty, MhimmColoursWithYUp) {
-  Grid2D<float> g(MapLimits(0.1, Vec2(0, 0), 3, 2), 0.0f);
-  g.at(0, 0) = -100.0f;  // path
-  g.at(1, 0) = 15.0f;    // occupied
-  g.at(2, 0) = -3.0f;    // empty
-  g.at(0, 1) = 0.0f;     // unknown
-  g.at(1, 1) = 7.0f;     // not yet occupied: dark grey
-  g.at(2, 1) = -1.5f;    // half way to white
-  const RgbImage img = RenderCertainty(g);
-  ASSERT_EQ(img.width(), 3);
-  ASSERT_EQ(img.height(), 2);
-  EXPECT_EQ(img.at(0, 1), kRobotPathRgb);  // grid row 0 is the image's bottom row
-  EXPECT_EQ(img.at(1, 1), kOccupiedRgb);
-  EXPECT_EQ(img.at(2, 1), kEmptyRgb);
-  EXPECT_EQ(img.at(0, 0), kUnknownRgb);
-  EXPECT_EQ(img.at(1, 0), (Rgb{64, 64, 64}));
-  EXPECT_EQ(img.at(2, 0).r, 208);  // (160 + 255) / 2 rounded
-}
-
-TEST(RenderCertainty, ScaleRepeatsCells) {
-  Grid2D<float> g(MapLimits(0.1, Vec2(0, 0), 2, 1), 0.0f);
-  g.at(1, 0) = 15.0f;
-  GridRenderOptions o;
-  o.scale = 3;
-  const RgbImage img = RenderCertainty(g, o);
-  EXPECT_EQ(img.width(), 6);
-  EXPECT_EQ(img.height(), 3);
-  EXPECT_EQ(img.at(2, 2), kUnknownRgb);
-  EXPECT_EQ(img.at(3, 0), kOccupiedRgb);
-  EXPECT_EQ(img.at(5, 2), kOccupiedRgb);
-}
-
-TEST(RenderProbability, GreyByProbabilityUnknownAndPath) {
-  Grid2D<float> p(MapLimits(0.1, Vec2(0, 0), 3, 1), 0.5f);
-  Grid2D<CellClass> c(p.limits(), CellClass::kUnknown);
-  p.at(1, 0) = 1.0f;
-  c.at(1, 0) = CellClass::kOccupied;
-  c.at(2, 0) = CellClass::kRobotPath;
-  const RgbImage img = RenderProbability(p, c);
-  EXPECT_EQ(img.at(0, 0), kUnknownRgb);
-  EXPECT_EQ(img.at(1, 0), (Rgb{0, 0, 0}));
-  EXPECT_EQ(img.at(2, 0), kRobotPathRgb);
-}
-
-TEST(RenderFusion, MhimmGridShowsPathHitAndBeam) {
-  grid::GridBounds b;
-  b.fixed = MapLimits(0.1, Vec2(-1, -1), 30, 20);
-  auto f = grid::MakeFusion(grid::FusionRule::kMhimm, {b, {}, {}, {}});
-  sensors::RangeSensor s;
-  f->MarkRobot(Pose2{0.05, 0.05, 0});
-  for (int i = 0; i < 3; ++i) f->Insert(Pose2{0.05, 0.05, 0}, s, 1.0);
-  const RgbImage img = RenderFusion(*f);
-  const int row = 20 - 1 - 10;
-  EXPECT_EQ(img.at(10, row), kRobotPathRgb);
-  EXPECT_EQ(img.at(20, row), kOccupiedRgb);
-  EXPECT_EQ(img.at(15, row), kEmptyRgb);
-}
-
 TEST(MapServer, WritesTrinaryPgmAndYaml) {
   TempDir dir;
   Grid2D<CellClass> c(MapLimits(0.05, Vec2(-1.5, 2.25), 3, 2), CellClass::kUnknown);

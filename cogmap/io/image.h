@@ -12,7 +12,8 @@ struct Rgb {
   bool operator==(const Rgb&) const = default;
 };
 
-// An 8-bit RGB raster, row 0 at the top (image convention).
+// An 8-bit RGB raster, row 0 at the top (image convention): pixels read from
+// or written to PNG files. Drawing on rasters is cogmap/draw's (cairo).
 class RgbImage {
  public:
   RgbImage() = default;
@@ -27,16 +28,6 @@ class RgbImage {
   void Set(int x, int y, Rgb c) {
     if (Inside(x, y)) at(x, y) = c;
   }
-  // A line of the given thickness (pixels) between two pixel positions.
-  void DrawLine(double x0, double y0, double x1, double y1, Rgb c, int thickness = 1);
-  // A filled disc.
-  void DrawDisc(double cx, double cy, double radius, Rgb c);
-  // Copies 'other' with its top-left corner at (x, y).
-  void Blit(const RgbImage& other, int x, int y);
-  // Draws a short text label with a built-in 5x7 pixel font (digits, letters,
-  // a few signs), scaled by 'scale'.
-  void DrawText(int x, int y, const std::string& text, Rgb c, int scale = 1);
-
   const std::vector<Rgb>& pixels() const { return pixels_; }
 
  private:

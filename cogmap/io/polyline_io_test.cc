@@ -5,8 +5,6 @@
 #include <filesystem>
 
 #include "cogmap/core/error.h"
-#include "cogmap/io/stages_picture.h"
-#include "cogmap/io/svg.h"
 #include "cogmap/vectorize/synthetic_grid.h"
 #include "cogmap/core/test_temp.h"
 
@@ -72,39 +70,6 @@ TEST(WallsFile, RoundTrip) {
   EXPECT_EQ(r.mode, "paper");
   EXPECT_EQ(r.bytes_polylines, 17);
   EXPECT_THROW(ReadWallsJson(TempPath("nope.json")), InputError);
-}
-
-TEST(Svg, ViewBoxInMetresWithYFlipped) {
-  SvgWriter svg(Vec2(-1, 2), Vec2(3, 5), 10.0);
-  svg.BeginGroup("walls", "stroke=\"black\"");
-  svg.AddPolyline({Vec2(0, 3), Vec2(1, 4)}, "black", 0.05);
-  svg.AddCircle(Vec2(0.5, 2.5), 0.1, "red");
-  svg.AddText(Vec2(0, 4.5), "a<b", 0.2);
-  const std::string s = svg.str();
-  EXPECT_NE(s.find("viewBox=\"-1 -5 4 3\""), std::string::npos) << s;
-  EXPECT_NE(s.find("width=\"40\" height=\"30\""), std::string::npos);
-  EXPECT_NE(s.find("points=\"0,-3 1,-4\""), std::string::npos) << s;
-  EXPECT_NE(s.find("cy=\"-2.5\""), std::string::npos);
-  EXPECT_NE(s.find("a&lt;b"), std::string::npos);
-  EXPECT_NE(s.find("</g>"), std::string::npos);  // closed by str()
-}
-
-TEST(StagesPicture, FivePanelsAndWalls) {
-  const auto walls = vectorize::RectangleWalls(Vec2(1, 1), Vec2(5, 4));
-  const Polyline path = {Vec2(1.8, 1.8), Vec2(4.2, 1.8), Vec2(4.2, 3.2)};
-  const auto grid = vectorize::MakeSyntheticGrid(walls, path);
-  const auto r = vectorize::Vectorize(grid);
-  StagesPictureOptions o;
-  const auto img = DrawStages(grid, r, o);
-  const int w = grid.limits().width(), h = grid.limits().height();
-  const double s = std::min(6.0, 360.0 / std::max(w, h));
-  EXPECT_EQ(img.width(), 8 + 5 * (static_cast<int>(std::ceil(w * s)) + 8));
-  EXPECT_GT(img.height(), static_cast<int>(h * s));
-  const auto walls_img = DrawWalls(r.polylines, walls, Vec2(0, 0), Vec2(6, 5), 20);
-  EXPECT_EQ(walls_img.width(), 120);
-  EXPECT_EQ(walls_img.height(), 100);
-  // An empty result draws blank panels, no crash.
-  EXPECT_GT(DrawStages(grid::Grid2D<float>(), vectorize::VectorizeResult{}).width(), 0);
 }
 
 }  // namespace

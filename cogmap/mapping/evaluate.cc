@@ -16,8 +16,7 @@
 #include "cogmap/io/image.h"
 #include "cogmap/io/log_reader.h"
 #include "cogmap/io/polyline_io.h"
-#include "cogmap/io/stages_picture.h"
-#include "cogmap/io/svg.h"
+#include "cogmap/draw/stages_picture.h"
 #include "cogmap/io/world_io.h"
 #include "cogmap/localize/heading_error.h"
 #include "cogmap/plan/plan_json.h"
@@ -83,14 +82,9 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
   const auto rec_st = have_world ? eval::WallRecall(map_walls, world.plan.walls, true_path, mo) : eval::RecallStats{};
 
   if (!o.png.empty() && have_world) {
-    Vec2 lo = world.plan.min, hi = world.plan.max;
-    for (const auto& w : world.plan.walls) lo = lo.cwiseMin(w.a).cwiseMin(w.b), hi = hi.cwiseMax(w.a).cwiseMax(w.b);
-    for (const auto& l : map_walls)
-      for (const auto& v : l) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
-    lo -= Vec2(0.5, 0.5);
-    hi += Vec2(0.5, 0.5);
-    const double px_per_m = std::clamp(1600.0 / std::max(hi.x() - lo.x(), hi.y() - lo.y()), 5.0, 100.0);
-    io::WritePng(o.png, io::DrawWalls(map_walls, world.plan.walls, lo, hi, px_per_m));
+    draw::PictureOptions picture;
+    picture.title = "Map walls over the true walls";
+    draw::DrawWalls(map_walls, world.plan.walls, {}, picture).drawing.Write(o.png);
   }
 
   Evaluation out;
