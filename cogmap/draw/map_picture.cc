@@ -51,7 +51,7 @@ MapPicture DrawMasterMap(const io::MasterMap& map, const MapPictureOptions& opti
   const double exit_r = std::clamp(0.15 * k, 2.5, 8.0);
   for (const auto& e : map.exits) d.Circle(page.Px(e.center_m), exit_r, kExitColour);
 
-  LabelPlacer placer(Box{0, 0, page.width_px(), page.height_px()});
+  LabelPlacer placer(page.map_box());  // labels stay over the map, off the bands
   for (const auto& b : page.Decorate(d)) placer.Block(b);
   if (options.labels) {
     const Font font{std::clamp(0.45 * k, 11.0, 16.0), true};

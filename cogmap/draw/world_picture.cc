@@ -78,7 +78,7 @@ MapPicture DrawWorld(const FloorPlan& world, const std::vector<Vec2>& truth, con
   d.Polyline(page.Px(odom), Stroke{Rgb8(230, 0, 0), std::clamp(0.03 * k, 1.0, 2.5)});
   d.Polyline(page.Px(truth), Stroke{Rgb8(0, 170, 0), std::clamp(0.03 * k, 1.0, 2.5)});
   if (world.home) HomeArrow(d, page, *world.home, Rgb8(0, 120, 0));
-  LabelPlacer placer(Box{0, 0, page.width_px(), page.height_px()});
+  LabelPlacer placer(page.map_box());  // labels stay over the map, off the bands
   for (const auto& box : page.Decorate(d)) placer.Block(box);
   const Font font{std::clamp(0.35 * k, 10.0, 15.0)};
   for (const auto& r : world.rooms)
@@ -137,7 +137,7 @@ MapPicture DrawPlan(const plan::Plan& plan, const PlanPictureOptions& options) {
     }
   }
   if (plan.home) HomeArrow(d, page, *plan.home, Rgb8(0, 120, 0));
-  LabelPlacer placer(Box{0, 0, page.width_px(), page.height_px()});
+  LabelPlacer placer(page.map_box());  // labels stay over the map, off the bands
   for (const auto& box : page.Decorate(d)) placer.Block(box);
   if (options.labels) {
     const Font font{std::clamp(0.3 * k, 10.0, 14.0)};
