@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "app/cli_util.h"
 #include "app/command.h"
@@ -16,6 +17,7 @@
 #include "cogmap/io/plan_files.h"
 #include "cogmap/mapping/map_job.h"
 #include "cogmap/sensors/robot.h"
+#include "cogmap/sensors/robot_json.h"
 
 namespace cogmap::app {
 namespace {
@@ -40,6 +42,8 @@ struct MapArgs {
   bool raw = false;
   std::string world;
   std::string geo_anchor;
+  std::vector<std::string> topics;
+  double px_per_m = 0.0;
   std::string output;
 };
 
@@ -69,6 +73,8 @@ int RunMap(const MapArgs& a) {
   job.raw = a.raw;
   job.world = a.world;
   if (!a.geo_anchor.empty()) job.geo_anchor = io::ParseGeoAnchor(a.geo_anchor);
+  if (!(a.px_per_m >= 0.0)) throw InputError("--px-per-m " + Num(a.px_per_m) + ": must be positive (0: fit)");
+  job.px_per_m = a.px_per_m;
   ProgressBar bar("map");
   job.progress = [&bar](double f, int asrs) { bar.Update(f, std::to_string(asrs) + " ASRs"); };
   job.notice = [&bar](const std::string& s) {
@@ -76,7 +82,11 @@ int RunMap(const MapArgs& a) {
     std::fprintf(stderr, "cogmap: %s\n", s.c_str());
   };
 
-  auto log = io::OpenLog(a.log, a.format);
+  io::LogOpenOptions open;  // bags: the topics, and the robot that names a point cloud's sonars
+  open.format = a.format;
+  open.topics = a.topics;
+  if (!a.robot.empty()) open.robot = sensors::ResolveRobot(a.robot);
+  auto log = io::OpenLog(a.log, open);
   const mapping::MapJobSummary s = mapping::RunMapJob(*log, job);
   bar.Finish();
   WarnSkipped(*log);
@@ -148,9 +158,16 @@ std::function<int()> SetupMap(CLI::App& sub) {
                  "Files to write beside map.sqlite, plan.json, walls.json and report.json, comma-separated: svg, "
                  "png (the master map: every ASR's walls, path, room graph), pgm (map_server PGM + YAML of the "
                  "floor plan), geojson, aria (map.map), gpkg (GeoPackage), route (route_graph.geojson for Nav2), "
-                 "compare (map_compare.svg/.png), heading (heading_error.png); default = "
-                 "svg,geojson,aria,gpkg,route; all = every one (docs/map-files.md)")
+                 "plan (plan.svg/.png: the floor plan drawn), compare (map_compare.svg/.png), heading "
+                 "(heading_error.png); default = svg,geojson,aria,gpkg,route,plan; all = every one "
+                 "(docs/map-files.md, docs/pictures.md)")
       ->capture_default_str();
+  sub.add_option("--topics", a->topics,
+                 "Bags: the topics to read, comma separated (range, odometry); default: found by type "
+                 "(docs/inputs.md)")
+      ->delimiter(',');
+  sub.add_option("--px-per-m", a->px_per_m,
+                 "Pictures: this many pixels per metre (default 0: fit 2000 px on the longest side)");
   sub.add_option("--geo-anchor", a->geo_anchor,
                  "LAT,LON,HEADING_DEG: map.geojson in WGS 84, the map origin at this latitude/longitude and its +x "
                  "axis at this bearing (degrees clockwise from north); without it map.geojson is in local metres");

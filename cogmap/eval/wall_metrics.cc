@@ -140,6 +140,48 @@ std::vector<Vec2> ThinPath(const std::vector<Vec2>& path, double step_m) {
   return out;
 }
 
+namespace {
+
+// Items (points or boxes) bucketed on a uniform grid for range queries; the
+// cell grows so that the grid stays under 4M cells whatever the extent.
+class BoxGrid {
+ public:
+  BoxGrid(const Vec2& lo, const Vec2& hi, double cell_m) : lo_(lo) {
+    const double wx = std::max(hi.x() - lo.x(), 1e-9), wy = std::max(hi.y() - lo.y(), 1e-9);
+    cell_ = std::max({cell_m, 1e-3, std::sqrt(wx * wy / 4e6), wx / 4e6, wy / 4e6});
+    w_ = static_cast<int>(wx / cell_) + 1;
+    h_ = static_cast<int>(wy / cell_) + 1;
+    buckets_.resize(static_cast<size_t>(w_) * h_);
+  }
+  void Add(const Vec2& a, const Vec2& b, int item) {
+    ForCells(a.cwiseMin(b), a.cwiseMax(b), [&](std::vector<int>& c) { c.push_back(item); });
+  }
+  // Every item whose box meets [lo, hi] (each once, in ascending order).
+  void Query(const Vec2& lo, const Vec2& hi, std::vector<int>* out) {
+    out->clear();
+    ForCells(lo, hi, [&](std::vector<int>& c) { out->insert(out->end(), c.begin(), c.end()); });
+    std::sort(out->begin(), out->end());
+    out->erase(std::unique(out->begin(), out->end()), out->end());
+  }
+
+ private:
+  template <class F>
+  void ForCells(const Vec2& lo, const Vec2& hi, F&& f) {
+    const int x0 = std::clamp(static_cast<int>(std::floor((lo.x() - lo_.x()) / cell_)), 0, w_ - 1);
+    const int x1 = std::clamp(static_cast<int>(std::floor((hi.x() - lo_.x()) / cell_)), 0, w_ - 1);
+    const int y0 = std::clamp(static_cast<int>(std::floor((lo.y() - lo_.y()) / cell_)), 0, h_ - 1);
+    const int y1 = std::clamp(static_cast<int>(std::floor((hi.y() - lo_.y()) / cell_)), 0, h_ - 1);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) f(buckets_[static_cast<size_t>(y) * w_ + x]);
+  }
+  Vec2 lo_;
+  double cell_ = 1.0;
+  int w_ = 1, h_ = 1;
+  std::vector<std::vector<int>> buckets_;
+};
+
+}  // namespace
+
 RecallStats WallRecall(const std::vector<Polyline>& map_walls, const std::vector<Segment2>& true_walls,
                        const std::vector<Vec2>& true_path, const WallMetricsOptions& options) {
   RecallStats st;
@@ -151,23 +193,40 @@ RecallStats WallRecall(const std::vector<Polyline>& map_walls, const std::vector
   const SegmentIndex map_index(map_all, 0.5);
   const auto path = ThinPath(true_path, options.path_step_m);
   const double range2 = options.sensor_range_m * options.sensor_range_m;
+  // Grids of the true walls and of the path: the candidates of each test
+  // below are found in their cells, so the cost grows with the map, not with
+  // its square (the tests themselves are unchanged).
+  Vec2 lo(std::numeric_limits<double>::max(), std::numeric_limits<double>::max()), hi = -lo;
+  for (const auto& w : true_walls) lo = lo.cwiseMin(w.a).cwiseMin(w.b), hi = hi.cwiseMax(w.a).cwiseMax(w.b);
+  for (const auto& q : path) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+  if (true_walls.empty()) return st;
+  BoxGrid wall_grid(lo, hi, std::max(options.sensor_range_m, 0.5));
+  for (size_t k = 0; k < true_walls.size(); ++k) wall_grid.Add(true_walls[k].a, true_walls[k].b, static_cast<int>(k));
+  BoxGrid path_grid(lo, hi, std::max(options.sensor_range_m, 0.5));
+  for (size_t k = 0; k < path.size(); ++k) path_grid.Add(path[k], path[k], static_cast<int>(k));
+  std::vector<int> candidates, near_path;
   std::vector<Segment2> nearby;
+  const Vec2 r(options.sensor_range_m, options.sensor_range_m);
   for (const auto& w : true_walls) {
     const auto pts = SampleSegment(w, options.sample_step_m);
     const double len = w.length();
     const double each = pts.size() > 1 ? len / (pts.size() - 1) : 0.0;
     // Walls that can block a sight line onto this one: within range of it.
+    const double reach = 2 * options.sensor_range_m + len;
+    wall_grid.Query(w.a.cwiseMin(w.b) - Vec2(reach, reach), w.a.cwiseMax(w.b) + Vec2(reach, reach), &candidates);
     nearby.clear();
-    for (const auto& o : true_walls) {
-      if (PointSegmentDistance(o.a, w.a, w.b) <= 2 * options.sensor_range_m + len ||
-          PointSegmentDistance(o.b, w.a, w.b) <= 2 * options.sensor_range_m + len)
+    for (int k : candidates) {
+      const auto& o = true_walls[k];
+      if (PointSegmentDistance(o.a, w.a, w.b) <= reach || PointSegmentDistance(o.b, w.a, w.b) <= reach)
         nearby.push_back(o);
     }
     for (size_t i = 0; i < pts.size(); ++i) {
       const double weight = pts.size() == 1 ? 0.0 : ((i == 0 || i + 1 == pts.size()) ? each / 2 : each);
       ++st.samples;
       bool seen = false;
-      for (const auto& q : path) {
+      path_grid.Query(pts[i] - r, pts[i] + r, &near_path);
+      for (int k : near_path) {
+        const Vec2& q = path[k];
         if ((q - pts[i]).squaredNorm() > range2) continue;
         if (ClearLineOfSight(q, pts[i], nearby, options.sight_tolerance_m)) {
           seen = true;

@@ -69,31 +69,28 @@ std::unique_ptr<asr::SqliteAsrStore> OpenStore(io::OutputFolder& folder, bool re
   return asr::SqliteAsrStore::Open(folder.Staged("map.sqlite"), asr::SqliteAsrStore::OpenMode::kReplace);
 }
 
-// The master map's pictures; its other files come from the floor plan.
-io::MasterMapOutputs MapOutputs(const OutputChoice& c) { return {c.svg, c.png, false, false, false}; }
-
 }  // namespace
 
 OutputChoice OutputChoice::All() {
   OutputChoice c;
-  c.svg = c.png = c.pgm = c.geojson = c.aria = c.gpkg = c.route = c.compare = c.heading = true;
+  c.svg = c.png = c.pgm = c.geojson = c.aria = c.gpkg = c.route = c.plan = c.compare = c.heading = true;
   return c;
 }
 
 std::string OutputChoice::Names() {
-  return "default, all, svg, png, pgm, geojson, aria, gpkg, route, compare, heading";
+  return "default, all, svg, png, pgm, geojson, aria, gpkg, route, plan, compare, heading";
 }
 
 OutputChoice OutputChoice::Parse(const std::string& text) {
   OutputChoice c;
-  c.svg = c.png = c.pgm = c.geojson = c.aria = c.gpkg = c.route = c.compare = c.heading = false;
+  c.svg = c.png = c.pgm = c.geojson = c.aria = c.gpkg = c.route = c.plan = c.compare = c.heading = false;
   std::stringstream in(text);
   std::string item;
   bool any = false;
   while (std::getline(in, item, ',')) {
     any = true;
     if (item == "all") c = All();
-    else if (item == "default") c.svg = c.geojson = c.aria = c.gpkg = c.route = true;
+    else if (item == "default") c.svg = c.geojson = c.aria = c.gpkg = c.route = c.plan = true;
     else if (item == "svg") c.svg = true;
     else if (item == "png") c.png = true;
     else if (item == "pgm") c.pgm = true;
@@ -101,6 +98,7 @@ OutputChoice OutputChoice::Parse(const std::string& text) {
     else if (item == "aria") c.aria = true;
     else if (item == "gpkg") c.gpkg = true;
     else if (item == "route") c.route = true;
+    else if (item == "plan") c.plan = true;
     else if (item == "compare") c.compare = true;
     else if (item == "heading") c.heading = true;
     else throw InputError("--outputs " + text + ": unknown output '" + item + "' (expected " + Names() + ")");
@@ -180,10 +178,11 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   const io::MasterMap master = io::BuildMasterMap(all, !job.raw);
   MapJobSummary out;
   out.written = {"map.sqlite"};
-  const io::MasterMapOutputs map_outputs = MapOutputs(job.outputs);
-  for (const auto& f : draw::WriteMasterMapPictures(staging, master, map_outputs.svg, map_outputs.png))
-    out.written.push_back(fs::path(f).filename().string());
-  for (const auto& f : io::WriteMasterMapFiles(staging, master, {}, 0.05, map_outputs))
+  // The master map's pictures (every ASR's walls); its files come from the
+  // floor plan below.
+  draw::MapPictureOptions map_picture;
+  map_picture.picture.px_per_m = job.px_per_m;
+  for (const auto& f : draw::WriteMasterMapPictures(staging, master, job.outputs.svg, job.outputs.png, false, map_picture))
     out.written.push_back(fs::path(f).filename().string());
 
   // The robot's path through each ASR as placed (drift inside it removed).
@@ -206,6 +205,15 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   pf.aria = job.outputs.aria;
   pf.map_server = job.outputs.pgm;
   for (const auto& f : io::WritePlanFiles(staging, floor_plan, pf)) out.written.push_back(fs::path(f).filename().string());
+  if (job.outputs.plan) {
+    draw::PlanPictureOptions pp;
+    pp.picture.px_per_m = job.px_per_m;
+    const draw::MapPicture picture = draw::DrawPlan(floor_plan, pp);
+    for (const char* name : {"plan.svg", "plan.png"}) {
+      picture.drawing.Write((fs::path(staging) / name).string());
+      out.written.push_back(name);
+    }
+  }
   out.plan_rooms = static_cast<int>(floor_plan.rooms.size());
   out.plan_walls = static_cast<int>(floor_plan.walls.size());
   out.plan_doors = static_cast<int>(floor_plan.doors.size());

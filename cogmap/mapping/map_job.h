@@ -28,6 +28,7 @@ struct OutputChoice {
   bool aria = true;      // map.map (ARIA 2D-Map: walls, RobotHome, rooms, doors)
   bool gpkg = true;      // map.gpkg (GeoPackage: rooms, walls, doors, room graph)
   bool route = true;     // route_graph.geojson (Nav2 Route Server)
+  bool plan = true;      // plan.svg + plan.png: the floor plan drawn
   bool compare = false;  // map_compare.svg/.png
   bool heading = false;  // heading_error.png
   static OutputChoice All();
@@ -48,6 +49,7 @@ struct MapJob {
   bool raw = false;                      // draw the master map at the raw odometry poses
   std::string world;                     // ground-truth world: room precision / recall
   std::optional<io::GeoAnchor> geo_anchor;  // map.geojson in WGS 84 at this anchor
+  double px_per_m = 0.0;                 // pictures: this scale (0: fit 2000 px on the longest side)
   // Progress: fraction of the log read, ASRs closed. Called every 256 records.
   std::function<void(double fraction, int asrs)> progress;
   // Messages for the user that cannot wait for the summary (a failed run's
