@@ -4,10 +4,12 @@
 #   1. simulates a Pioneer 3-DX with its 16-sonar ring driving nine_rooms.map
 #      with 1 degree/metre of heading drift (the thesis's test environment);
 #   2. draws the world with the true and the odometry paths;
-#   3. builds the cognitive map (ASRs, exits, the pose graph) with all
-#      its outputs: map.sqlite, map.svg, map.png, map.pgm/.yaml, map.geojson,
-#      map.map (ARIA 2D-Map), map_compare.svg/.png (before | after the pose
-#      correction), heading_error.png, report.json;
+#   3. builds the cognitive map (ASRs, exits, the pose graph) and its floor
+#      plan with all their outputs: map.sqlite, map.svg/.png (every ASR),
+#      plan.json and plan.svg/.png (the floor plan), map.gpkg, map.geojson,
+#      route_graph.geojson (Nav2), map.map (ARIA 2D-Map), map.pgm/.yaml,
+#      map_compare.svg/.png (before | after the pose correction),
+#      heading_error.png, walls.json, report.json;
 #   4. scores it against the floor plan (cogmap eval);
 #   5. also vectorizes the whole run as one space (stages.png) and draws the
 #      grid of the real Pioneer sonar log.
