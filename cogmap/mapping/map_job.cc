@@ -16,6 +16,7 @@
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
 #include "cogmap/draw/map_picture.h"
+#include "cogmap/draw/world_picture.h"
 #include "cogmap/draw/plots.h"
 #include "cogmap/io/atomic_file.h"
 #include "cogmap/io/map_files.h"
