@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdarg>
 #include <cstdio>
 #include <limits>
 #include <optional>
 
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
+#include "cogmap/core/text.h"
 #include "cogmap/io/atomic_file.h"
 #include "cogmap/io/ev3_log.h"
 #include "cogmap/io/log_reader.h"
@@ -20,15 +20,6 @@
 
 namespace cogmap::io {
 namespace {
-
-void Append(std::string* out, const char* format, ...) {
-  char buf[1024];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(buf, sizeof buf, format, args);
-  va_end(args);
-  *out += buf;
-}
 
 LogOpenOptions OpenOptions(const std::string& format, const std::vector<std::string>& topics,
                                const std::string& robot) {
@@ -60,12 +51,12 @@ void DescribeSensors(const sensors::RobotDescription& r, std::string* out) {
     const auto& a = s[i];
     const bool laser = a.kind == sensors::SensorKind::kLaser;
     if (j - i == 1) {
-      Append(out, "  %-9zu %s at (%.3f, %.3f) facing %.1f deg, cone %.1f deg, %.3g-%.3g m\n", i,
+      AppendF(out, "  %-9zu %s at (%.3f, %.3f) facing %.1f deg, cone %.1f deg, %.3g-%.3g m\n", i,
                   laser ? "laser beam" : "sonar", a.robot_from_sensor.x, a.robot_from_sensor.y,
                   RadToDeg(a.robot_from_sensor.theta), RadToDeg(a.beam_width_rad), a.min_range_m, a.max_range_m);
     } else {
       const std::string ids = std::to_string(i) + "-" + std::to_string(j - 1);
-      Append(out, "  %-9s laser of %zu beams at (%.3f, %.3f): %.2f to %.2f deg, %.3g-%.3g m\n", ids.c_str(), j - i,
+      AppendF(out, "  %-9s laser of %zu beams at (%.3f, %.3f): %.2f to %.2f deg, %.3g-%.3g m\n", ids.c_str(), j - i,
                   a.robot_from_sensor.x, a.robot_from_sensor.y, RadToDeg(a.robot_from_sensor.theta),
                   RadToDeg(s[j - 1].robot_from_sensor.theta), a.min_range_m, a.max_range_m);
     }
@@ -113,33 +104,33 @@ LogSummary SummarizeLog(const std::string& path, const LogToolOptions& o,
   LogSummary s;
   s.skipped = reader->skipped();
   std::string* out = &s.text;
-  Append(out, "log:            %s\n", path.c_str());
-  Append(out, "format:         %s\n", detected.c_str());
-  Append(out, "robot hint:     %s\n", robot ? RobotSummary(*robot).c_str() : "none (give --robot)");
-  Append(out, "records:        %ld (%ld with readings)\n", records, sweeps);
-  Append(out, "readings:       %ld (%ld at or beyond max range = no echo)\n", readings, no_echo);
-  Append(out, "time:           %.6g s to %.6g s, duration %.6g s%s\n", t_min, t_max, t_max - t_min,
+  AppendF(out, "log:            %s\n", path.c_str());
+  AppendF(out, "format:         %s\n", detected.c_str());
+  AppendF(out, "robot hint:     %s\n", robot ? RobotSummary(*robot).c_str() : "none (give --robot)");
+  AppendF(out, "records:        %ld (%ld with readings)\n", records, sweeps);
+  AppendF(out, "readings:       %ld (%ld at or beyond max range = no echo)\n", readings, no_echo);
+  AppendF(out, "time:           %.6g s to %.6g s, duration %.6g s%s\n", t_min, t_max, t_max - t_min,
               backwards ? (" (" + std::to_string(backwards) + " steps back in time)").c_str() : "");
-  Append(out, "odometry path:  %.3f m\n", odom_m);
+  AppendF(out, "odometry path:  %.3f m\n", odom_m);
   if (truths)
-    Append(out, "ground truth:   yes, %ld records, path %.3f m\n", truths, truth_m);
+    AppendF(out, "ground truth:   yes, %ld records, path %.3f m\n", truths, truth_m);
   else
-    Append(out, "ground truth:   no\n");
+    AppendF(out, "ground truth:   no\n");
   const auto contents = reader->contents();
   if (!contents.empty()) {
-    Append(out, "contents:       %zu topics or message types\n", contents.size());
+    AppendF(out, "contents:       %zu topics or message types\n", contents.size());
     size_t w = 0;
     for (const auto& c : contents) w = std::max(w, c.name.size());
     for (const auto& c : contents)
-      Append(out, "  %-*s %-26s %8ld  %s\n", static_cast<int>(w), c.name.c_str(), c.type.c_str(), c.count,
+      AppendF(out, "  %-*s %-26s %8ld  %s\n", static_cast<int>(w), c.name.c_str(), c.type.c_str(), c.count,
                   c.use.empty() ? "not used" : c.use.c_str());
   }
   if (robot) {
-    Append(out, "robot sensors:\n");
+    AppendF(out, "robot sensors:\n");
     DescribeSensors(*robot, out);
   }
   if (const auto* ev3 = dynamic_cast<const Ev3LogReader*>(reader.get()))
-    Append(out, "ev3 samples:    %d per bearing; %ld lines where a bearing's samples spread over %.0f cm\n",
+    AppendF(out, "ev3 samples:    %d per bearing; %ld lines where a bearing's samples spread over %.0f cm\n",
                 ev3->samples_per_bearing(), ev3->disagreeing_lines(), kEv3DisagreeCm);
   return s;
 }
@@ -188,14 +179,14 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
   ConvertSummary s;
   s.skipped = reader->skipped();
   std::string* out = &s.text;
-  Append(out, "wrote %s: %ld records, %ld readings, robot %s%s\n", out_path.c_str(), records, readings,
+  AppendF(out, "wrote %s: %ld records, %ld readings, robot %s%s\n", out_path.c_str(), records, readings,
               sonar ? sonar->name.c_str() : robot.name.c_str(),
               sonar ? (" (sonar readings derived from " + robot.name + ")").c_str() : "");
   if (as_sonar) {
     int unseen = 0;
     for (bool c : as_sonar->covered()) unseen += c ? 0 : 1;
     if (unseen)
-      Append(out, "%d of %zu sonars point where %s does not look: they have no readings\n", unseen,
+      AppendF(out, "%d of %zu sonars point where %s does not look: they have no readings\n", unseen,
                   sonar->sensors.size(), robot.name.c_str());
   }
   return s;

@@ -1,7 +1,6 @@
 #include "cogmap/mapping/evaluate.h"
 
 #include <algorithm>
-#include <cstdarg>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -10,6 +9,7 @@
 #include "cogmap/asr/room_metrics.h"
 #include "cogmap/asr/store.h"
 #include "cogmap/core/error.h"
+#include "cogmap/core/text.h"
 #include "cogmap/eval/plan_metrics.h"
 #include "cogmap/eval/trajectory_metrics.h"
 #include "cogmap/eval/wall_metrics.h"
@@ -23,15 +23,6 @@
 
 namespace cogmap::mapping {
 namespace {
-
-void Append(std::string* out, const char* format, ...) {
-  char buf[1024];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(buf, sizeof buf, format, args);
-  va_end(args);
-  *out += buf;
-}
 
 std::string Num(double v) {
   char buf[32];
@@ -182,45 +173,45 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
   j["log"] = wf.log_path;
   if (have_world) j["world"] = o.world; else j["world"] = nullptr;
   {
-    Append(&out.text, "%s vs %s (%s mode)\n", walls_path.c_str(), have_world ? o.world.c_str() : "(no world: headings only)",
+    AppendF(&out.text, "%s vs %s (%s mode)\n", walls_path.c_str(), have_world ? o.world.c_str() : "(no world: headings only)",
                 wf.mode.c_str());
     if (!have_world)
       ;
     else if (prec.samples > 0)
-      Append(&out.text, "  wall precision: mean %.3f m, p95 %.3f m, max %.3f m (%lld samples)\n", prec.mean_m, prec.p95_m,
+      AppendF(&out.text, "  wall precision: mean %.3f m, p95 %.3f m, max %.3f m (%lld samples)\n", prec.mean_m, prec.p95_m,
                   prec.max_m, static_cast<long long>(prec.samples));
     else
-      Append(&out.text, "  wall precision: n/a (the map has no walls)\n");
-    if (have_world) Append(&out.text, "  wall recall: %.3f (%.1f of %.1f m seeable within %.1f m of the true path)\n", rec_st.recall(),
+      AppendF(&out.text, "  wall precision: n/a (the map has no walls)\n");
+    if (have_world) AppendF(&out.text, "  wall recall: %.3f (%.1f of %.1f m seeable within %.1f m of the true path)\n", rec_st.recall(),
                 rec_st.found_length_m, rec_st.seeable_length_m, mo.sensor_range_m);
-    Append(&out.text, "  %zu polylines, %lld vertices; bytes grid %lld, vertices %lld, polylines %lld (%.2f%% of grid)\n",
+    AppendF(&out.text, "  %zu polylines, %lld vertices; bytes grid %lld, vertices %lld, polylines %lld (%.2f%% of grid)\n",
                 wf.polylines.size(), static_cast<long long>(wf.vertex_count), static_cast<long long>(wf.bytes_grid),
                 static_cast<long long>(wf.bytes_vertices), static_cast<long long>(wf.bytes_polylines),
                 100.0 * j["polylines_over_grid"].get<double>());
     if (rooms) {
-      if (have_world) Append(&out.text, "  %d ASRs; rooms: precision %.3f, recall %.3f (%d of %d rooms matched)\n", rooms->asr_count,
+      if (have_world) AppendF(&out.text, "  %d ASRs; rooms: precision %.3f, recall %.3f (%d of %d rooms matched)\n", rooms->asr_count,
                   rooms->room_precision, rooms->room_recall, rooms->matched_rooms, rooms->room_count);
     }
     if (plan_metrics) {
       const auto& pm = *plan_metrics;
-      Append(&out.text, "  floor plan: %d walls (%.1f m, %.2f vertices/m), %d rooms, %d doors; room overlap %.2f m2\n", pm.walls,
+      AppendF(&out.text, "  floor plan: %d walls (%.1f m, %.2f vertices/m), %d rooms, %d doors; room overlap %.2f m2\n", pm.walls,
                   pm.wall_length_m, pm.vertices_per_m, pm.rooms, pm.doors, pm.room_overlap_m2);
       if (have_world && pm.precision_p95_m)
-        Append(&out.text, "  floor-plan walls: precision p50 %.3f m, p95 %.3f m; recall %.3f; duplication %s; "
+        AppendF(&out.text, "  floor-plan walls: precision p50 %.3f m, p95 %.3f m; recall %.3f; duplication %s; "
                     "room IoU median %s\n",
                     *pm.precision_p50_m, *pm.precision_p95_m, pm.recall,
                     pm.duplication ? Num(*pm.duplication).c_str() : "n/a",
                     pm.room_iou_median && !world.plan.rooms.empty() ? Num(*pm.room_iou_median).c_str() : "n/a");
     }
     if (j.contains("heading_error_deg_median")) {
-      Append(&out.text, "  heading error (deg, one global rotation removed): corrected median %.2f, max %.2f; "
+      AppendF(&out.text, "  heading error (deg, one global rotation removed): corrected median %.2f, max %.2f; "
                   "raw median %.2f, max %.2f\n",
                   j["heading_error_deg_median"].get<double>(), j["heading_error_deg_max"].get<double>(),
                   j["heading_error_deg_median_raw"].get<double>(), j["heading_error_deg_max_raw"].get<double>());
     }
     if (trajectory && trajectory->ate.poses > 0) {
       const auto& t = *trajectory;
-      Append(&out.text, "  trajectory (%d poses): ATE RMSE corrected %.3f m (median %.3f, max %.3f), raw %.3f m "
+      AppendF(&out.text, "  trajectory (%d poses): ATE RMSE corrected %.3f m (median %.3f, max %.3f), raw %.3f m "
                   "(median %.3f, max %.3f)\n",
                   t.ate.poses, t.ate.rmse_m, t.ate.median_m, t.ate.max_m, t.ate_raw.rmse_m, t.ate_raw.median_m,
                   t.ate_raw.max_m);
@@ -237,11 +228,11 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
         line += buf;
       }
       line.pop_back();
-      Append(&out.text, "%s\n", line.c_str());
+      AppendF(&out.text, "%s\n", line.c_str());
     }
     if (calibration && calibration->checked() > 0) {
       const auto& c = *calibration;
-      Append(&out.text, "  pose calibration: %d of %d placed ASRs within 3 sigma of the truth (position %d, heading %d; "
+      AppendF(&out.text, "  pose calibration: %d of %d placed ASRs within 3 sigma of the truth (position %d, heading %d; "
                   "relative to ASR %d)\n",
                   c.within(), c.checked(), c.position_within(), c.heading_within(), c.reference_asr);
     }
