@@ -1,19 +1,13 @@
-// `cogmap grid`: a log's readings fused into an occupancy grid, written as a
-// PNG and optionally as a ROS map_server PGM + YAML pair.
-#include <chrono>
+// `cogmap grid`: options in, mapping::RunGridJob (a log's readings fused into
+// an occupancy grid, drawn, optionally a ROS map_server pair), a summary out.
 #include <cstdio>
-#include <filesystem>
 #include <string>
 
 #include "app/cli_util.h"
 #include "app/command.h"
 #include "app/progress.h"
-#include "cogmap/core/error.h"
-#include "cogmap/grid/grid_summary.h"
-#include "cogmap/grid/range_fusion.h"
-#include "cogmap/io/grid_io.h"
-#include "cogmap/draw/grid_picture.h"
 #include "cogmap/io/log_reader.h"
+#include "cogmap/mapping/grid_job.h"
 #include "cogmap/sensors/robot_json.h"
 
 namespace cogmap::app {
@@ -35,54 +29,36 @@ struct GridArgs {
 };
 
 int RunGrid(const GridArgs& a) {
-  const auto start = std::chrono::steady_clock::now();
-  if (!(a.cell_m > 0.0) || a.cell_m > 10.0)
-    throw InputError("--cell " + Num(a.cell_m) + ": must be in (0, 10] metres");
-  if (!(a.window_m > 0.0)) throw InputError("--window " + Num(a.window_m) + ": must be positive");
-  if (a.scale < 0 || a.scale > 64) throw InputError("--scale " + std::to_string(a.scale) + ": must be in [1, 64]");
-  if (!(a.px_per_m >= 0) || a.px_per_m > 1000) throw InputError("--px-per-m: must be in (0, 1000]");
-  draw::FormatOfPath(a.output);  // a picture format, before any work
-  const grid::FusionRule rule = grid::ParseFusionRule(a.fusion);
-
+  mapping::GridJob job;
+  job.log_path = a.log;
+  job.robot_spec = a.robot;
+  job.cell_m = a.cell_m;
+  job.window_m = a.window_m;
+  job.use_truth = a.truth;
+  job.picture_path = a.output;
+  job.pgm_base = a.pgm;
+  job.px_per_cell = a.scale;
+  job.px_per_m = a.px_per_m;
+  job.summarize = a.stats;
+  job.Validate();
+  job.rule = grid::ParseFusionRule(a.fusion);
   auto log = io::OpenLog(a.log, a.format);
-  sensors::RobotDescription robot;
-  if (!a.robot.empty()) robot = sensors::ResolveRobot(a.robot);
-  else if (auto hint = log->robot_hint()) robot = *hint;
-  else robot = sensors::BuiltinRobot("pioneer16");
-
-  grid::FusionOptions options;
-  options.bounds.cell_m = a.cell_m;
-  options.himm.window_m = a.window_m;
-  options.mhimm.window_m = a.window_m;
-  options.cone.window_m = a.window_m;
-  auto fusion = grid::MakeFusion(rule, options);
-
   ProgressBar bar("grid");
-  io::FuseLogOptions fuse;
-  fuse.use_truth = a.truth;
-  const io::FuseLogStats fused =
-      io::FuseLog(*log, robot, *fusion, fuse, [&](double f) { bar.Update(f); });
+  job.progress = [&bar](double f) { bar.Update(f); };
+  const mapping::GridJobResult r = mapping::RunGridJob(*log, job);
   bar.Finish();
 
-  draw::PictureOptions picture;
-  picture.px_per_m = a.scale > 0 ? a.scale / a.cell_m : a.px_per_m;
-  picture.title = "Occupancy grid (" + grid::FusionRuleName(rule) + "): " + std::filesystem::path(a.log).filename().string();
-  draw::DrawGrid(*fusion, picture).Write(a.output);
-  if (!a.pgm.empty()) io::WriteMapServer(a.pgm, fusion->Classes());
-
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const auto& lim = fusion->limits();
+  const auto& lim = r.fusion->limits();
   std::printf("%s: %ld records, %ld readings, robot %s, %s grid %dx%d cells of %.3g m, %.2f s -> %s%s\n",
-              a.log.c_str(), fused.records, fused.readings, robot.name.c_str(),
-              grid::FusionRuleName(rule).c_str(), lim.width(), lim.height(), lim.cell_m(), seconds,
-              a.output.c_str(), a.pgm.empty() ? "" : (" + " + a.pgm + ".pgm/.yaml").c_str());
-  if (a.stats) {
-    const grid::GridSummary s = grid::Summarize(*fusion);
+              a.log.c_str(), r.records, r.readings, r.robot.name.c_str(), grid::FusionRuleName(job.rule).c_str(),
+              lim.width(), lim.height(), lim.cell_m(), r.seconds, a.output.c_str(),
+              a.pgm.empty() ? "" : (" + " + a.pgm + ".pgm/.yaml").c_str());
+  if (r.summary) {
+    const grid::GridSummary& s = *r.summary;
     std::printf("cells %ld occupied %ld empty %ld unknown %ld path %ld touched %ld "
                 "mean_entropy_bits %.4f line_fraction %.4f\n",
-                s.cells, s.occupied, s.empty, s.unknown, s.robot_path, s.touched,
-                s.mean_entropy_bits, s.line_fraction);
+                s.cells, s.occupied, s.empty, s.unknown, s.robot_path, s.touched, s.mean_entropy_bits,
+                s.line_fraction);
   }
   return 0;
 }
