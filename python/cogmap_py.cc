@@ -1,12 +1,14 @@
 // Python bindings (pybind11): read any log the command reads, map it (whole or
-// record by record), open a store. Poses and paths come back as numpy arrays
-// (x, y, theta in metres and radians), walls as lists of (K, 2) arrays.
+// record by record), open a store, get the floor plan. Poses and paths come
+// back as numpy arrays (x, y, theta in metres and radians), walls and room
+// outlines as (K, 2) arrays.
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <string>
@@ -16,8 +18,10 @@
 #include "cogmap/core/error.h"
 #include "cogmap/io/log_reader.h"
 #include "cogmap/mapping/evaluate.h"
+#include "cogmap/mapping/floor_plan.h"
 #include "cogmap/mapping/map_job.h"
 #include "cogmap/mapping/pipeline.h"
+#include "cogmap/plan/plan_json.h"
 #include "cogmap/sensors/robot.h"
 #include "cogmap/sensors/robot_json.h"
 
@@ -80,6 +84,108 @@ py::dict RobotDict(const sensors::RobotDescription& r) {
   d["radius_m"] = r.radius_m;
   d["sensors"] = sensors;
   return d;
+}
+
+Array Point(const Vec2& p) {
+  Array a(py::ssize_t{2});
+  auto m = a.mutable_unchecked<1>();
+  m(0) = p.x();
+  m(1) = p.y();
+  return a;
+}
+
+// The floor plan with plan.json's names (docs/floor-plan.md), points as numpy
+// arrays; 'wall_segments' (S, 4: x0, y0, x1, y1) holds every wall's pieces and
+// 'graph' the room graph (nodes: room ids; edges (E, 3): room_a, room_b, door).
+py::dict PlanDict(const plan::Plan& p) {
+  py::list walls;
+  std::vector<double> segments;
+  for (const auto& w : p.walls) {
+    py::dict d;
+    d["points"] = Points(w.points);
+    d["free_on_left"] = w.free_on_left;
+    d["two_sided"] = w.two_sided;
+    d["squared"] = w.squared;
+    d["weight"] = w.weight;
+    d["asr_ids"] = w.asr_ids;
+    walls.append(d);
+    for (size_t i = 0; i + 1 < w.points.size(); ++i)
+      segments.insert(segments.end(), {w.points[i].x(), w.points[i].y(), w.points[i + 1].x(), w.points[i + 1].y()});
+  }
+  Array seg({static_cast<py::ssize_t>(segments.size() / 4), py::ssize_t{4}});
+  std::copy(segments.begin(), segments.end(), seg.mutable_data());
+  py::list rooms;
+  py::list nodes;
+  for (const auto& r : p.rooms) {
+    py::dict d;
+    d["id"] = r.id;
+    d["name"] = r.name;
+    d["corridor"] = r.corridor;
+    d["polygon"] = Points(r.polygon);
+    d["area_m2"] = r.area_m2;
+    d["label"] = Point(r.label);
+    d["doors"] = r.doors;
+    d["asr_ids"] = r.asr_ids;
+    d["graph_rooms"] = r.graph_rooms;
+    rooms.append(d);
+    nodes.append(r.id);
+  }
+  py::list doors;
+  for (const auto& x : p.doors) {
+    py::dict d;
+    d["id"] = x.id;
+    d["a"] = Point(x.a);
+    d["b"] = Point(x.b);
+    d["width_m"] = x.width_m();
+    d["room_a"] = x.room_a;
+    d["room_b"] = x.room_b;
+    d["from_asr"] = x.from_asr;
+    d["to_asr"] = x.to_asr;
+    doors.append(d);
+  }
+  py::array_t<int> edges({static_cast<py::ssize_t>(p.edges.size()), py::ssize_t{3}});
+  auto e = edges.mutable_unchecked<2>();
+  for (size_t i = 0; i < p.edges.size(); ++i) {
+    e(i, 0) = p.edges[i].room_a;
+    e(i, 1) = p.edges[i].room_b;
+    e(i, 2) = p.edges[i].door;
+  }
+  py::dict graph;
+  graph["nodes"] = nodes;
+  graph["edges"] = edges;
+  Array bounds({py::ssize_t{2}, py::ssize_t{2}});
+  auto b = bounds.mutable_unchecked<2>();
+  b(0, 0) = p.min.x();
+  b(0, 1) = p.min.y();
+  b(1, 0) = p.max.x();
+  b(1, 1) = p.max.y();
+  py::dict d;
+  d["walls"] = walls;
+  d["wall_segments"] = seg;
+  d["rooms"] = rooms;
+  d["doors"] = doors;
+  d["graph"] = graph;
+  d["home"] = p.home ? py::object(PoseArray(*p.home)) : py::object(py::none());
+  d["bounds"] = bounds;
+  d["dominant_direction_rad"] = p.dominant_direction_rad;
+  d["direction_scatter_rad"] = p.direction_scatter_rad;
+  return d;
+}
+
+// A map folder (its plan.json, else built from its map.sqlite), a plan.json,
+// or a store (built from it as `cogmap map` builds plan.json).
+plan::Plan LoadPlan(const std::string& path) {
+  namespace fs = std::filesystem;
+  fs::path p(path);
+  std::error_code ec;
+  if (fs::is_directory(p, ec)) {
+    if (fs::exists(p / "plan.json", ec)) return plan::ReadPlanJson((p / "plan.json").string());
+    if (!fs::exists(p / "map.sqlite", ec)) throw InputError(path, 0, "no plan.json or map.sqlite in this folder");
+    p /= "map.sqlite";
+  }
+  if (p.extension() == ".json") return plan::ReadPlanJson(p.string());
+  auto store = asr::SqliteAsrStore::Open(p.string(), asr::SqliteAsrStore::OpenMode::kReadOnly);
+  return mapping::FloorPlanOfStore(*store);
 }
 
 py::object Json(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
@@ -241,6 +347,7 @@ class Store {
     return d;
   }
   std::optional<std::string> Meta(const std::string& key) const { return store_->GetMeta(key); }
+  py::dict FloorPlan() const { return PlanDict(mapping::FloorPlanOfStore(*store_)); }
 
  private:
   std::unique_ptr<asr::SqliteAsrStore> store_;
@@ -285,7 +392,8 @@ PYBIND11_MODULE(cogmap, m) {
       .def("ids", &Store::Ids)
       .def("room_of", &Store::RoomOf)
       .def("asr", &Store::Asr, "One ASR: pose, walls (map frame), path as placed, exits, room")
-      .def("meta", &Store::Meta);
+      .def("meta", &Store::Meta)
+      .def("floor_plan", &Store::FloorPlan, "The floor plan built from the store, as floor_plan() returns it");
   m.def(
       "evaluate",
       [](const std::string& dir, const std::string& world, double range_m) {
@@ -297,4 +405,11 @@ PYBIND11_MODULE(cogmap, m) {
       py::arg("folder"), py::arg("world") = "", py::arg("range_m") = -1.0,
       "Scores a map folder as `cogmap eval --json` does (against a world when given); returns the metrics as a dict");
   m.def("open_store", [](const std::string& path) { return Store(path); }, py::arg("path"));
+  m.def(
+      "floor_plan", [](const std::string& path) { return PlanDict(LoadPlan(path)); }, py::arg("path"),
+      "The floor plan of a map folder (its plan.json, else built from its map.sqlite), a plan.json or a "
+      "map.sqlite: dict with walls (points (K,2), free_on_left, two_sided, squared, weight, asr_ids), "
+      "wall_segments (S,4), rooms (id, name, corridor, polygon (K,2), area_m2, label, doors, asr_ids, "
+      "graph_rooms), doors (id, a, b, width_m, room_a, room_b, from_asr, to_asr), graph (nodes, edges (E,3): "
+      "room_a, room_b, door), home, bounds, dominant_direction_rad, direction_scatter_rad");
 }

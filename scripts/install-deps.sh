@@ -15,6 +15,7 @@ PKGS=(
   python3
   gdal-bin  # ogrinfo: tests read map.gpkg and map.geojson back with GDAL
   pybind11-dev python3-dev python3-numpy python3-pytest
+  python3-matplotlib  # the Python docs' example, run by the pytest suite
   # the live ROS 1 node (ros/) and its test against a real roscore
   libroscpp-dev libstd-srvs-dev libvisualization-msgs-dev ros-core python3-rospy python3-rosbag
   python3-rosservice python3-rostopic python3-visualization-msgs python3-nav-msgs python3-std-srvs
@@ -22,7 +23,7 @@ PKGS=(
 )
 # Peers for side-by-side comparisons (bench/), large: only with --peers.
 if [[ "${1:-}" == "--peers" ]]; then
-  PKGS+=(libopencv-dev mrpt-apps python3-matplotlib)
+  PKGS+=(libopencv-dev mrpt-apps)
 fi
 missing=()
 for p in "${PKGS[@]}"; do

@@ -1,8 +1,10 @@
 """The Python bindings against the command on the same log: reading, mapping
-(whole and record by record), the store, and bad input."""
+(whole and record by record), the store, the floor plan, evaluation, bad input,
+and the docs' example."""
 import json
 import os
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -124,3 +126,75 @@ def test_options_are_checked():
         cogmap.robot("no-such-robot")
     with pytest.raises(cogmap.InputError):
         cogmap.Mapper("/tmp/never.sqlite", mode="fast")
+
+
+def assert_plan_equals_json(plan, j):
+    """A floor_plan() dict against plan.json, field by field (exact: the JSON round-trips doubles)."""
+    assert len(plan["walls"]) == len(j["walls"])
+    for w, jw in zip(plan["walls"], j["walls"]):
+        np.testing.assert_array_equal(w["points"], np.array(jw["points"]))
+        for key in ("free_on_left", "two_sided", "squared", "weight", "asr_ids"):
+            assert w[key] == jw[key], key
+    assert plan["wall_segments"].shape == (sum(len(w["points"]) - 1 for w in j["walls"]), 4)
+    assert len(plan["rooms"]) == len(j["rooms"])
+    for r, jr in zip(plan["rooms"], j["rooms"]):
+        np.testing.assert_array_equal(r["polygon"], np.array(jr["polygon"]))
+        np.testing.assert_array_equal(r["label"], np.array(jr["label"]))
+        for key in ("id", "name", "corridor", "area_m2", "doors", "asr_ids", "graph_rooms"):
+            assert r[key] == jr[key], key
+    assert len(plan["doors"]) == len(j["doors"])
+    for d, jd in zip(plan["doors"], j["doors"]):
+        np.testing.assert_array_equal(d["a"], np.array(jd["a"]))
+        np.testing.assert_array_equal(d["b"], np.array(jd["b"]))
+        assert d["width_m"] == pytest.approx(np.hypot(*(np.array(jd["b"]) - np.array(jd["a"]))))
+        for key in ("id", "room_a", "room_b", "from_asr", "to_asr"):
+            assert d[key] == jd[key], key
+    assert plan["graph"]["nodes"] == [r["id"] for r in j["rooms"]]
+    np.testing.assert_array_equal(plan["graph"]["edges"].reshape(-1, 3),
+                                  np.array([[e["room_a"], e["room_b"], e["door"]] for e in j["edges"]]).reshape(-1, 3))
+    np.testing.assert_array_equal(plan["bounds"], np.array([j["bounds"]["min"], j["bounds"]["max"]]))
+    np.testing.assert_array_equal(plan["home"], np.array([j["home"][k] for k in ("x", "y", "theta")]))
+    assert plan["dominant_direction_rad"] == j["dominant_direction_rad"]
+
+
+def test_floor_plan_equals_the_commands_plan_json(command_map):
+    out, cmd_report = command_map
+    with open(out / "plan.json") as f:
+        j = json.load(f)
+    assert len(j["rooms"]) >= 5 and len(j["walls"]) > 10 and len(j["edges"]) >= 4  # a real plan
+    assert_plan_equals_json(cogmap.floor_plan(str(out)), j)                    # the folder: its plan.json
+    assert_plan_equals_json(cogmap.floor_plan(str(out / "plan.json")), j)
+    assert_plan_equals_json(cogmap.floor_plan(str(out / "map.sqlite")), j)     # built from the store
+    assert_plan_equals_json(cogmap.open_store(str(out / "map.sqlite")).floor_plan(), j)
+
+
+def test_floor_plan_of_a_folder_without_plan_json_is_built_from_its_store(command_map, tmp_path):
+    out, _ = command_map
+    (tmp_path / "m").mkdir()
+    (tmp_path / "m" / "map.sqlite").write_bytes((out / "map.sqlite").read_bytes())
+    with open(out / "plan.json") as f:
+        assert_plan_equals_json(cogmap.floor_plan(str(tmp_path / "m")), json.load(f))
+
+
+def test_floor_plan_errors_name_the_file(tmp_path):
+    with pytest.raises(cogmap.InputError) as e:
+        cogmap.floor_plan(str(tmp_path))
+    assert "no plan.json or map.sqlite" in str(e.value)
+    bad = tmp_path / "plan.json"
+    bad.write_text('{"format": "cogmap-plan", "version": 1, "walls": 3}')
+    with pytest.raises(cogmap.InputError) as e:
+        cogmap.floor_plan(str(tmp_path))
+    assert "plan.json" in str(e.value)
+
+
+def test_the_docs_matplotlib_example_runs(sim_log, tmp_path):
+    """docs/python.md's first example, on the simulated run: it writes its picture."""
+    # Needs Debian's python3-matplotlib (scripts/install-deps.sh).
+    doc = open(os.path.join(os.path.dirname(__file__), "..", "..", "docs", "python.md")).read()
+    code = doc.split("## Example: map a log and plot it", 1)[1].split("```python", 1)[1].split("```", 1)[0]
+    env = dict(os.environ, MPLBACKEND="Agg")
+    subprocess.run([sys.executable, "-c", code.replace('"run.log"', repr(sim_log))], cwd=tmp_path, env=env,
+                   check=True, capture_output=True)
+    png = tmp_path / "plan.png"
+    assert png.exists() and png.stat().st_size > 10000
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
