@@ -89,7 +89,8 @@ std::function<int()> SetupVectorize(CLI::App& sub) {
   sub.add_option("--smooth", a->job.smooth_half_window,
                  "Moving mean over this many points either side along each extracted chain (0 = off)");
   sub.add_option("-o,--output", a->job.output_dir,
-                 "Folder to write walls.svg, walls.json, stages.png and report.json into")
+                 "Folder to write walls.svg, walls.json, stages.png and report.json into (staged as cogmap map's: a "
+                 "failed run leaves the previous outputs untouched)")
       ->required();
   return [a] { return RunVectorize(*a); };
 }

@@ -1,7 +1,7 @@
 #pragma once
 // `cogmap grid` as one call: a whole log fused into one occupancy grid by a
 // fusion rule, drawn as a picture and, when asked, written as a ROS
-// map_server PGM + YAML pair (docs/cli.md).
+// map_server PGM + YAML pair (README.md, "Commands"; docs/pictures.md).
 #include <functional>
 #include <memory>
 #include <optional>
