@@ -1,13 +1,9 @@
 #include "cogmap/io/carmen_log.h"
 
-#include <unistd.h>
 
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
-#include <filesystem>
 #include <map>
+#include <memory>
 #include <set>
 #include <stdexcept>
 
@@ -56,51 +52,13 @@ double MaxRange(const Device& l) {
   return kSickNoReturnM;
 }
 
-// Standard input copied whole to a temporary file (the reader needs two
-// passes: one at opening for the robot, one for the records), removed with
-// the reader.
-struct SpooledStdin {
-  std::string path;
-  SpooledStdin() = default;
-  explicit SpooledStdin(bool spool) {
-    if (!spool) return;
-    std::string templ = (std::filesystem::temp_directory_path() / "cogmap-stdin-XXXXXX").string();
-    const int fd = ::mkstemp(templ.data());
-    if (fd < 0) throw std::runtime_error("cannot create a temporary file for standard input: " +
-                                         std::string(std::strerror(errno)));
-    path = templ;
-    auto in = TakeStdin();
-    std::vector<char> buf(size_t{1} << 16);
-    while (true) {
-      in->read(buf.data(), static_cast<std::streamsize>(buf.size()));
-      const auto n = static_cast<size_t>(in->gcount());
-      if (n == 0) break;
-      for (size_t done = 0; done < n;) {
-        const ssize_t w = ::write(fd, buf.data() + done, n - done);
-        if (w < 0 && errno == EINTR) continue;
-        if (w <= 0) {
-          const std::string why = std::strerror(errno);
-          ::close(fd);
-          throw std::runtime_error("cannot write the copy of standard input to " + path + ": " + why);
-        }
-        done += static_cast<size_t>(w);
-      }
-    }
-    ::close(fd);
-  }
-  ~SpooledStdin() {
-    if (!path.empty()) std::remove(path.c_str());
-  }
-  SpooledStdin(const SpooledStdin&) = delete;
-  SpooledStdin& operator=(const SpooledStdin&) = delete;
-};
 
 class CarmenReader : public LogReader {
  public:
   explicit CarmenReader(const std::string& path)
-      : spool_(path == kStdinPath),
-        open_path_(spool_.path.empty() ? path : spool_.path),
-        src_(open_path_, spool_.path.empty() ? path : std::string(kStdinName)) {
+      : spool_(path == kStdinPath ? std::make_unique<StdinCopy>() : nullptr),
+        open_path_(spool_ ? spool_->path() : path),
+        src_(open_path_, spool_ ? std::string(kStdinName) : path) {
     for (int i = 0; i < kDevices; ++i) dev_[i].message = kDeviceMessages[i];
     PreScan();
     int next = 0;
@@ -452,7 +410,7 @@ class CarmenReader : public LogReader {
     robot_.name = sonar.present ? (laser ? "carmen-laser-sonar" : "carmen-sonar") : "carmen-laser";
   }
 
-  SpooledStdin spool_;
+  std::unique_ptr<StdinCopy> spool_;  // standard input's copy (the reader needs two passes)
   std::string open_path_;
   LineSource src_;
   Device dev_[kDevices];

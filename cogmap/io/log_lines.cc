@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <streambuf>
@@ -99,7 +100,7 @@ class StdinStream : public std::istream {
 
 }  // namespace
 
-std::vector<std::string> StdinHeadLines(size_t max_lines) {
+std::string StdinHead(bool* whole_out) {
   const StdinState& s = StdinWithHead();
   std::string text;
   bool whole = s.at_eof;
@@ -124,6 +125,13 @@ std::vector<std::string> StdinHeadLines(size_t max_lines) {
   } else {
     text = s.head;
   }
+  if (whole_out) *whole_out = whole;
+  return text;
+}
+
+std::vector<std::string> StdinHeadLines(size_t max_lines) {
+  bool whole = false;
+  const std::string text = StdinHead(&whole);
   std::vector<std::string> lines;
   size_t i = 0;
   while (i < text.size() && lines.size() < max_lines) {
@@ -144,6 +152,35 @@ std::unique_ptr<std::istream> TakeStdin() {
   s.taken = true;
   return std::make_unique<StdinStream>();
 }
+
+StdinCopy::StdinCopy() {
+  std::string templ = (std::filesystem::temp_directory_path() / "cogmap-stdin-XXXXXX").string();
+  const int fd = ::mkstemp(templ.data());
+  if (fd < 0)
+    throw InputError(kStdinName, 0, "cannot create a temporary file for standard input: " + std::string(std::strerror(errno)));
+  path_ = templ;
+  auto in = TakeStdin();
+  std::vector<char> buf(size_t{1} << 16);
+  while (true) {
+    in->read(buf.data(), static_cast<std::streamsize>(buf.size()));
+    const auto n = static_cast<size_t>(in->gcount());
+    if (n == 0) break;
+    for (size_t done = 0; done < n;) {
+      const ssize_t w = ::write(fd, buf.data() + done, n - done);
+      if (w < 0 && errno == EINTR) continue;
+      if (w <= 0) {
+        const std::string why = std::strerror(errno);
+        ::close(fd);
+        std::remove(path_.c_str());
+        throw InputError(kStdinName, 0, "cannot write the copy of standard input to " + path_ + ": " + why);
+      }
+      done += static_cast<size_t>(w);
+    }
+  }
+  ::close(fd);
+}
+
+StdinCopy::~StdinCopy() { std::remove(path_.c_str()); }
 
 // A stream read through a buffer: plain bytes, or gzip members inflated.
 struct LineSource::Stream {

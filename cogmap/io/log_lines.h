@@ -67,6 +67,25 @@ std::vector<std::string> StdinHeadLines(size_t max_lines = 1000);
 // "stdin: standard input was already read".
 std::unique_ptr<std::istream> TakeStdin();
 
+// The head's bytes, gunzipped when it is gzip (as much as the compressed head
+// gives); '*whole' tells whether that is all of standard input.
+std::string StdinHead(bool* whole = nullptr);
+
+// Standard input copied whole to a temporary file, for readers that need a
+// file (two passes, or seeking: bags, rawlogs); the file is removed with the
+// copy. Takes standard input (TakeStdin).
+class StdinCopy {
+ public:
+  StdinCopy();
+  ~StdinCopy();
+  StdinCopy(const StdinCopy&) = delete;
+  StdinCopy& operator=(const StdinCopy&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
 // Splits on spaces and tabs.
 std::vector<std::string_view> SplitFields(std::string_view line);
 

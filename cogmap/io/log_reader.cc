@@ -69,10 +69,13 @@ bool EndsWith(const std::string& s, const std::string& tail) {
 
 std::string SniffFormat(const std::string& path) {
   if (path == kStdinPath) {
-    const auto head = StdinHeadLines(1000);
-    if (!head.empty() && head[0].rfind("#ROSBAG", 0) == 0)
-      throw InputError(kStdinName, 0, "a ROS bag cannot be read from standard input (rosbag needs to seek): give its path");
-    return SniffLines(head, kStdinName);
+    const std::string head = StdinHead();
+    if (head.compare(0, 12, kRos1BagMagic) == 0) return "rosbag";
+    if (head.rfind("#ROSBAG", 0) == 0)
+      throw InputError(kStdinName, 1, "a ROS bag of another version than 2.0 ('" + head.substr(0, 12) +
+                                          "'): cogmap reads 2.0");
+    if (LooksLikeMrptRawlogHead(head)) return "rawlog";
+    return SniffLines(StdinHeadLines(1000), kStdinName);
   }
   std::error_code ec;
   if (fs::is_directory(path, ec)) {
@@ -94,6 +97,43 @@ std::string SniffFormat(const std::string& path) {
   while (lines.size() < 1000 && src.Next(&line)) lines.push_back(line);
   return SniffLines(lines, path);
 }
+
+// A bag or rawlog read from standard input: the reader opens a copy of it
+// (StdinCopy), and every message and path() name "stdin", not the copy.
+class StdinCopyReader : public LogReader {
+ public:
+  StdinCopyReader(const std::string& format, const LogOpenOptions& options) {
+    Renaming([&] {
+      inner_ = format == "rosbag" ? OpenRos1Bag(copy_.path(), options) : OpenMrptRawlog(copy_.path(), options);
+    });
+  }
+  bool Next(sensors::LogRecord* record) override {
+    bool more = false;
+    Renaming([&] { more = inner_->Next(record); });
+    return more;
+  }
+  std::optional<sensors::RobotDescription> robot_hint() const override { return inner_->robot_hint(); }
+  std::map<std::string, long> skipped() const override { return inner_->skipped(); }
+  double progress() const override { return inner_->progress(); }
+  const std::string& path() const override { return name_; }
+  std::vector<LogContent> contents() const override { return inner_->contents(); }
+
+ private:
+  template <typename F>
+  void Renaming(F&& f) {
+    try {
+      f();
+    } catch (const InputError& e) {
+      std::string m = e.what();
+      for (size_t at; (at = m.find(copy_.path())) != std::string::npos;) m.replace(at, copy_.path().size(), name_);
+      throw InputError(m);
+    }
+  }
+
+  StdinCopy copy_;
+  std::string name_ = kStdinName;
+  std::unique_ptr<LogReader> inner_;
+};
 
 }  // namespace
 
@@ -157,14 +197,10 @@ std::unique_ptr<LogReader> OpenLog(const std::string& path, const std::string& f
 std::unique_ptr<LogReader> OpenLog(const std::string& path, const LogOpenOptions& options) {
   const std::string& format = options.format;
   const std::string f = format == "auto" ? DetectLogFormat(path) : format;
-  if (f == "rosbag") {
-    if (path == kStdinPath)
-      throw InputError(kStdinName, 0, "a ROS bag cannot be read from standard input (rosbag needs to seek): give its path");
-    return OpenRos1Bag(path, options);
-  }
-  if (f == "rawlog") {
-    if (path == kStdinPath) throw InputError(kStdinName, 0, "an MRPT rawlog is read from its file: give its path");
-    return OpenMrptRawlog(path, options);
+  if (f == "rosbag" || f == "rawlog") {
+    // rosbag seeks and MRPT reads a file: standard input is copied first.
+    if (path == kStdinPath) return std::make_unique<StdinCopyReader>(f, options);
+    return f == "rosbag" ? OpenRos1Bag(path, options) : OpenMrptRawlog(path, options);
   }
   if (f == "ros2bag") {
     if (path == kStdinPath) throw InputError(kStdinName, 0, "a ROS 2 bag is a folder: give its path");

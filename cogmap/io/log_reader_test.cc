@@ -79,7 +79,9 @@ TEST(OpenLog, FixtureFilesSniff) {
 
 #include "cogmap/io/log_lines.h"
 #include "cogmap/io/ev3_log.h"
+#include "cogmap/io/mrpt_rawlog.h"
 #include "cogmap/io/native_log.h"
+#include "cogmap/io/ros1_bag.h"
 #include "cogmap/core/test_temp.h"
 
 namespace cogmap::io {
@@ -268,6 +270,49 @@ TEST(StdinLog, ErrorsNameStdin) {
       OpenLog("-", "pioneer");
     } catch (const InputError& e) {
       return std::string(e.what()).find("stdin: a pioneer log is two files") == 0;
+    }
+    return false;
+  }));
+}
+
+// Bags and rawlogs need a file (rosbag seeks): standard input is copied to one,
+// and the records are those of the file.
+std::string BinaryLogFrom(const std::string& native, const std::string& to) {
+  auto reader = OpenLog(native, "native");
+  const auto robot = *reader->robot_hint();
+  const std::string out = ::cogmap::testing_util::TestTempPath("pipe_binary." + to);
+  auto next = [&](sensors::LogRecord* r) { return reader->Next(r); };
+  if (to == "bag")
+    WriteRosAriaBag(out, robot, next);
+  else
+    WriteMrptRawlog(out, robot, next);
+  return out;
+}
+
+TEST(StdinLog, RosBagAndRawlogThroughAPipe) {
+  const std::string native = std::string(COGMAP_SOURCE_DIR) + "/tests/data/logs/tiny.log";
+  const std::string bag = BinaryLogFrom(native, "bag");
+  ExpectPipeGivesFileRecords(bag, FileBytes(bag), "rosbag");
+  const std::string rawlog = BinaryLogFrom(native, "rawlog");
+  ExpectPipeGivesFileRecords(rawlog, FileBytes(rawlog), "rawlog");  // MRPT writes it gzipped
+  // What the reader says names stdin, never the copy; the copy is removed.
+  EXPECT_TRUE(WithStdinPipe(FileBytes(bag), [] {
+    std::string copy;
+    {
+      auto r = OpenLog("-", "auto");
+      if (r->path() != "stdin") return false;
+      for (const auto& e : std::filesystem::directory_iterator(std::filesystem::temp_directory_path()))
+        if (e.path().filename().string().rfind("cogmap-stdin-", 0) == 0) copy = e.path().string();
+    }
+    return !copy.empty() && !std::filesystem::exists(copy);
+  }));
+  const std::string cut = FileBytes(bag).substr(0, FileBytes(bag).size() / 2);
+  EXPECT_TRUE(WithStdinPipe(cut, [] {
+    try {
+      ReadAll("-", "auto");
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      return m.rfind("stdin", 0) == 0 && m.find("cogmap-stdin-") == std::string::npos;
     }
     return false;
   }));

@@ -10,6 +10,7 @@
 #include "cogmap/core/error.h"
 #include "cogmap/core/text.h"
 #include "cogmap/io/atomic_file.h"
+#include "cogmap/io/carmen_writer.h"
 #include "cogmap/io/ev3_log.h"
 #include "cogmap/io/log_reader.h"
 #include "cogmap/io/mrpt_rawlog.h"
@@ -169,12 +170,20 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
     WriteRosAriaBag(out_path, sonar ? *sonar : robot, next);
   } else if (to == "rawlog") {
     WriteMrptRawlog(out_path, sonar ? *sonar : robot, next);
-  } else {
+  } else if (to == "carmen") {
+    WriteFileAtomically(out_path, [&](std::ostream& out) {
+      CarmenLogWriter writer(out, sonar ? *sonar : robot, path);
+      sensors::LogRecord r;
+      while (next(&r)) writer.Write(r);
+    });
+  } else if (to == "native") {
     WriteFileAtomically(out_path, [&](std::ostream& out) {
       NativeLogWriter writer(out, sonar ? *sonar : robot);
       sensors::LogRecord r;
       while (next(&r)) writer.Write(r);
     });
+  } else {
+    throw InputError(out_path, 0, "unknown output format '" + to + "' (native, rosbag, rawlog, carmen)");
   }
   ConvertSummary s;
   s.skipped = reader->skipped();

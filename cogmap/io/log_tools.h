@@ -2,7 +2,7 @@
 // What `cogmap log-info` and `cogmap convert` do, as library calls: a log
 // summarised (format, records, readings, time, distance, topics or message
 // types and their use, the robot's sensors), and a log converted into the
-// native text log, a RosAria-style ROS 1 bag or an MRPT rawlog.
+// native text log, a RosAria-style ROS 1 bag, an MRPT rawlog or a CARMEN log.
 #include <functional>
 #include <map>
 #include <string>
@@ -29,7 +29,8 @@ struct ConvertSummary {
 // Reads the whole log. 'progress' gets the fraction read now and then.
 LogSummary SummarizeLog(const std::string& path, const LogToolOptions& options,
                         const std::function<void(double)>& progress = {});
-// Writes 'out_path' atomically: 'to' is "native", "rosbag" or "rawlog".
+// Writes 'out_path' atomically: 'to' is "native", "rosbag", "rawlog" or
+// "carmen" (carmen_writer.h).
 ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& options, const std::string& to,
                           const std::string& out_path, const std::function<void(double)>& progress = {});
 

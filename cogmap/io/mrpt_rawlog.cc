@@ -447,21 +447,25 @@ long WriteMrptRawlog(const std::string& path, const sensors::RobotDescription& r
   return records;
 }
 
+bool LooksLikeMrptRawlogHead(std::string_view head) {
+  if (head.size() < 2 || !(static_cast<unsigned char>(head[0]) & 0x80)) return false;
+  const size_t len = static_cast<unsigned char>(head[0]) & 0x7F;
+  if (len < 2 || len + 1 > head.size()) return false;
+  // MRPT 2 writes "mrpt::obs::CObservationOdometry", MRPT 1 "CObservationOdometry".
+  const std::string_view name = head.substr(1, len);
+  if (name[0] != 'C' && name.rfind("mrpt::", 0) != 0) return false;
+  for (char c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != ':') return false;
+  return true;
+}
+
 bool LooksLikeMrptRawlog(const std::string& path) {
   gzFile f = gzopen(path.c_str(), "rb");
   if (!f) return false;
-  unsigned char head[130];
+  char head[130];
   const int n = gzread(f, head, sizeof head);
   gzclose(f);
-  if (n < 2 || !(head[0] & 0x80)) return false;
-  const int len = head[0] & 0x7F;
-  if (len < 2 || len + 1 > n) return false;
-  // MRPT 2 writes "mrpt::obs::CObservationOdometry", MRPT 1 "CObservationOdometry".
-  const std::string name(reinterpret_cast<const char*>(head + 1), len);
-  if (name[0] != 'C' && name.rfind("mrpt::", 0) != 0) return false;
-  for (int i = 1; i <= len; ++i)
-    if (!std::isalnum(head[i]) && head[i] != '_' && head[i] != ':') return false;
-  return true;
+  return n > 0 && LooksLikeMrptRawlogHead(std::string_view(head, static_cast<size_t>(n)));
 }
 
 }  // namespace cogmap::io

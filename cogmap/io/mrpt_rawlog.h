@@ -29,6 +29,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "cogmap/io/log_reader.h"
 
@@ -48,5 +49,7 @@ long WriteMrptRawlog(const std::string& path, const sensors::RobotDescription& r
 // True when the first bytes (gzip or not) look like an MRPT serialized object:
 // a class-name length byte with the high bit set followed by the class name.
 bool LooksLikeMrptRawlog(const std::string& path);
+// The same test on bytes already read (gunzipped): standard input's head.
+bool LooksLikeMrptRawlogHead(std::string_view head);
 
 }  // namespace cogmap::io
