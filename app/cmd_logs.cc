@@ -54,7 +54,7 @@ const bool kInfoRegistered = RegisterCommand(
      }});
 
 const bool kConvertRegistered = RegisterCommand(
-    {"convert", "Convert a log (CARMEN, pioneer, EV3, bags, rawlogs, native) into the native text log, a RosAria-style ROS 1 bag, an MRPT rawlog or a CARMEN log", 11,
+    {"convert", "Convert a log (CARMEN, pioneer, EV3, bags, rawlogs, native) into the native text log, a RosAria-style ROS 1 or ROS 2 bag, an MRPT rawlog or a CARMEN log", 11,
      [](CLI::App& sub) -> std::function<int()> {
        auto path = std::make_shared<std::string>();
        auto format = std::make_shared<std::string>("auto");
@@ -70,11 +70,12 @@ const bool kConvertRegistered = RegisterCommand(
        sub.add_option("--to", *to,
                       "Output format: native (the text log), or rosbag (a ROS 1 bag as RosAria records it: "
                       "/RosAria/pose Odometry, /tf, sonar as PointCloud on /RosAria/sonar, lasers as LaserScan on "
-                      "/scan, /base_pose_ground_truth, sensor frames in /tf_static), or rawlog (an MRPT "
+                      "/scan, /base_pose_ground_truth, sensor frames in /tf_static), ros2bag (the same as a ROS 2 sqlite3 "
+                      "bag folder, which must not exist), or rawlog (an MRPT "
                       "observations-only rawlog: CObservationOdometry, CObservationRange, CObservation2DRangeScan), or "
                       "carmen (ODOM or TRUEPOS, and SONAR for a sonar ring or ROBOTLASER1 for one laser; every "
                       "record with readings must hold all the sensors, as CARMEN's messages do); docs/inputs.md")
-           ->check(CLI::IsMember({"native", "rosbag", "rawlog", "carmen"}))
+           ->check(CLI::IsMember({"native", "rosbag", "ros2bag", "rawlog", "carmen"}))
            ->capture_default_str();
        sub.add_option("--robot", *robot,
                       "Robot to write: a built-in name (pioneer16, pioneer8, pioneer8-course, p2at16, laser) or a "

@@ -1,7 +1,9 @@
 #include "cogmap/io/cdr.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
+#include <stdexcept>
 
 namespace cogmap::io::cdr {
 namespace {
@@ -179,6 +181,84 @@ ros::Message Decode(ros::MessageType type, const uint8_t* data, size_t size) {
     case ros::MessageType::kOther: break;
   }
   return std::monostate{};
+}
+
+void Writer::Put(const void* v, size_t n) {
+  while ((buf_.size() - 4) % n) buf_.push_back('\0');
+  char b[8];
+  std::memcpy(b, v, n);
+  if constexpr (std::endian::native == std::endian::big) std::reverse(b, b + n);
+  buf_.append(b, n);
+}
+
+void Writer::String(const std::string& s) {
+  U32(static_cast<uint32_t>(s.size() + 1));
+  buf_ += s;
+  buf_.push_back('\0');
+}
+
+namespace {
+
+void WriteHeader(Writer& w, const ros::Header& h) {
+  w.I32(static_cast<int32_t>(h.stamp_ns / 1000000000));
+  w.U32(static_cast<uint32_t>(h.stamp_ns % 1000000000));
+  w.String(h.frame_id);
+}
+
+void WritePose(Writer& w, const ros::Transform3& t) {
+  for (double v : {t.x, t.y, t.z, t.qx, t.qy, t.qz, t.qw}) w.F64(v);
+}
+
+}  // namespace
+
+std::string Encode(const ros::Message& message, std::string* type) {
+  Writer w;
+  if (const auto* s = std::get_if<ros::LaserScan>(&message)) {
+    *type = "sensor_msgs/msg/LaserScan";
+    WriteHeader(w, s->header);
+    w.F32(static_cast<float>(s->angle_min_rad));
+    w.F32(static_cast<float>(s->angle_min_rad + s->angle_increment_rad * (static_cast<double>(s->ranges.size()) - 1)));
+    w.F32(static_cast<float>(s->angle_increment_rad));
+    w.F32(0);  // time_increment
+    w.F32(0);  // scan_time
+    w.F32(static_cast<float>(s->range_min_m));
+    w.F32(static_cast<float>(s->range_max_m));
+    w.U32(static_cast<uint32_t>(s->ranges.size()));
+    for (float r : s->ranges) w.F32(r);
+    w.U32(0);  // intensities
+  } else if (const auto* x = std::get_if<ros::Range>(&message)) {
+    *type = "sensor_msgs/msg/Range";
+    WriteHeader(w, x->header);
+    w.U8(static_cast<uint8_t>(x->radiation_type));
+    w.F32(static_cast<float>(x->field_of_view_rad));
+    w.F32(static_cast<float>(x->min_range_m));
+    w.F32(static_cast<float>(x->max_range_m));
+    w.F32(static_cast<float>(x->range_m));
+  } else if (const auto* c = std::get_if<ros::PointCloud>(&message)) {
+    *type = "sensor_msgs/msg/PointCloud";
+    WriteHeader(w, c->header);
+    w.U32(static_cast<uint32_t>(c->points.size()));
+    for (const auto& p : c->points)
+      for (double v : p) w.F32(static_cast<float>(v));
+    w.U32(0);  // channels
+  } else if (const auto* o = std::get_if<ros::Odometry>(&message)) {
+    *type = "nav_msgs/msg/Odometry";
+    WriteHeader(w, o->header);
+    w.String(o->child_frame_id);
+    WritePose(w, o->pose);
+    for (int i = 0; i < 36 + 6 + 36; ++i) w.F64(0);  // pose covariance, twist, twist covariance
+  } else if (const auto* tf = std::get_if<ros::TfMessage>(&message)) {
+    *type = "tf2_msgs/msg/TFMessage";
+    w.U32(static_cast<uint32_t>(tf->transforms.size()));
+    for (const auto& t : tf->transforms) {
+      WriteHeader(w, t.header);
+      w.String(t.child_frame_id);
+      WritePose(w, t.transform);
+    }
+  } else {
+    throw std::invalid_argument("cdr::Encode: no message");
+  }
+  return w.bytes();
 }
 
 }  // namespace cogmap::io::cdr

@@ -47,6 +47,28 @@ class Reader {
   bool swap_ = false;
 };
 
+// The encoder of the same layout (little endian), for the bags cogmap writes.
+class Writer {
+ public:
+  Writer() : buf_{0, 1, 0, 0} {}
+  void U8(uint8_t v) { Put(&v, 1); }
+  void U32(uint32_t v) { Put(&v, 4); }
+  void I32(int32_t v) { Put(&v, 4); }
+  void F32(float v) { Put(&v, 4); }
+  void F64(double v) { Put(&v, 8); }
+  void String(const std::string& s);
+  const std::string& bytes() const { return buf_; }
+
+ private:
+  void Put(const void* v, size_t n);
+  std::string buf_;
+};
+
+// The CDR bytes of a LaserScan, Range, PointCloud (sensor_msgs/msg/PointCloud,
+// no channels), Odometry (zero covariances and twist) or TfMessage; the ROS 2
+// type name goes to 'type'. std::invalid_argument for monostate.
+std::string Encode(const ros::Message& message, std::string* type);
+
 // Decoders for the ROS 2 types ("sensor_msgs/msg/LaserScan", ...). Return the
 // message, or monostate for other types; CdrError for bad data.
 ros::Message Decode(ros::MessageType type, const uint8_t* data, size_t size);

@@ -113,12 +113,6 @@ namespace {
 
 using namespace testing_util;
 
-std::string FileBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 bool SameRecords(const std::vector<sensors::LogRecord>& a, const std::vector<sensors::LogRecord>& b) {
   if (a.size() != b.size()) return false;

@@ -5,6 +5,7 @@
 #include <zlib.h>
 
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,13 @@ inline std::string WriteTemp(const std::string& name, const std::string& content
   const std::string path = ::cogmap::testing_util::TestTempPath(name);
   std::ofstream(path, std::ios::binary) << content;
   return path;
+}
+
+inline std::string FileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
 }
 
 inline std::string GzipBytes(const std::string& content) {

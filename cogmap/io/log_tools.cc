@@ -16,6 +16,7 @@
 #include "cogmap/io/mrpt_rawlog.h"
 #include "cogmap/io/native_log.h"
 #include "cogmap/io/ros1_bag.h"
+#include "cogmap/io/ros2_bag.h"
 #include "cogmap/sensors/as_sonar.h"
 #include "cogmap/sensors/robot_json.h"
 
@@ -168,6 +169,8 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
   };
   if (to == "rosbag") {
     WriteRosAriaBag(out_path, sonar ? *sonar : robot, next);
+  } else if (to == "ros2bag") {
+    WriteRosAriaBag2(out_path, sonar ? *sonar : robot, next);
   } else if (to == "rawlog") {
     WriteMrptRawlog(out_path, sonar ? *sonar : robot, next);
   } else if (to == "carmen") {
@@ -183,7 +186,7 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
       while (next(&r)) writer.Write(r);
     });
   } else {
-    throw InputError(out_path, 0, "unknown output format '" + to + "' (native, rosbag, rawlog, carmen)");
+    throw InputError(out_path, 0, "unknown output format '" + to + "' (native, rosbag, ros2bag, rawlog, carmen)");
   }
   ConvertSummary s;
   s.skipped = reader->skipped();

@@ -2,7 +2,8 @@
 // What `cogmap log-info` and `cogmap convert` do, as library calls: a log
 // summarised (format, records, readings, time, distance, topics or message
 // types and their use, the robot's sensors), and a log converted into the
-// native text log, a RosAria-style ROS 1 bag, an MRPT rawlog or a CARMEN log.
+// native text log, a RosAria-style ROS 1 or ROS 2 bag, an MRPT rawlog or a
+// CARMEN log.
 #include <functional>
 #include <map>
 #include <string>
@@ -29,8 +30,8 @@ struct ConvertSummary {
 // Reads the whole log. 'progress' gets the fraction read now and then.
 LogSummary SummarizeLog(const std::string& path, const LogToolOptions& options,
                         const std::function<void(double)>& progress = {});
-// Writes 'out_path' atomically: 'to' is "native", "rosbag", "rawlog" or
-// "carmen" (carmen_writer.h).
+// Writes 'out_path' atomically: 'to' is "native", "rosbag", "ros2bag" (a
+// folder), "rawlog" or "carmen" (carmen_writer.h).
 ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& options, const std::string& to,
                           const std::string& out_path, const std::function<void(double)>& progress = {});
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 
 #include "cogmap/core/error.h"
@@ -242,6 +243,138 @@ std::unique_ptr<LogReader> OpenRos2Bag(const std::string& path, const LogOpenOpt
     throw InputError(path, 0, "not a ROS 2 bag: no metadata.yaml and not a .db3 file");
   }
   return ros::OpenBagLog(std::make_unique<Ros2Source>(path, files), options);
+}
+
+namespace {
+
+// A rosbag2 sqlite3 bag being written: one .db3 with rosbag2's tables (topics,
+// messages), one transaction, and metadata.yaml at Close().
+class Ros2BagWriter : public ros::BagWriter {
+ public:
+  // Writes into 'folder' the file <name>_0.db3 (rosbag2 names it after the bag).
+  Ros2BagWriter(const fs::path& folder, const std::string& name) : folder_(folder), db3_(name + "_0.db3") {
+    fs::create_directories(folder_);
+    const std::string db_path = (folder_ / db3_).string();
+    if (sqlite3_open(db_path.c_str(), &db_) != SQLITE_OK) Fail("cannot create");
+    Exec("PRAGMA journal_mode=OFF");
+    Exec("PRAGMA synchronous=OFF");
+    Exec("CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL, "
+         "serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL)");
+    Exec("CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, timestamp INTEGER NOT NULL, "
+         "data BLOB NOT NULL)");
+    Exec("CREATE INDEX timestamp_idx ON messages (timestamp ASC)");
+    Exec("BEGIN");
+    if (sqlite3_prepare_v2(db_, "INSERT INTO messages (topic_id, timestamp, data) VALUES (?, ?, ?)", -1, &insert_,
+                           nullptr) != SQLITE_OK)
+      Fail("cannot prepare");
+  }
+  ~Ros2BagWriter() override {
+    sqlite3_finalize(insert_);
+    sqlite3_close(db_);
+  }
+  Ros2BagWriter(const Ros2BagWriter&) = delete;
+  Ros2BagWriter& operator=(const Ros2BagWriter&) = delete;
+
+  void Write(const std::string& topic, int64_t time_ns, const ros::Message& message) override {
+    std::string type;
+    const std::string data = cdr::Encode(message, &type);
+    auto it = topics_.find(topic);
+    if (it == topics_.end()) {
+      const int id = static_cast<int>(topics_.size()) + 1;
+      it = topics_.emplace(topic, Topic{id, type, 0}).first;
+      sqlite3_stmt* st = nullptr;
+      sqlite3_prepare_v2(db_, "INSERT INTO topics VALUES (?, ?, ?, 'cdr', '')", -1, &st, nullptr);
+      sqlite3_bind_int(st, 1, id);
+      sqlite3_bind_text(st, 2, topic.c_str(), -1, SQLITE_TRANSIENT);
+      sqlite3_bind_text(st, 3, type.c_str(), -1, SQLITE_TRANSIENT);
+      const int rc = sqlite3_step(st);
+      sqlite3_finalize(st);
+      if (rc != SQLITE_DONE) Fail("cannot write the topic " + topic);
+    }
+    ++it->second.count;
+    first_ns_ = std::min(first_ns_, time_ns);
+    last_ns_ = std::max(last_ns_, time_ns);
+    ++messages_;
+    sqlite3_bind_int(insert_, 1, it->second.id);
+    sqlite3_bind_int64(insert_, 2, time_ns);
+    sqlite3_bind_blob(insert_, 3, data.data(), static_cast<int>(data.size()), SQLITE_TRANSIENT);
+    if (sqlite3_step(insert_) != SQLITE_DONE) Fail("cannot write a message of " + topic);
+    sqlite3_reset(insert_);
+  }
+
+  void Close() override {
+    Exec("COMMIT");
+    sqlite3_finalize(insert_);
+    insert_ = nullptr;
+    if (sqlite3_close(db_) != SQLITE_OK) Fail("cannot close");
+    db_ = nullptr;
+    // rosbag2's metadata (version 5: what Humble writes for sqlite3).
+    const int64_t start = messages_ ? first_ns_ : 0, duration = messages_ ? last_ns_ - first_ns_ : 0;
+    std::ofstream y(folder_ / "metadata.yaml");
+    y << "rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: sqlite3\n"
+      << "  duration:\n    nanoseconds: " << duration << "\n  starting_time:\n    nanoseconds_since_epoch: " << start
+      << "\n  message_count: " << messages_ << "\n  topics_with_message_count:\n";
+    std::vector<std::pair<int, std::string>> order;
+    for (const auto& [name, t] : topics_) order.push_back({t.id, name});
+    std::sort(order.begin(), order.end());
+    for (const auto& [id, name] : order) {
+      const Topic& t = topics_.at(name);
+      y << "    - topic_metadata:\n        name: " << name << "\n        type: " << t.type
+        << "\n        serialization_format: cdr\n        offered_qos_profiles: \"\"\n      message_count: " << t.count
+        << "\n";
+    }
+    y << "  compression_format: \"\"\n  compression_mode: \"\"\n  relative_file_paths:\n    - " << db3_ << "\n";
+    y.close();
+    if (!y) throw InputError((folder_ / "metadata.yaml").string() + ": cannot write");
+  }
+
+ private:
+  struct Topic {
+    int id;
+    std::string type;
+    long count;
+  };
+  void Exec(const char* sql) {
+    if (sqlite3_exec(db_, sql, nullptr, nullptr, nullptr) != SQLITE_OK) Fail(sql);
+  }
+  [[noreturn]] void Fail(const std::string& what) const {
+    throw InputError((folder_ / db3_).string() + ": " + what + " (SQLite: " + (db_ ? sqlite3_errmsg(db_) : "") + ")");
+  }
+
+  fs::path folder_;
+  std::string db3_;
+  sqlite3* db_ = nullptr;
+  sqlite3_stmt* insert_ = nullptr;
+  std::map<std::string, Topic> topics_;
+  int64_t first_ns_ = std::numeric_limits<int64_t>::max(), last_ns_ = std::numeric_limits<int64_t>::min();
+  long messages_ = 0;
+};
+
+}  // namespace
+
+long WriteRosAriaBag2(const std::string& path, const sensors::RobotDescription& robot,
+                      const std::function<bool(sensors::LogRecord*)>& next) {
+  std::error_code ec;
+  fs::path dest = fs::path(path).lexically_normal();
+  if (dest.filename().empty()) dest = dest.parent_path();
+  if (fs::exists(dest, ec)) throw InputError(path, 0, "exists: a ROS 2 bag is written into a new folder");
+  const fs::path tmp = dest.parent_path() / (".partial-" + dest.filename().string());
+  fs::remove_all(tmp, ec);
+  long records = 0;
+  try {
+    Ros2BagWriter bag(tmp, dest.filename().string());
+    records = ros::WriteRosAriaMessages(path, robot, next, bag);
+    bag.Close();
+  } catch (...) {
+    fs::remove_all(tmp, ec);
+    throw;
+  }
+  fs::rename(tmp, dest, ec);
+  if (ec) {
+    fs::remove_all(tmp, ec);
+    throw InputError(path + ": cannot write (" + ec.message() + ")");
+  }
+  return records;
 }
 
 }  // namespace cogmap::io

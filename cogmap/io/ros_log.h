@@ -9,6 +9,7 @@
 //    stamp; a ground-truth Odometry topic ("...ground_truth...") gives truth;
 //  - records in stamp order: one per odometry message, the readings of a scan
 //    stamped like an odometry message joined to its record.
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -22,6 +23,12 @@ namespace cogmap::io::ros {
 // range data or odometry, a topic cogmap cannot read, frames that tf does not
 // connect).
 std::unique_ptr<LogReader> OpenBagLog(std::unique_ptr<BagSource> source, const LogOpenOptions& options);
+
+// The messages of a RosAria-style bag (ros1_bag.h, WriteRosAriaBag) of the
+// records 'next' gives, written through 'bag' (not closed here); 'path' names
+// the bag in errors. Returns the number of records.
+long WriteRosAriaMessages(const std::string& path, const sensors::RobotDescription& robot,
+                          const std::function<bool(sensors::LogRecord*)>& next, BagWriter& bag);
 
 // Orders topic names with their numbers compared as numbers
 // ("/sonar_2" < "/sonar_10").

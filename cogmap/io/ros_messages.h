@@ -120,17 +120,26 @@ Transform3 FromPose2(double x, double y, double yaw_rad);
 // InputError naming the file for a bag rosbag cannot open.
 std::unique_ptr<BagSource> OpenRos1BagSource(const std::string& path);
 
+// A bag being written, message by message (ROS 1 or ROS 2).
+class BagWriter {
+ public:
+  virtual ~BagWriter() = default;
+  virtual void Write(const std::string& topic, int64_t time_ns, const Message& message) = 0;
+  // Finishes the bag (indexes, metadata); the writer is unusable after.
+  virtual void Close() = 0;
+};
+
 // Writes a ROS 1 bag: LaserScan, PointCloud (as sensor_msgs/PointCloud),
 // Odometry and TfMessage (as tf2_msgs/TFMessage). The bag time of a message
 // is its time_ns, at least 1 ns (rosbag refuses 0).
-class Ros1BagWriter {
+class Ros1BagWriter : public BagWriter {
  public:
   explicit Ros1BagWriter(const std::string& path);
-  ~Ros1BagWriter();
+  ~Ros1BagWriter() override;
   Ros1BagWriter(const Ros1BagWriter&) = delete;
   Ros1BagWriter& operator=(const Ros1BagWriter&) = delete;
-  void Write(const std::string& topic, int64_t time_ns, const Message& message);
-  void Close();
+  void Write(const std::string& topic, int64_t time_ns, const Message& message) override;
+  void Close() override;
 
  private:
   struct Impl;
