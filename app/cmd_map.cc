@@ -1,7 +1,6 @@
 // `cogmap map`: options in, mapping::RunMapJob, a summary out. The pipeline
 // (cogmap/mapping) maps the log into OUTDIR/map.sqlite and writes the master
 // map's files and report.json.
-#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -16,51 +15,26 @@
 #include "cogmap/io/log_reader.h"
 #include "cogmap/io/plan_files.h"
 #include "cogmap/mapping/map_job.h"
-#include "cogmap/sensors/robot.h"
 #include "cogmap/sensors/robot_json.h"
 
 namespace cogmap::app {
 namespace {
 
 struct MapArgs {
-  std::string log;
-  std::string format = "auto";
-  std::string robot;
-  double cell_m = 0.1;
-  double window_m = 3.0;
-  std::string mode = "default";
-  std::string boundary = "doorway";
-  double asr_length_m = 4.5;
-  double max_asr_m = 15.0;
-  bool no_correct = false;
-  bool no_drift_filter = false;
-  bool no_graph = false;
-  std::string outputs = "default";
-  bool no_smooth = false;
+  mapping::MapJob job;  // most options bind to its fields
+  std::string mode = "default", boundary = "doorway", outputs = "default", geo_anchor;
+  bool no_correct = false, no_drift_filter = false, no_graph = false, no_smooth = false;
   double add_drift_deg_per_m = 0.0;
-  bool resume = false;
-  bool raw = false;
-  std::string world;
-  std::string geo_anchor;
   std::vector<std::string> topics;
-  double px_per_m = 0.0;
-  std::string output;
 };
 
-int RunMap(const MapArgs& a) {
+int RunMap(MapArgs& a) {
+  mapping::MapJob& job = a.job;
   if (a.mode != "paper" && a.mode != "default") throw InputError("--mode " + a.mode + ": expected paper or default");
   if (a.boundary != "doorway" && a.boundary != "fixed")
     throw InputError("--boundary " + a.boundary + ": expected doorway or fixed");
-  mapping::MapJob job;
-  job.log_path = a.log;
-  job.log_format = a.format;
-  job.robot_spec = a.robot;
   job.mapping.paper = a.mode == "paper";
-  job.mapping.cell_m = a.cell_m;
-  job.mapping.window_m = a.window_m;
   job.mapping.boundary = a.boundary == "fixed" ? asr::BoundaryMode::kFixedLength : asr::BoundaryMode::kDoorway;
-  job.mapping.asr_length_m = a.asr_length_m;
-  job.mapping.max_asr_m = a.max_asr_m;
   job.mapping.correct = !a.no_correct;
   job.mapping.pose_graph = !a.no_graph;
   job.mapping.drift_filter = !a.no_drift_filter;
@@ -68,65 +42,33 @@ int RunMap(const MapArgs& a) {
   job.mapping.add_drift_rad_per_m = DegToRad(a.add_drift_deg_per_m);
   job.mapping.Validate();
   job.outputs = mapping::OutputChoice::Parse(a.outputs);
-  job.output_dir = a.output;
-  job.resume = a.resume;
-  job.raw = a.raw;
-  job.world = a.world;
   if (!a.geo_anchor.empty()) job.geo_anchor = io::ParseGeoAnchor(a.geo_anchor);
-  if (!(a.px_per_m >= 0.0)) throw InputError("--px-per-m " + Num(a.px_per_m) + ": must be positive (0: fit)");
-  job.px_per_m = a.px_per_m;
+  if (!(job.px_per_m >= 0.0)) throw InputError("--px-per-m " + Num(job.px_per_m) + ": must be positive (0: fit)");
   ProgressBar bar("map");
   job.progress = [&bar](double f, int asrs) { bar.Update(f, std::to_string(asrs) + " ASRs"); };
   job.notice = [&bar](const std::string& s) {
     bar.Finish();
     std::fprintf(stderr, "cogmap: %s\n", s.c_str());
   };
-
-  io::LogOpenOptions open;  // bags: the topics, and the robot that names a point cloud's sonars
-  open.format = a.format;
-  open.topics = a.topics;
-  if (!a.robot.empty()) open.robot = sensors::ResolveRobot(a.robot);
-  auto log = io::OpenLog(a.log, open);
+  // Bags: the topics, and the robot that names a point cloud's sonars.
+  auto log = io::OpenLog(job.log_path, io::MakeOpenOptions(job.log_format, a.topics, job.robot_spec));
   const mapping::MapJobSummary s = mapping::RunMapJob(*log, job);
   bar.Finish();
   WarnSkipped(*log);
-  std::printf("%s: %ld records, %d ASRs (%d this run), %d exits, grid %.1f KB -> polylines %.2f KB, %.2f s "
-              "(%.1fx real time)\n",
-              a.log.c_str(), s.records, s.asrs, s.asrs_this_run, s.exits, s.bytes_grid / 1024.0,
-              s.bytes_polylines / 1024.0, s.seconds, s.times_real_time);
-  std::printf("floor plan: %d rooms, %d walls, %d doors\n", s.plan_rooms, s.plan_walls, s.plan_doors);
-  if (s.room_precision)
-    std::printf("rooms: precision %.3f recall %.3f\n", *s.room_precision, *s.room_recall);
-  if (s.heading_asrs > 0)
-    std::printf("heading error per ASR (deg): corrected median %.2f max %.2f, odometry median %.2f max %.2f\n",
-                s.heading_median_deg, s.heading_max_deg, s.heading_median_raw_deg, s.heading_max_raw_deg);
-  const mapping::RunResult& r = s.run;
-  if (r.correction == mapping::Correction::kPoseGraph) {
-    int accepted = 0;
-    for (const auto& c : r.graph.closures) accepted += c.accepted ? 1 : 0;
-    std::printf("pose graph: %s, %d loop closures (%zu candidates), %d rooms, drift %.3f deg/m\n",
-                r.graph.solution.c_str(), accepted, r.graph.closures.size(), s.rooms,
-                RadToDeg(r.graph.drift_rate_rad_per_m));
-  } else if (r.correction == mapping::Correction::kDriftFilter) {
-    std::printf("estimated heading drift: %.3f +- %.3f deg/m\n", RadToDeg(r.drift_rate_rad_per_m),
-                RadToDeg(r.drift_rate_sigma_rad_per_m));
-  }
+  std::fputs(mapping::MapSummaryText(s, job).c_str(), stdout);
   for (const auto& w : s.warnings) std::fprintf(stderr, "cogmap: warning: %s\n", w.c_str());
-  std::string listed;
-  for (const auto& w : s.written) listed += w + " ";
-  std::printf("outputs in %s: %swalls.json report.json\n", a.output.c_str(), listed.c_str());
   return 0;
 }
 
 std::function<int()> SetupMap(CLI::App& sub) {
   auto a = std::make_shared<MapArgs>();
-  sub.add_option("LOG", a->log, "The log to map (native, CARMEN, Pioneer pair, EV3)")->required();
-  sub.add_option("--format", a->format, "Log format: " + Join(io::LogFormatNames()))->capture_default_str();
-  sub.add_option("--robot", a->robot,
+  sub.add_option("LOG", a->job.log_path, "The log to map (native, CARMEN, Pioneer pair, EV3)")->required();
+  sub.add_option("--format", a->job.log_format, "Log format: " + Join(io::LogFormatNames()))->capture_default_str();
+  sub.add_option("--robot", a->job.robot_spec,
                  "Robot: a built-in name (" + Join(sensors::BuiltinRobotNames()) +
                      ") or a robot JSON file (default: the log's, else pioneer16)");
-  sub.add_option("--cell", a->cell_m, "Cell size of each room's grid, metres")->capture_default_str();
-  sub.add_option("--window", a->window_m, "MHIMM window w, metres")->capture_default_str();
+  sub.add_option("--cell", a->job.mapping.cell_m, "Cell size of each room's grid, metres")->capture_default_str();
+  sub.add_option("--window", a->job.mapping.window_m, "MHIMM window w, metres")->capture_default_str();
   sub.add_option("--mode", a->mode,
                  "paper: the thesis's line fit and EM rotation per ASR; default: total least squares, robust EM and the pose graph "
                  "over ASRs (docs/pose-graph.md)")
@@ -134,10 +76,10 @@ std::function<int()> SetupMap(CLI::App& sub) {
   sub.add_option("--boundary", a->boundary,
                  "doorway: fig. 3.4 with the corridor rule; fixed: a new ASR every --asr-length (thesis §4.2)")
       ->capture_default_str();
-  sub.add_option("--asr-length", a->asr_length_m,
+  sub.add_option("--asr-length", a->job.mapping.asr_length_m,
                  "Corridor / fixed-length ASR length, metres (4.5 in §3.1.2, 4 in §4.2)")
       ->capture_default_str();
-  sub.add_option("--max-asr", a->max_asr_m,
+  sub.add_option("--max-asr", a->job.mapping.max_asr_m,
                  "Default mode, doorway boundaries: cut a space after this many metres of driving without a "
                  "doorway or corridor cut (0 = never, as in paper mode)")
       ->capture_default_str();
@@ -166,18 +108,18 @@ std::function<int()> SetupMap(CLI::App& sub) {
                  "Bags: the topics to read, comma separated (range, odometry); default: found by type "
                  "(docs/inputs.md)")
       ->delimiter(',');
-  sub.add_option("--px-per-m", a->px_per_m,
+  sub.add_option("--px-per-m", a->job.px_per_m,
                  "Pictures: this many pixels per metre (default 0: fit 2000 px on the longest side)");
   sub.add_option("--geo-anchor", a->geo_anchor,
                  "LAT,LON,HEADING_DEG: map.geojson in WGS 84, the map origin at this latitude/longitude and its +x "
                  "axis at this bearing (degrees clockwise from north); without it map.geojson is in local metres");
-  sub.add_flag("--raw", a->raw, "Draw the master map at the raw odometry poses (the store keeps both)");
-  sub.add_flag("--resume", a->resume,
+  sub.add_flag("--raw", a->job.raw, "Draw the master map at the raw odometry poses (the store keeps both)");
+  sub.add_flag("--resume", a->job.resume,
                "Continue into OUTDIR/map.sqlite: new ASRs append with the next ids; the log's first pose is "
                "taken to be where the stored run ended");
-  sub.add_option("--world", a->world,
+  sub.add_option("--world", a->job.world,
                  "Ground-truth world (2D-Map with Room cairns): adds room_precision / room_recall to report.json");
-  sub.add_option("-o,--output", a->output, "Output folder (created)")->required();
+  sub.add_option("-o,--output", a->job.output_dir, "Output folder (created)")->required();
   return [a] { return RunMap(*a); };
 }
 

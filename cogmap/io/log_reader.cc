@@ -13,6 +13,7 @@
 #include "cogmap/io/pioneer_log.h"
 #include "cogmap/io/ros1_bag.h"
 #include "cogmap/io/ros2_bag.h"
+#include "cogmap/sensors/robot_json.h"
 #include "cogmap/io/mrpt_rawlog.h"
 
 namespace cogmap::io {
@@ -187,6 +188,21 @@ std::string DetectLogFormat(const std::string& path) {
 }
 
 std::vector<std::string> LogFormatNames() { return {"auto", "native", "carmen", "pioneer", "ev3", "rosbag", "ros2bag", "rawlog"}; }
+
+LogOpenOptions MakeOpenOptions(const std::string& format, const std::vector<std::string>& topics,
+                               const std::string& robot_spec) {
+  LogOpenOptions o;
+  o.format = format;
+  o.topics = topics;
+  if (!robot_spec.empty()) o.robot = sensors::ResolveRobot(robot_spec);
+  return o;
+}
+
+sensors::RobotDescription RobotFor(const LogReader& log, const std::string& robot_spec) {
+  if (!robot_spec.empty()) return sensors::ResolveRobot(robot_spec);
+  if (auto hint = log.robot_hint()) return *hint;
+  return sensors::BuiltinRobot("pioneer16");
+}
 
 std::unique_ptr<LogReader> OpenLog(const std::string& path, const std::string& format) {
   LogOpenOptions o;

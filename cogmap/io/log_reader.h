@@ -87,6 +87,15 @@ std::vector<std::string> LogFormatNames();
 std::unique_ptr<LogReader> OpenLog(const std::string& path, const std::string& format = "auto");
 std::unique_ptr<LogReader> OpenLog(const std::string& path, const LogOpenOptions& options);
 
+// The options from what a user gives on a command line: a format name, bag
+// topics, and a robot spec (a built-in name or robot JSON file; "" = none).
+LogOpenOptions MakeOpenOptions(const std::string& format, const std::vector<std::string>& topics = {},
+                               const std::string& robot_spec = "");
+
+// The robot to map a log with: the one the user named (robot_spec: built-in
+// name or robot JSON file), else the one the log says, else pioneer16.
+sensors::RobotDescription RobotFor(const LogReader& log, const std::string& robot_spec);
+
 // The format OpenLog(path, "auto") would choose ("native", "carmen", "pioneer",
 // "ev3", "rosbag", "ros2bag"); InputError when the content matches none. For "-" it looks at the
 // head of standard input only (calling it before OpenLog("-") is fine).

@@ -23,15 +23,6 @@
 namespace cogmap::io {
 namespace {
 
-LogOpenOptions OpenOptions(const std::string& format, const std::vector<std::string>& topics,
-                               const std::string& robot) {
-  LogOpenOptions o;
-  o.format = format;
-  o.topics = topics;
-  if (!robot.empty()) o.robot = sensors::ResolveRobot(robot);
-  return o;
-}
-
 std::string RobotSummary(const sensors::RobotDescription& r) {
   char buf[256];
   double max_range = 0;
@@ -71,7 +62,7 @@ void DescribeSensors(const sensors::RobotDescription& r, std::string* out) {
 LogSummary SummarizeLog(const std::string& path, const LogToolOptions& o,
                         const std::function<void(double)>& progress) {
   const std::string detected = o.format == "auto" ? DetectLogFormat(path) : o.format;
-  auto reader = OpenLog(path, OpenOptions(detected, o.topics, o.robot));
+  auto reader = OpenLog(path, MakeOpenOptions(detected, o.topics, o.robot));
   const auto robot = reader->robot_hint();
   long records = 0, sweeps = 0, readings = 0, no_echo = 0, truths = 0, backwards = 0;
   double t_last = 0, t_min = std::numeric_limits<double>::infinity(), t_max = -t_min;
@@ -139,7 +130,7 @@ LogSummary SummarizeLog(const std::string& path, const LogToolOptions& o,
 
 ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, const std::string& to,
                           const std::string& out_path, const std::function<void(double)>& progress) {
-  auto reader = OpenLog(path, OpenOptions(o.format, o.topics, o.robot));
+  auto reader = OpenLog(path, MakeOpenOptions(o.format, o.topics, o.robot));
   sensors::RobotDescription robot;
   if (!o.robot.empty()) robot = sensors::ResolveRobot(o.robot);
   else if (reader->robot_hint()) robot = *reader->robot_hint();

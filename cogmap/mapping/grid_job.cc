@@ -26,9 +26,7 @@ GridJobResult RunGridJob(io::LogReader& log, const GridJob& job) {
   const auto start = std::chrono::steady_clock::now();
   job.Validate();
   GridJobResult out;
-  if (!job.robot_spec.empty()) out.robot = sensors::ResolveRobot(job.robot_spec);
-  else if (auto hint = log.robot_hint()) out.robot = *hint;
-  else out.robot = sensors::BuiltinRobot("pioneer16");
+  out.robot = io::RobotFor(log, job.robot_spec);
 
   grid::FusionOptions options;
   options.bounds.cell_m = job.cell_m;

@@ -15,6 +15,7 @@
 #include "cogmap/asr/store.h"
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
+#include "cogmap/core/text.h"
 #include "cogmap/draw/map_picture.h"
 #include "cogmap/draw/world_picture.h"
 #include "cogmap/draw/plots.h"
@@ -46,12 +47,6 @@ std::optional<Pose2> ParsePose(const std::optional<std::string>& text) {
   Pose2 p;
   if (!(in >> p.x >> p.y >> p.theta)) return std::nullopt;
   return p;
-}
-
-sensors::RobotDescription ResolveRobotFor(const io::LogReader& log, const std::string& spec) {
-  if (!spec.empty()) return sensors::ResolveRobot(spec);
-  if (auto hint = log.robot_hint()) return *hint;
-  return sensors::BuiltinRobot("pioneer16");
 }
 
 // Opens the run's store in the folder's staging area: a copy of the stored map
@@ -111,7 +106,7 @@ OutputChoice OutputChoice::Parse(const std::string& text) {
 MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   const auto start = std::chrono::steady_clock::now();
   job.mapping.Validate();
-  const sensors::RobotDescription robot = ResolveRobotFor(log, job.robot_spec);
+  const sensors::RobotDescription robot = io::RobotFor(log, job.robot_spec);
   if (!job.world.empty()) io::ReadWorld(job.world);  // a bad world fails before mapping
 
   // The output folder (docs/store.md): locked for this run, everything written
@@ -312,6 +307,35 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   io::WriteFileAtomically((fs::path(staging) / "report.json").string(), out.report.dump(2) + "\n");
   out.run = run;
   out.warnings = run.graph.warnings;
+  return out;
+}
+
+std::string MapSummaryText(const MapJobSummary& s, const MapJob& job) {
+  std::string out;
+  AppendF(&out,
+          "%s: %ld records, %d ASRs (%d this run), %d exits, grid %.1f KB -> polylines %.2f KB, %.2f s "
+          "(%.1fx real time)\n",
+          job.log_path.c_str(), s.records, s.asrs, s.asrs_this_run, s.exits, s.bytes_grid / 1024.0,
+          s.bytes_polylines / 1024.0, s.seconds, s.times_real_time);
+  AppendF(&out, "floor plan: %d rooms, %d walls, %d doors\n", s.plan_rooms, s.plan_walls, s.plan_doors);
+  if (s.room_precision) AppendF(&out, "rooms: precision %.3f recall %.3f\n", *s.room_precision, *s.room_recall);
+  if (s.heading_asrs > 0)
+    AppendF(&out, "heading error per ASR (deg): corrected median %.2f max %.2f, odometry median %.2f max %.2f\n",
+            s.heading_median_deg, s.heading_max_deg, s.heading_median_raw_deg, s.heading_max_raw_deg);
+  const RunResult& r = s.run;
+  if (r.correction == Correction::kPoseGraph) {
+    int accepted = 0;
+    for (const auto& c : r.graph.closures) accepted += c.accepted ? 1 : 0;
+    AppendF(&out, "pose graph: %s, %d loop closures (%zu candidates), %d rooms, drift %.3f deg/m\n",
+            r.graph.solution.c_str(), accepted, r.graph.closures.size(), s.rooms,
+            RadToDeg(r.graph.drift_rate_rad_per_m));
+  } else if (r.correction == Correction::kDriftFilter) {
+    AppendF(&out, "estimated heading drift: %.3f +- %.3f deg/m\n", RadToDeg(r.drift_rate_rad_per_m),
+            RadToDeg(r.drift_rate_sigma_rad_per_m));
+  }
+  std::string listed;
+  for (const auto& w : s.written) listed += w + " ";
+  AppendF(&out, "outputs in %s: %swalls.json report.json\n", job.output_dir.c_str(), listed.c_str());
   return out;
 }
 

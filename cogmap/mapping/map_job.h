@@ -84,6 +84,11 @@ struct MapJobSummary {
 // untouched and its own partial result in OUTDIR/failed-run-*/, then rethrows.
 MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job);
 
+// What `cogmap map` prints after a run: records, ASRs, exits, bytes, time,
+// the floor plan's counts, room precision/recall and heading errors when
+// known, the correction's result, the files written (one fact per line).
+std::string MapSummaryText(const MapJobSummary& summary, const MapJob& job);
+
 // What report.json says about the run besides the store (RunMapJob fills it).
 struct OutputContext {
   std::string store_path;

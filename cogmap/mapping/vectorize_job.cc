@@ -147,9 +147,7 @@ VectorizeJobResult RunVectorizeJob(io::LogReader& log, const VectorizeJob& job) 
   auto folder = io::OutputFolder::Open(job.output_dir);
   try {
     VectorizeJobResult out;
-    if (!job.robot_spec.empty()) out.robot = sensors::ResolveRobot(job.robot_spec);
-    else if (auto hint = log.robot_hint()) out.robot = *hint;
-    else out.robot = sensors::BuiltinRobot("pioneer16");
+    out.robot = io::RobotFor(log, job.robot_spec);
     double max_range_m = 0.0;
     for (const auto& s : out.robot.sensors) max_range_m = std::max(max_range_m, s.max_range_m);
 
