@@ -75,6 +75,10 @@ std::function<int()> SetupSimulate(CLI::App& sub) {
       ->capture_default_str();
   sub.add_option("--speed", a->job.options.cruise_mps, "Cruise speed, m/s")->capture_default_str();
   sub.add_option("--rays", a->job.options.sensor.sonar_rays, "Rays sampling each sonar cone")->capture_default_str();
+  sub.add_option("--sonar-bank-size", a->job.options.sonar_bank_size,
+                 "Sonars per firing bank: one of each bank fires per record, every 40 ms (8: the Pioneer's two banks "
+                 "of 8; 1: the whole ring in every record, as CARMEN's SONAR and RosAria's point cloud hold it)")
+      ->capture_default_str();
   sub.add_option("--max-time", a->job.options.max_time_s,
                  "Bound on simulated seconds (0: automatic, from the route length; explore 3600 s)")
       ->capture_default_str();

@@ -78,6 +78,28 @@ TEST(SimulateJob, WritesTheRunAsANativeLog) {
   EXPECT_LT(max_odom_error_m, 1e-6);
 }
 
+// --sonar-bank-size 1: every record with sonar readings holds the whole ring
+// (what CARMEN's SONAR carries); 8: one firing of each of the two banks.
+TEST(SimulateJob, SonarBankSizeSetsReadingsPerRecord) {
+  for (int bank : {1, 8}) {
+    SimulateJob job;
+    job.world_path = SmallBuilding("sim_bank.map");
+    job.options.max_time_s = 5.0;
+    job.options.sonar_bank_size = bank;
+    job.output_path = TestTempPath("sim_bank.log");
+    RunSimulateJob(job);
+    auto log = io::OpenLog(job.output_path);
+    sensors::LogRecord rec;
+    long sweeps = 0;
+    while (log->Next(&rec)) {
+      if (rec.ranges.empty()) continue;
+      ++sweeps;
+      ASSERT_EQ(rec.ranges.size(), bank == 1 ? 16u : 2u);
+    }
+    EXPECT_GT(sweeps, 50);
+  }
+}
+
 TEST(SimulateJob, SameSeedSameLog) {
   SimulateJob job;
   job.world_path = SmallBuilding("sim_seed.map");
@@ -113,6 +135,9 @@ TEST(SimulateJob, RejectsBadOptionsAndARouteRunWithoutARoute) {
   job.options.max_time_s = -1;
   EXPECT_THROW(job.Validate(), InputError);
   job.options.max_time_s = 10;
+  job.options.sonar_bank_size = 0;
+  EXPECT_THROW(job.Validate(), InputError);
+  job.options.sonar_bank_size = 8;
   try {
     RunSimulateJob(job);
     FAIL();
