@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "cogmap/io/ros1_messages.h"
 #include "ros/live_mapper.h"
 
 namespace {
@@ -27,61 +28,15 @@ namespace {
 namespace cm = cogmap::io::ros;
 using cogmap::rosnode::LiveMapper;
 
-int64_t Ns(const ros::Time& t) { return static_cast<int64_t>(t.sec) * 1000000000 + t.nsec; }
-cm::Header H(const std_msgs::Header& h) { return {Ns(h.stamp), h.frame_id}; }
-cm::Transform3 T(const geometry_msgs::Transform& t) {
-  return {t.translation.x, t.translation.y, t.translation.z, t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w};
-}
-
-cm::Message Convert(const sensor_msgs::LaserScan& p) {
-  cm::LaserScan s;
-  s.header = H(p.header);
-  s.angle_min_rad = p.angle_min;
-  s.angle_increment_rad = p.angle_increment;
-  s.range_min_m = p.range_min;
-  s.range_max_m = p.range_max;
-  s.ranges = p.ranges;
-  return s;
-}
-cm::Message Convert(const sensor_msgs::Range& p) {
-  cm::Range r;
-  r.header = H(p.header);
-  r.radiation_type = p.radiation_type;
-  r.field_of_view_rad = p.field_of_view;
-  r.min_range_m = p.min_range;
-  r.max_range_m = p.max_range;
-  r.range_m = p.range;
-  return r;
-}
-cm::Message Convert(const sensor_msgs::PointCloud& p) {
-  cm::PointCloud c;
-  c.header = H(p.header);
-  for (const auto& q : p.points) c.points.push_back({q.x, q.y, q.z});
-  return c;
+template <class M>
+cm::Message Convert(const M& m) {
+  return cm::FromRos1(m);
 }
 cm::Message Convert(const sensor_msgs::PointCloud2& p) {
-  cm::PointCloud c;
-  c.header = H(p.header);
-  std::vector<cm::PointField> fields;
-  for (const auto& f : p.fields) fields.push_back({f.name, f.offset, f.datatype, f.count});
-  const std::string err = cm::DecodePointCloud2(fields, p.is_bigendian, p.point_step, p.width, p.height,
-                                                p.data.data(), p.data.size(), &c.points);
+  std::string err;
+  cm::PointCloud c = cm::FromRos1(p, &err);
   if (!err.empty()) ROS_WARN_THROTTLE(10, "cogmap: PointCloud2 skipped: %s", err.c_str());
   return c;
-}
-cm::Message Convert(const nav_msgs::Odometry& p) {
-  cm::Odometry o;
-  o.header = H(p.header);
-  o.child_frame_id = p.child_frame_id;
-  const auto& q = p.pose.pose;
-  o.pose = {q.position.x, q.position.y, q.position.z, q.orientation.x, q.orientation.y, q.orientation.z,
-            q.orientation.w};
-  return o;
-}
-cm::Message Convert(const tf2_msgs::TFMessage& p) {
-  cm::TfMessage m;
-  for (const auto& t : p.transforms) m.transforms.push_back({H(t.header), t.child_frame_id, T(t.transform)});
-  return m;
 }
 
 // "name:type,name:type"
@@ -146,7 +101,7 @@ class Node {
       const int k = static_cast<int>(i);
       const std::string& name = o.topics[i].name;
       const cm::MessageType t = cm::TypeOf(o.topics[i].type);
-      auto now = [] { return Ns(ros::Time::now()); };
+      auto now = [] { return cm::Ros1Ns(ros::Time::now()); };
       switch (t) {
         case cm::MessageType::kLaserScan:
           subs_.push_back(nh.subscribe<sensor_msgs::LaserScan>(name, queue, [this, k, now](const auto& m) {

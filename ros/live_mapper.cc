@@ -169,6 +169,15 @@ struct LiveMapper::Impl {
   mutable std::mutex state_mutex;  // snapshot, grid, error, finished
   MapSnapshot snapshot;
   GridSnapshot current_grid;
+  // Per closed ASR: the last snapshot of its room grid (raw odometry frame)
+  // and where the map puts that frame (corrected from raw, at close; the final
+  // placements after the run).
+  struct FreeLayer {
+    int asr = 0;
+    GridSnapshot grid;
+    Pose2 map_from_raw;
+  };
+  std::vector<FreeLayer> free_layers;
   std::string error;
   bool finished = false;
   std::string summary;
@@ -321,6 +330,12 @@ void LiveMapper::Impl::Run(std::function<void()> on_asr) {
           snapshot.graph.push_back({c.x(), c.y(), ec.x(), ec.y()});
         }
         ++snapshot.asrs;
+        // The room's grid is gone once it closes: its last snapshot (at most
+        // 50 records old) gives the free space the whole map shows.
+        if (!current_grid.data.empty())
+          free_layers.push_back({x.id, std::move(current_grid),
+                                 x.world_from_local_corrected * x.world_from_local_raw.inverse()});
+        current_grid = {};
         if (const auto* g = pipeline.mapper().current_grid())
           current_grid = FromValues(*g, pipeline.mapper().current_world_from_local());
       }
@@ -361,6 +376,9 @@ void LiveMapper::Impl::Run(std::function<void()> on_asr) {
     final_snapshot.asrs = store->Count();
     {
       std::lock_guard lock(state_mutex);
+      for (auto& layer : free_layers)
+        if (const auto x = store->Get(layer.asr))
+          layer.map_from_raw = x->world_from_local_corrected * x->world_from_local_raw.inverse();
       snapshot = std::move(final_snapshot);
       summary = std::to_string(s.records) + " records, " + std::to_string(s.asrs) + " ASRs, " +
                 std::to_string(s.rooms) + " rooms; outputs in " + options.output_dir;
@@ -424,17 +442,34 @@ GridSnapshot LiveMapper::CurrentRoomGrid() const {
 }
 
 GridSnapshot LiveMapper::WholeMapGrid(double cell_m) const {
-  const MapSnapshot s = Snapshot();
+  std::lock_guard lock(impl_->state_mutex);
+  const MapSnapshot& s = impl_->snapshot;
+  const auto& layers = impl_->free_layers;
   GridSnapshot g;
   g.resolution_m = cell_m;
-  if (s.walls.empty()) return g;
+  // Extent: every wall and every room grid's corners where the map puts them.
   double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+  auto extend = [&](double x, double y) {
+    x0 = std::min(x0, x);
+    y0 = std::min(y0, y);
+    x1 = std::max(x1, x);
+    y1 = std::max(y1, y);
+  };
   for (const auto& w : s.walls) {
-    x0 = std::min({x0, w.x0, w.x1});
-    y0 = std::min({y0, w.y0, w.y1});
-    x1 = std::max({x1, w.x0, w.x1});
-    y1 = std::max({y1, w.y0, w.y1});
+    extend(w.x0, w.y0);
+    extend(w.x1, w.y1);
   }
+  // A layer's cell (i, j) centre in its raw frame, and back.
+  auto raw_from_grid = [](const GridSnapshot& l) { return Pose2{l.origin_x, l.origin_y, l.origin_yaw}; };
+  for (const auto& l : layers) {
+    const Pose2 map_from_grid = l.map_from_raw * raw_from_grid(l.grid);
+    for (double u : {0.0, l.grid.width * l.grid.resolution_m})
+      for (double v : {0.0, l.grid.height * l.grid.resolution_m}) {
+        const Vec2 c = map_from_grid * Vec2(u, v);
+        extend(c.x(), c.y());
+      }
+  }
+  if (x0 > x1) return g;
   const double margin = 1.0;
   // Within 16 Mpx whatever the building: a coarser cell for a larger one.
   const double area = (x1 - x0 + 2 * margin) * (y1 - y0 + 2 * margin);
@@ -444,6 +479,36 @@ GridSnapshot LiveMapper::WholeMapGrid(double cell_m) const {
   g.width = static_cast<int>(std::ceil((x1 - x0 + 2 * margin) / g.resolution_m));
   g.height = static_cast<int>(std::ceil((y1 - y0 + 2 * margin) / g.resolution_m));
   g.data.assign(static_cast<size_t>(g.width) * g.height, -1);
+  // Free: every map cell whose centre falls in a free cell of a room's grid
+  // (resampled, nearest cell, over the room's footprint).
+  for (const auto& l : layers) {
+    const Pose2 map_from_grid = l.map_from_raw * raw_from_grid(l.grid);
+    const Pose2 grid_from_map = map_from_grid.inverse();
+    double lx0 = 1e300, ly0 = 1e300, lx1 = -1e300, ly1 = -1e300;
+    for (double u : {0.0, l.grid.width * l.grid.resolution_m})
+      for (double v : {0.0, l.grid.height * l.grid.resolution_m}) {
+        const Vec2 c = map_from_grid * Vec2(u, v);
+        lx0 = std::min(lx0, c.x());
+        ly0 = std::min(ly0, c.y());
+        lx1 = std::max(lx1, c.x());
+        ly1 = std::max(ly1, c.y());
+      }
+    const int i0 = std::max(0, static_cast<int>((lx0 - g.origin_x) / g.resolution_m));
+    const int j0 = std::max(0, static_cast<int>((ly0 - g.origin_y) / g.resolution_m));
+    const int i1 = std::min(g.width - 1, static_cast<int>((lx1 - g.origin_x) / g.resolution_m));
+    const int j1 = std::min(g.height - 1, static_cast<int>((ly1 - g.origin_y) / g.resolution_m));
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const Vec2 c = grid_from_map * Vec2(g.origin_x + (i + 0.5) * g.resolution_m,
+                                            g.origin_y + (j + 0.5) * g.resolution_m);
+        const int u = static_cast<int>(std::floor(c.x() / l.grid.resolution_m));
+        const int v = static_cast<int>(std::floor(c.y() / l.grid.resolution_m));
+        if (u < 0 || v < 0 || u >= l.grid.width || v >= l.grid.height) continue;
+        if (l.grid.data[static_cast<size_t>(v) * l.grid.width + u] == 0)
+          g.data[static_cast<size_t>(j) * g.width + i] = 0;
+      }
+  }
+  // Occupied: the walls, drawn over the free space.
   for (const auto& w : s.walls) {
     const double len = std::hypot(w.x1 - w.x0, w.y1 - w.y0);
     const int steps = std::max(1, static_cast<int>(std::ceil(len / (0.5 * g.resolution_m))));

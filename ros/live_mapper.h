@@ -82,7 +82,9 @@ class LiveMapper {
   std::vector<std::string> WriteFloorPlan();
 
   MapSnapshot Snapshot() const;
-  // The room being mapped (raw odometry frame) and the whole map's walls.
+  // The room being mapped (raw odometry frame), and the whole map: free where
+  // a closed room's grid saw free space (its last snapshot, placed as the map
+  // places that room), occupied on every wall, unknown elsewhere.
   GridSnapshot CurrentRoomGrid() const;
   GridSnapshot WholeMapGrid(double cell_m = 0.05) const;
   // A mapping error, once the thread has stopped on one ("" while fine).

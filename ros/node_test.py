@@ -122,6 +122,29 @@ def main():
     assert len(walls.markers[0].points) == 2 * segments, (len(walls.markers[0].points), segments)
     assert len(rooms.markers) == len(b_store.ids())
     assert grid.info.width > 0 and any(v == 100 for v in grid.data)
+    # Free space: the robot's true path lies in free cells of the whole map
+    # (the map frame is the corrected odometry frame, which starts at the true
+    # start pose; the raw odometry has drifted by metres at the end).
+    free = sum(1 for v in grid.data if v == 0)
+    res, ox, oy, w = grid.info.resolution, grid.info.origin.position.x, grid.info.origin.position.y, grid.info.width
+    on_free = total = 0
+    for line in open(os.path.join(live, "records.log")):
+        if not line.startswith("TRUTH"):
+            continue
+        total += 1
+        if total % 25:
+            continue
+        _, _, x, y, _ = line.split()
+        i, j = int((float(x) - ox) / res), int((float(y) - oy) / res)
+        on_free += 1 if 0 <= i < w and 0 <= j < grid.info.height and grid.data[j * w + i] == 0 else 0
+    share = on_free / float(total // 25)
+    if os.environ.get("COGMAP_NODE_MAP_PGM"):  # to look at it
+        with open(os.environ["COGMAP_NODE_MAP_PGM"], "wb") as f:
+            f.write(b"P5 %d %d 255\n" % (w, grid.info.height))
+            f.write(bytes(205 if v < 0 else (0 if v == 100 else 254) for j in range(grid.info.height - 1, -1, -1)
+                          for v in grid.data[j * w:(j + 1) * w]))
+    print("map: %d free cells (%.1f m2), %.1f %% of the path on free cells" % (free, free * res * res, 100 * share))
+    assert share >= 0.9, share
     print("published: %d wall segments, %d rooms, map %dx%d" % (segments, len(rooms.markers), grid.info.width,
                                                                grid.info.height))
 

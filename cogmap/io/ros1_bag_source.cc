@@ -1,19 +1,14 @@
 // ROS 1 bags through rosbag_storage: the BagSource and the writer of
 // ros_messages.h. Compiled as C++17 (the ROS 1 message headers use
 // std::allocator<void>::rebind): includes no cogmap header that needs C++20.
-#include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
-#include <sensor_msgs/LaserScan.h>
-#include <sensor_msgs/PointCloud.h>
-#include <sensor_msgs/PointCloud2.h>
-#include <sensor_msgs/Range.h>
-#include <tf2_msgs/TFMessage.h>
 
 #include <algorithm>
 #include <map>
 
 #include "cogmap/core/error.h"
+#include "cogmap/io/ros1_messages.h"
 #include "cogmap/io/ros_messages.h"
 
 namespace cogmap::io::ros {
@@ -22,9 +17,6 @@ namespace {
 ::ros::Time RosTime(int64_t ns) {
   return ::ros::Time(static_cast<uint32_t>(ns / 1000000000), static_cast<uint32_t>(ns % 1000000000));
 }
-int64_t Ns(const ::ros::Time& t) { return static_cast<int64_t>(t.sec) * 1000000000 + t.nsec; }
-
-ros::Header NeutralHeader(const std_msgs::Header& h) { return {Ns(h.stamp), h.frame_id}; }
 std_msgs::Header RosHeader(const ros::Header& h) {
   std_msgs::Header r;
   r.stamp = RosTime(h.stamp_ns);
@@ -32,12 +24,6 @@ std_msgs::Header RosHeader(const ros::Header& h) {
   return r;
 }
 
-ros::Transform3 Transform(const geometry_msgs::Transform& t) {
-  return {t.translation.x, t.translation.y, t.translation.z, t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w};
-}
-ros::Transform3 Transform(const geometry_msgs::Pose& p) {
-  return {p.position.x, p.position.y, p.position.z, p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w};
-}
 geometry_msgs::Transform RosTransform(const ros::Transform3& t) {
   geometry_msgs::Transform r;
   r.translation.x = t.x;
@@ -99,7 +85,7 @@ class Ros1Source : public ros::BagSource {
       index = ++index_[topic];
       out->topic = topic;
       out->index = index;
-      out->time_ns = Ns(m.getTime());
+      out->time_ns = Ros1Ns(m.getTime());
       out->message = Decode(m, topic, index);
       ++*it_;
     } catch (const InputError&) {
@@ -130,63 +116,18 @@ class Ros1Source : public ros::BagSource {
 
   ros::Message Decode(const rosbag::MessageInstance& m, int topic, long index) const {
     switch (ros::TypeOf(m.getDataType())) {
-      case ros::MessageType::kLaserScan: {
-        const auto p = Get<sensor_msgs::LaserScan>(m, topic, index);
-        ros::LaserScan s;
-        s.header = NeutralHeader(p->header);
-        s.angle_min_rad = p->angle_min;
-        s.angle_increment_rad = p->angle_increment;
-        s.range_min_m = p->range_min;
-        s.range_max_m = p->range_max;
-        s.ranges = p->ranges;
-        return s;
-      }
-      case ros::MessageType::kRange: {
-        const auto p = Get<sensor_msgs::Range>(m, topic, index);
-        ros::Range r;
-        r.header = NeutralHeader(p->header);
-        r.radiation_type = p->radiation_type;
-        r.field_of_view_rad = p->field_of_view;
-        r.min_range_m = p->min_range;
-        r.max_range_m = p->max_range;
-        r.range_m = p->range;
-        return r;
-      }
-      case ros::MessageType::kPointCloud: {
-        const auto p = Get<sensor_msgs::PointCloud>(m, topic, index);
-        ros::PointCloud c;
-        c.header = NeutralHeader(p->header);
-        c.points.reserve(p->points.size());
-        for (const auto& q : p->points) c.points.push_back({q.x, q.y, q.z});
-        return c;
-      }
+      case ros::MessageType::kLaserScan: return FromRos1(*Get<sensor_msgs::LaserScan>(m, topic, index));
+      case ros::MessageType::kRange: return FromRos1(*Get<sensor_msgs::Range>(m, topic, index));
+      case ros::MessageType::kPointCloud: return FromRos1(*Get<sensor_msgs::PointCloud>(m, topic, index));
       case ros::MessageType::kPointCloud2: {
-        const auto p = Get<sensor_msgs::PointCloud2>(m, topic, index);
-        ros::PointCloud c;
-        c.header = NeutralHeader(p->header);
-        std::vector<ros::PointField> fields;
-        for (const auto& f : p->fields) fields.push_back({f.name, f.offset, f.datatype, f.count});
-        const std::string err = ros::DecodePointCloud2(fields, p->is_bigendian, p->point_step, p->width, p->height,
-                                                       p->data.data(), p->data.size(), &c.points);
+        std::string err;
+        ros::PointCloud c = FromRos1(*Get<sensor_msgs::PointCloud2>(m, topic, index), &err);
         if (!err.empty())
           throw InputError(path_ + ": " + topics_[topic].name + " message " + std::to_string(index) + ": " + err);
         return c;
       }
-      case ros::MessageType::kOdometry: {
-        const auto p = Get<nav_msgs::Odometry>(m, topic, index);
-        ros::Odometry o;
-        o.header = NeutralHeader(p->header);
-        o.child_frame_id = p->child_frame_id;
-        o.pose = Transform(p->pose.pose);
-        return o;
-      }
-      case ros::MessageType::kTf: {
-        const auto p = Get<tf2_msgs::TFMessage>(m, topic, index);
-        ros::TfMessage tf;
-        for (const auto& t : p->transforms)
-          tf.transforms.push_back({NeutralHeader(t.header), t.child_frame_id, Transform(t.transform)});
-        return tf;
-      }
+      case ros::MessageType::kOdometry: return FromRos1(*Get<nav_msgs::Odometry>(m, topic, index));
+      case ros::MessageType::kTf: return FromRos1(*Get<tf2_msgs::TFMessage>(m, topic, index));
       case ros::MessageType::kOther: break;
     }
     return std::monostate{};
