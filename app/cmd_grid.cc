@@ -65,10 +65,7 @@ int RunGrid(const GridArgs& a) {
 
 std::function<int()> SetupGrid(CLI::App& sub) {
   auto a = std::make_shared<GridArgs>();
-  sub.add_option("LOG", a->log,
-                 "The log to map: a native log, a CARMEN log (.gz too), the Pioneer pair "
-                 "(measurement.txt, poses.txt or their folder), or an EV3 log")
-      ->required();
+  sub.add_option("LOG", a->log, "The log (any format cogmap reads; - for standard input)")->required();
   sub.add_option("--format", a->format, "Log format: " + Join(io::LogFormatNames()) +
                                             " (default auto: by content)")
       ->capture_default_str();

@@ -38,7 +38,7 @@ const bool kInfoRegistered = RegisterCommand(
        auto format = std::make_shared<std::string>("auto");
        auto topics = std::make_shared<std::vector<std::string>>();
        auto robot = std::make_shared<std::string>();
-       sub.add_option("LOG", *path, "Log file (.gz accepted), the pioneer folder, or a bag")->required();
+       sub.add_option("LOG", *path, "The log (any format cogmap reads: a file, .gz accepted, the pioneer folder, a bag or bag folder; - for standard input)")->required();
        sub.add_option("--format", *format, FormatHelp())->check(CLI::IsMember(io::LogFormatNames()));
        sub.add_option("--topics", *topics, kTopicsHelp)->delimiter(',');
        sub.add_option("--robot", *robot, kRobotHelp);
@@ -63,7 +63,7 @@ const bool kConvertRegistered = RegisterCommand(
        auto as_sonar = std::make_shared<std::string>();
        auto topics = std::make_shared<std::vector<std::string>>();
        auto to = std::make_shared<std::string>("native");
-       sub.add_option("LOG", *path, "Log file (.gz accepted), the pioneer folder, or a bag")->required();
+       sub.add_option("LOG", *path, "The log (any format cogmap reads: a file, .gz accepted, the pioneer folder, a bag or bag folder; - for standard input)")->required();
        sub.add_option("OUT", *out, "Output file (or give -o)");
        sub.add_option("--format", *format, FormatHelp())->check(CLI::IsMember(io::LogFormatNames()));
        sub.add_option("--topics", *topics, kTopicsHelp)->delimiter(',');

@@ -62,7 +62,7 @@ int RunMap(MapArgs& a) {
 
 std::function<int()> SetupMap(CLI::App& sub) {
   auto a = std::make_shared<MapArgs>();
-  sub.add_option("LOG", a->job.log_path, "The log to map (native, CARMEN, Pioneer pair, EV3)")->required();
+  sub.add_option("LOG", a->job.log_path, "The log to map (any format cogmap reads; - for standard input)")->required();
   sub.add_option("--format", a->job.log_format, "Log format: " + Join(io::LogFormatNames()))->capture_default_str();
   sub.add_option("--robot", a->job.robot_spec,
                  "Robot: a built-in name (" + Join(sensors::BuiltinRobotNames()) +
