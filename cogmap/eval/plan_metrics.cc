@@ -9,6 +9,7 @@
 #include <boost/geometry/geometries/point_xy.hpp>
 #include <boost/geometry/geometries/polygon.hpp>
 
+#include "cogmap/eval/nearest_segment.h"
 #include "cogmap/eval/wall_metrics.h"
 
 namespace cogmap::eval {
@@ -60,15 +61,6 @@ class SegGrid {
   double cell_;
   std::unordered_map<int64_t, std::vector<int>> cells_;
 };
-
-// Exact nearest distance to any true wall: rings of cells until the distance is certain.
-double NearestAny(const SegGrid& g, const Vec2& p, double cell, double max_radius) {
-  for (double r = cell; ; r *= 2) {
-    double d;
-    if (g.Nearest(p, std::min(r, max_radius), Vec2(0, 0), 0.0, &d) >= 0) return d;
-    if (r >= max_radius) return std::numeric_limits<double>::infinity();
-  }
-}
 
 BPoly Poly(const std::vector<Vec2>& ring) {
   BPoly p;
@@ -152,14 +144,10 @@ PlanMetrics EvaluatePlan(const plan::Plan& plan, const FloorPlan& truth, const s
   PlanMetrics m = DescribePlan(plan);
   const double cell = std::max(0.5, 2.0 * o.match_m);
   const SegGrid true_grid(truth.walls, cell);
+  const NearestSegment true_nearest(truth.walls);
   const std::vector<Segment2> plan_segs = PlanSegments(plan);
   const SegGrid plan_grid(plan_segs, cell);
   const double cos_angle = std::cos(o.match_angle_deg * kPi / 180.0);
-  // Extent of everything: the farthest a nearest wall can be.
-  Vec2 lo(1e300, 1e300), hi = -lo;
-  for (const auto& s : truth.walls) lo = lo.cwiseMin(s.a).cwiseMin(s.b), hi = hi.cwiseMax(s.a).cwiseMax(s.b);
-  for (const auto& s : plan_segs) lo = lo.cwiseMin(s.a).cwiseMin(s.b), hi = hi.cwiseMax(s.a).cwiseMax(s.b);
-  const double diag = lo.x() <= hi.x() ? (hi - lo).norm() + 1.0 : 1.0;
 
   // Precision and the plan side of duplication.
   std::vector<double> dist;
@@ -171,7 +159,7 @@ PlanMetrics EvaluatePlan(const plan::Plan& plan, const FloorPlan& truth, const s
     const double each = len / n;
     for (int i = 0; i < n; ++i) {
       const Vec2 p = s.a + (i + 0.5) * each * dir;
-      dist.push_back(truth.walls.empty() ? std::numeric_limits<double>::infinity() : NearestAny(true_grid, p, cell, diag));
+      dist.push_back(truth.walls.empty() ? std::numeric_limits<double>::infinity() : true_nearest.Distance(p));
       double d;
       if (true_grid.Nearest(p, o.match_m, dir, cos_angle, &d) >= 0) m.matched_plan_length_m += each;
     }

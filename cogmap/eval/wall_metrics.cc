@@ -4,65 +4,10 @@
 #include <cmath>
 #include <limits>
 
+#include "cogmap/eval/nearest_segment.h"
+
 namespace cogmap::eval {
 namespace {
-
-// Uniform bucket grid of segments for nearest-distance and crossing queries.
-class SegmentIndex {
- public:
-  SegmentIndex(const std::vector<Segment2>& segs, double cell_m) : segs_(segs), cell_(cell_m) {
-    if (segs.empty()) return;
-    lo_ = Vec2(1e300, 1e300);
-    Vec2 hi(-1e300, -1e300);
-    for (const auto& s : segs) {
-      lo_ = lo_.cwiseMin(s.a).cwiseMin(s.b);
-      hi = hi.cwiseMax(s.a).cwiseMax(s.b);
-    }
-    w_ = static_cast<int>((hi.x() - lo_.x()) / cell_) + 1;
-    h_ = static_cast<int>((hi.y() - lo_.y()) / cell_) + 1;
-    buckets_.resize(static_cast<size_t>(w_) * h_);
-    for (size_t i = 0; i < segs.size(); ++i) {
-      const auto& s = segs[i];
-      const int x0 = Bx(std::min(s.a.x(), s.b.x())), x1 = Bx(std::max(s.a.x(), s.b.x()));
-      const int y0 = By(std::min(s.a.y(), s.b.y())), y1 = By(std::max(s.a.y(), s.b.y()));
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x)
-          if (PointSegmentDistance(Vec2(lo_.x() + (x + 0.5) * cell_, lo_.y() + (y + 0.5) * cell_), s.a, s.b) <=
-              cell_ * 0.7072)
-            buckets_[static_cast<size_t>(y) * w_ + x].push_back(static_cast<int>(i));
-    }
-  }
-
-  // Distance to the nearest segment (exact), +inf when there are none.
-  double Nearest(const Vec2& p) const {
-    if (segs_.empty()) return std::numeric_limits<double>::infinity();
-    const int cx = Bx(p.x()), cy = By(p.y());
-    double best = std::numeric_limits<double>::infinity();
-    const int max_ring = std::max(w_, h_) + std::max(std::abs(cx), std::abs(cy)) + 2;
-    for (int r = 0; r <= max_ring; ++r) {
-      // Segments first listed in ring r lie at least (r - 1) * cell away.
-      if (r >= 1 && (r - 1) * cell_ > best) break;
-      for (int y = cy - r; y <= cy + r; ++y) {
-        const bool edge = y == cy - r || y == cy + r;
-        for (int x = cx - r; x <= cx + r; x += (edge || r == 0) ? 1 : 2 * r) {
-          if (x < 0 || y < 0 || x >= w_ || y >= h_) continue;
-          for (int i : buckets_[static_cast<size_t>(y) * w_ + x])
-            best = std::min(best, PointSegmentDistance(p, segs_[i].a, segs_[i].b));
-        }
-      }
-    }
-    return best;
-  }
-
- private:
-  int Bx(double x) const { return std::clamp(static_cast<int>(std::floor((x - lo_.x()) / cell_)), -1000000, 1000000); }
-  int By(double y) const { return std::clamp(static_cast<int>(std::floor((y - lo_.y()) / cell_)), -1000000, 1000000); }
-  const std::vector<Segment2>& segs_;
-  double cell_;
-  Vec2 lo_{0, 0};
-  int w_ = 0, h_ = 0;
-  std::vector<std::vector<int>> buckets_;
-};
 
 double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
@@ -98,18 +43,18 @@ std::vector<Vec2> SampleSegment(const Segment2& s, double step_m) {
 PrecisionStats WallPrecision(const std::vector<Polyline>& map_walls, const std::vector<Segment2>& true_walls,
                              const WallMetricsOptions& options) {
   PrecisionStats st;
-  const SegmentIndex index(true_walls, 0.5);
+  const NearestSegment index(true_walls);
   std::vector<double> d;
   for (const auto& seg : ToSegments(map_walls)) {
     const auto pts = SampleSegment(seg, options.sample_step_m);
     for (size_t i = 0; i < pts.size(); ++i) {
       if (i + 1 == pts.size() && seg.length() > 0.0) continue;  // next segment starts here
-      d.push_back(index.Nearest(pts[i]));
+      d.push_back(index.Distance(pts[i]));
     }
   }
   // Each polyline's last vertex.
   for (const auto& l : map_walls)
-    if (l.size() >= 2) d.push_back(index.Nearest(l.back()));
+    if (l.size() >= 2) d.push_back(index.Distance(l.back()));
   st.samples = static_cast<int64_t>(d.size());
   if (d.empty()) return st;
   double sum = 0.0;
@@ -190,7 +135,7 @@ RecallStats WallRecall(const std::vector<Polyline>& map_walls, const std::vector
   std::vector<Segment2> map_all = map_segs;
   for (const auto& l : map_walls)
     if (l.size() == 1) map_all.push_back({l[0], l[0]});
-  const SegmentIndex map_index(map_all, 0.5);
+  const NearestSegment map_index(map_all);
   const auto path = ThinPath(true_path, options.path_step_m);
   const double range2 = options.sensor_range_m * options.sensor_range_m;
   // Grids of the true walls and of the path: the candidates of each test
@@ -236,7 +181,7 @@ RecallStats WallRecall(const std::vector<Polyline>& map_walls, const std::vector
       if (!seen) continue;
       ++st.seeable_samples;
       st.seeable_length_m += weight;
-      if (map_index.Nearest(pts[i]) <= options.recall_within_m) st.found_length_m += weight;
+      if (map_index.Distance(pts[i]) <= options.recall_within_m) st.found_length_m += weight;
     }
   }
   return st;
