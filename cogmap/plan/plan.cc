@@ -1,6 +1,7 @@
 #include "cogmap/plan/plan.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <deque>
@@ -180,41 +181,6 @@ double RingArea(const std::vector<Vec2>& ring) {
   return 0.5 * a;
 }
 
-// Douglas-Peucker on an open chain, keeping both ends.
-void SimplifyChain(const std::vector<Vec2>& pts, size_t i0, size_t i1, double tol, std::vector<char>* keep) {
-  if (i1 <= i0 + 1) return;
-  double best = -1.0;
-  size_t bi = i0;
-  for (size_t i = i0 + 1; i < i1; ++i) {
-    const double d = PointSegmentDistance(pts[i], pts[i0], pts[i1]);
-    if (d > best) best = d, bi = i;
-  }
-  if (best > tol) {
-    (*keep)[bi] = 1;
-    SimplifyChain(pts, i0, bi, tol, keep);
-    SimplifyChain(pts, bi, i1, tol, keep);
-  }
-}
-
-// Douglas-Peucker on a closed ring: split at vertex 0 and the vertex farthest from it.
-std::vector<Vec2> SimplifyRing(const std::vector<Vec2>& ring, double tol) {
-  if (ring.size() <= 4) return ring;
-  size_t far = 0;
-  double best = -1;
-  for (size_t i = 1; i < ring.size(); ++i)
-    if ((ring[i] - ring[0]).norm() > best) best = (ring[i] - ring[0]).norm(), far = i;
-  std::vector<Vec2> pts = ring;
-  pts.push_back(ring[0]);
-  std::vector<char> keep(pts.size(), 0);
-  keep[0] = keep[far] = keep[pts.size() - 1] = 1;
-  SimplifyChain(pts, 0, far, tol, &keep);
-  SimplifyChain(pts, far, pts.size() - 1, tol, &keep);
-  std::vector<Vec2> out;
-  for (size_t i = 0; i + 1 < pts.size(); ++i)
-    if (keep[i]) out.push_back(pts[i]);
-  return out;
-}
-
 BPoly ToBoost(const std::vector<Vec2>& ring) {
   BPoly p;
   for (const Vec2& v : ring) p.outer().push_back(BPoint(v.x(), v.y()));
@@ -305,8 +271,7 @@ std::vector<int> Flood(const RoomGrid& g, const std::vector<uint8_t>& blocked,
   return label;
 }
 
-// The outline of the cells labelled 'r' (their largest 4-connected component,
-// holes filled), counter-clockwise, in the building frame; empty when none.
+// The cells of one label span this box (x1 < 0: none).
 struct CellBox {
   int x0 = std::numeric_limits<int>::max(), y0 = std::numeric_limits<int>::max(), x1 = -1, y1 = -1;
 };
@@ -324,18 +289,109 @@ std::vector<CellBox> LabelBoxes(const RoomGrid& g, const std::vector<int>& label
   return b;
 }
 
-std::vector<Vec2> TraceRegion(const RoomGrid& g, const std::vector<int>& label, int r, const CellBox& box,
-                              Vec2* inner_point) {
-  const int x0 = box.x0, y0 = box.y0, x1 = box.x1, y1 = box.y1;
-  if (x1 < 0) return {};
-  // Local mask with a one-cell frame.
+// The rooms on a lattice of half cells (site (i, j) is quarter (i & 1, j & 1)
+// of cell (i >> 1, j >> 1)): a labelled cell's four quarters carry its label;
+// a cell the flood left unlabelled (walls and door lines run through it, or no
+// room reached it) gives each quarter the label of the cell beside it across
+// the quarter's outer sides (the lower label when both sides are rooms); a
+// quarter at a room's outer corner, when the quarters beside it both took that
+// room. So each room grows by half a cell, onto the middle
+// of the wall cells it stopped at, and every site has one label: the rooms'
+// site sets are disjoint by construction.
+class HalfCells {
+ public:
+  HalfCells(const RoomGrid& g, std::vector<int>* label) : g_(g), label_(*label), w_(2 * g.w), h_(2 * g.h) {
+    auto cell = [&](int x, int y) { return x < 0 || y < 0 || x >= g.w || y >= g.h ? -1 : label_[g.Idx(x, y)]; };
+    for (int cy = 0; cy < g.h; ++cy)
+      for (int cx = 0; cx < g.w; ++cx) {
+        if (label_[g.Idx(cx, cy)] >= 0) continue;
+        std::array<int, 4> q{-1, -1, -1, -1};
+        bool any = false;
+        for (int k = 0; k < 4; ++k) {
+          const int dx = (k & 1) ? 1 : -1, dy = (k & 2) ? 1 : -1;
+          const int h = cell(cx + dx, cy), v = cell(cx, cy + dy);
+          q[k] = h >= 0 && v >= 0 ? std::min(h, v) : h >= 0 ? h : v;
+          any = any || q[k] >= 0;
+        }
+        if (any) quarters_[g.Idx(cx, cy)] = q;
+      }
+    // A quarter at a room's outer corner: both its outer neighbours took the
+    // same room (so the room grows by a square, as a mitred buffer would).
+    std::vector<std::pair<size_t, std::pair<int, int>>> corner;  // cell, quarter, label
+    for (int cy = 0; cy < g.h; ++cy)
+      for (int cx = 0; cx < g.w; ++cx) {
+        const size_t c = g.Idx(cx, cy);
+        if (label_[c] >= 0) continue;
+        for (int k = 0; k < 4; ++k) {
+          if (Quarter(cx, cy, k) >= 0) continue;
+          const int dx = (k & 1) ? 1 : -1, dy = (k & 2) ? 1 : -1;
+          const int h = Quarter(cx + dx, cy, (k & 2) | (dx > 0 ? 0 : 1));
+          const int v = Quarter(cx, cy + dy, (k & 1) | (dy > 0 ? 0 : 2));
+          if (h >= 0 && h == v) corner.push_back({c, {k, h}});
+        }
+      }
+    for (const auto& [c, kr] : corner) {
+      auto it = quarters_.try_emplace(c, std::array<int, 4>{-1, -1, -1, -1}).first;
+      it->second[kr.first] = kr.second;
+    }
+  }
+  int w() const { return w_; }
+  int h() const { return h_; }
+  int Get(int i, int j) const {
+    if (i < 0 || j < 0 || i >= w_ || j >= h_) return -1;
+    return Quarter(i >> 1, j >> 1, (j & 1) * 2 + (i & 1));
+  }
+  // A labelled cell moves whole (its four quarters are 4-connected and share
+  // one label, so every region that holds one of them holds all four).
+  void Set(int i, int j, int r) {
+    const size_t c = g_.Idx(i >> 1, j >> 1);
+    if (label_[c] >= 0) {
+      label_[c] = r;
+      return;
+    }
+    auto it = quarters_.try_emplace(c, std::array<int, 4>{-1, -1, -1, -1}).first;
+    it->second[(j & 1) * 2 + (i & 1)] = r;
+  }
+
+ private:
+  int Quarter(int cx, int cy, int k) const {
+    if (cx < 0 || cy < 0 || cx >= g_.w || cy >= g_.h) return -1;
+    const size_t c = g_.Idx(cx, cy);
+    if (label_[c] >= 0) return label_[c];
+    auto it = quarters_.find(c);
+    return it == quarters_.end() ? -1 : it->second[k];
+  }
+  const RoomGrid& g_;
+  std::vector<int>& label_;
+  int w_, h_;
+  std::unordered_map<size_t, std::array<int, 4>> quarters_;
+};
+
+// One room on a lattice box [x0, x1] x [y0, y1] (inclusive), with a frame of
+// one site around it: local site (x, y) is lattice site (x0 - 1 + x, y0 - 1 + y).
+// 'filled' holds the room's largest 4-connected component with its holes
+// filled (every site not reachable from the frame without crossing it;
+// without 'fill_holes', the component alone).
+struct Region {
+  int x0 = 0, y0 = 0, W = 0, H = 0;
+  std::vector<uint8_t> filled;
+  int64_t count = 0;  // filled sites
+  bool at(int x, int y) const { return x >= 0 && y >= 0 && x < W && y < H && filled[static_cast<size_t>(y) * W + x]; }
+};
+
+template <class In>
+Region FillRegion(int x0, int y0, int x1, int y1, In&& in_lattice, bool fill_holes = true) {
+  Region reg;
+  reg.x0 = x0, reg.y0 = y0;
+  if (x1 < x0 || y1 < y0) return reg;
   const int W = x1 - x0 + 3, H = y1 - y0 + 3;
+  reg.W = W, reg.H = H;
   std::vector<int> comp(static_cast<size_t>(W) * H, -1);
-  auto in = [&](int x, int y) { return label[g.Idx(x0 + x - 1, y0 + y - 1)] == r; };
+  auto in = [&](int x, int y) { return in_lattice(x0 + x - 1, y0 + y - 1); };
   int best = -1, best_size = 0, ncomp = 0;
   for (int y = 1; y < H - 1; ++y)
     for (int x = 1; x < W - 1; ++x) {
-      if (!in(x, y) || comp[static_cast<size_t>(y) * W + x] >= 0) continue;
+      if (comp[static_cast<size_t>(y) * W + x] >= 0 || !in(x, y)) continue;
       int size = 0;
       std::vector<std::pair<int, int>> st{{x, y}};
       comp[static_cast<size_t>(y) * W + x] = ncomp;
@@ -355,7 +411,14 @@ std::vector<Vec2> TraceRegion(const RoomGrid& g, const std::vector<int>& label, 
       if (size > best_size) best_size = size, best = ncomp;
       ++ncomp;
     }
-  // Fill holes: cells not reachable from the frame without crossing the component.
+  reg.filled.assign(static_cast<size_t>(W) * H, 0);
+  if (best < 0) return reg;
+  if (!fill_holes) {
+    for (size_t j = 0; j < comp.size(); ++j)
+      if (comp[j] == best) reg.filled[j] = 1, ++reg.count;
+    return reg;
+  }
+  // Fill holes: sites not reachable from the frame without crossing the component.
   std::vector<uint8_t> outside(static_cast<size_t>(W) * H, 0);
   std::vector<std::pair<int, int>> st{{0, 0}};
   outside[0] = 1;
@@ -371,10 +434,23 @@ std::vector<Vec2> TraceRegion(const RoomGrid& g, const std::vector<int>& label, 
       st.push_back({nx[k], ny[k]});
     }
   }
-  auto filled = [&](int x, int y) {
-    if (x < 0 || y < 0 || x >= W || y >= H) return false;
-    return !outside[static_cast<size_t>(y) * W + x];
-  };
+  for (size_t j = 0; j < outside.size(); ++j)
+    if (!outside[j]) reg.filled[j] = 1, ++reg.count;
+  return reg;
+}
+
+// The outline of a filled region, counter-clockwise, collinear vertices merged,
+// in the frame where lattice site (i, j) is the square origin + step * [i, i+1] x [j, j+1].
+// 'inner_point': the centre of the site deepest inside (4-distance to the outline).
+// A vertex on a straight stretch stays when 'keep(i, j)' says so for its
+// lattice corner (i, j): where a neighbour's outline begins or ends, so that
+// two rooms that meet have the same vertices along their common border.
+template <class Keep>
+std::vector<Vec2> TraceRegion(const Region& reg, const Vec2& origin, double step, Vec2* inner_point, Keep&& keep) {
+  const int W = reg.W, H = reg.H;
+  if (reg.count == 0) return {};
+  auto filled = [&](int x, int y) { return reg.at(x, y); };
+  const int x0 = reg.x0, y0 = reg.y0;
   // Boundary edges with the region on the left, as a map from start vertex to
   // end vertex (vertices are cell corners, keyed (x, y) on the local lattice).
   auto key = [&](int x, int y) { return static_cast<int64_t>(y) * (W + 1) + x; };
@@ -392,11 +468,13 @@ std::vector<Vec2> TraceRegion(const RoomGrid& g, const std::vector<int>& label, 
   // Walk the outer loop; at a pinch (two ways out) take the left turn, which
   // keeps the loop on the region's outline.
   std::vector<Vec2> ring;
+  std::vector<std::pair<int, int>> corners;  // lattice corner of each ring vertex
   int64_t cur = start, prev = -1;
   const size_t limit = next.size() * 2 + 8;
   for (size_t guard = 0; guard < limit; ++guard) {
     const int cx = static_cast<int>(cur % (W + 1)), cy = static_cast<int>(cur / (W + 1));
-    ring.push_back(Vec2(g.lo.x() + (x0 - 1 + cx) * g.cell, g.lo.y() + (y0 - 1 + cy) * g.cell));
+    ring.push_back(Vec2(origin.x() + (x0 - 1 + cx) * step, origin.y() + (y0 - 1 + cy) * step));
+    corners.push_back({x0 - 1 + cx, y0 - 1 + cy});
     auto& outs = next[cur];
     if (outs.empty()) break;
     size_t pick = 0;
@@ -415,13 +493,13 @@ std::vector<Vec2> TraceRegion(const RoomGrid& g, const std::vector<int>& label, 
     cur = nxt;
     if (cur == start) break;
   }
-  // Merge collinear vertices.
+  // Merge collinear vertices (but those 'keep' asks for).
   std::vector<Vec2> out;
   for (size_t i = 0; i < ring.size(); ++i) {
     const Vec2& p = ring[(i + ring.size() - 1) % ring.size()];
     const Vec2& c = ring[i];
     const Vec2& n = ring[(i + 1) % ring.size()];
-    if (std::abs(Cross(c - p, n - c)) > 1e-12) out.push_back(c);
+    if (std::abs(Cross(c - p, n - c)) > 1e-12 || keep(corners[i].first, corners[i].second)) out.push_back(c);
   }
   // The cell deepest inside (farthest from the outline, 4-distance) for the label.
   if (inner_point) {
@@ -446,7 +524,7 @@ std::vector<Vec2> TraceRegion(const RoomGrid& g, const std::vector<int>& label, 
         q.push_back({nx[k], ny[k]});
       }
     }
-    *inner_point = Vec2(g.lo.x() + (x0 - 1 + deep.first + 0.5) * g.cell, g.lo.y() + (y0 - 1 + deep.second + 0.5) * g.cell);
+    *inner_point = Vec2(origin.x() + (x0 - 1 + deep.first + 0.5) * step, origin.y() + (y0 - 1 + deep.second + 0.5) * step);
   }
   return out;
 }
@@ -1198,72 +1276,70 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
     room.asr_ids.push_back(asrs[i].id);
     room.graph_rooms.push_back(graph_of[i]);
   }
+  // Each room is a set of sites of the half-cell lattice (HalfCells: disjoint
+  // by construction). First every room, in order, becomes one piece without
+  // holes: its largest 4-connected piece is kept (its other pieces are left
+  // to no room) and whatever it encloses becomes its own (walls inside it,
+  // and a room wholly inside it, which then disappears). A room is never
+  // partly enclosed: it is one connected piece, so all of it lies in one
+  // hole or none. Rooms smaller than min_room_area_m2 are left out. Then each
+  // room's outline is traced along the lattice: the outlines of disjoint
+  // sets, so no two rooms overlap, exactly (they share edges where they
+  // meet). docs/floor-plan.md, "Polygons".
+  const std::vector<CellBox> boxes = LabelBoxes(g, label, n_plan);
+  for (int r = 0; r < n_plan; ++r) {  // one piece of cells per room, before it grows onto the walls
+    const CellBox& b = boxes[r];
+    if (b.x1 < 0) continue;
+    const Region reg = FillRegion(b.x0, b.y0, b.x1, b.y1, [&](int x, int y) { return label[g.Idx(x, y)] == r; }, false);
+    for (int y = b.y0; y <= b.y1; ++y)
+      for (int x = b.x0; x <= b.x1; ++x)
+        if (label[g.Idx(x, y)] == r && !reg.at(x - b.x0 + 1, y - b.y0 + 1)) label[g.Idx(x, y)] = -1;
+  }
+  HalfCells half(g, &label);
+  auto half_box = [&](int r, int* x0, int* y0, int* x1, int* y1) {
+    *x0 = std::max(0, 2 * boxes[r].x0 - 1), *y0 = std::max(0, 2 * boxes[r].y0 - 1);
+    *x1 = std::min(half.w() - 1, 2 * boxes[r].x1 + 2), *y1 = std::min(half.h() - 1, 2 * boxes[r].y1 + 2);
+  };
+  const double site_m2 = 0.25 * g.cell * g.cell;
+  for (int r = 0; r < n_plan; ++r) {
+    if (boxes[r].x1 < 0) continue;
+    int x0, y0, x1, y1;
+    half_box(r, &x0, &y0, &x1, &y1);
+    const Region reg = FillRegion(x0, y0, x1, y1, [&](int i, int j) { return half.Get(i, j) == r; });
+    const bool keep = reg.count * site_m2 >= o.min_room_area_m2;
+    for (int y = 1; y < reg.H - 1; ++y)
+      for (int x = 1; x < reg.W - 1; ++x) {
+        const int i = x0 - 1 + x, j = y0 - 1 + y;
+        const int cur = half.Get(i, j);
+        const bool mine = keep && reg.at(x, y);
+        if (mine && cur != r) half.Set(i, j, r);
+        if (!mine && cur == r) half.Set(i, j, -1);
+      }
+  }
   std::vector<BPoly> polys(n_plan);
   std::vector<Vec2> inner(n_plan, Vec2(0, 0));
-  std::vector<std::vector<Vec2>> rings(n_plan);
-  const std::vector<CellBox> boxes = LabelBoxes(g, label, n_plan);
   for (int r = 0; r < n_plan; ++r) {
+    if (boxes[r].x1 < 0) continue;
+    int x0, y0, x1, y1;
+    half_box(r, &x0, &y0, &x1, &y1);
+    const Region reg = FillRegion(x0, y0, x1, y1, [&](int i, int j) { return half.Get(i, j) == r; });
     Vec2 in_frame(0, 0);
-    std::vector<Vec2> ring = TraceRegion(g, label, r, boxes[r], &in_frame);
+    // A corner of the lattice where three or more labels (rooms, or none) meet.
+    auto junction = [&](int i, int j) {
+      const int l[4] = {half.Get(i - 1, j - 1), half.Get(i, j - 1), half.Get(i - 1, j), half.Get(i, j)};
+      int distinct = 0;
+      for (int k = 0; k < 4; ++k) {
+        bool seen = false;
+        for (int m = 0; m < k; ++m) seen = seen || l[m] == l[k];
+        distinct += seen ? 0 : 1;
+      }
+      return distinct >= 3;
+    };
+    std::vector<Vec2> ring = TraceRegion(reg, g.lo, 0.5 * g.cell, &in_frame, junction);
     if (ring.size() < 3) continue;
-    std::vector<Vec2> simple = SimplifyRing(ring, o.polygon_tolerance_m);
-    if (simple.size() < 3 || std::abs(RingArea(simple)) < 1e-9) simple = ring;
-    for (auto& v : simple) v = g.FromFrame(v);
-    BPoly p = ToBoost(simple);
-    if (!bg::is_valid(p)) {
-      for (auto& v : ring) v = g.FromFrame(v);
-      p = ToBoost(ring);
-    }
-    // The region stops at the cells walls pass through, whose middle the
-    // walls run along: grow the outline by half a cell back onto the walls.
-    {
-      BMulti grown;
-      bg::buffer(p, grown, bg::strategy::buffer::distance_symmetric<double>(0.5 * g.cell),
-                 bg::strategy::buffer::side_straight(), bg::strategy::buffer::join_miter(),
-                 bg::strategy::buffer::end_flat(), bg::strategy::buffer::point_square());
-      double best_a = 0.0;
-      for (const auto& q : grown)
-        if (bg::area(q) > best_a) best_a = bg::area(q), p = q;
-      p.inners().clear();
-    }
-    polys[r] = p;
+    for (auto& v : ring) v = g.FromFrame(v);
+    polys[r] = ToBoost(ring);
     inner[r] = g.FromFrame(in_frame);
-  }
-  // No two rooms overlap: each room loses what the rooms before it (larger first) hold.
-  std::vector<int> by_area(n_plan);
-  std::iota(by_area.begin(), by_area.end(), 0);
-  std::vector<double> area0(n_plan);
-  for (int r = 0; r < n_plan; ++r) area0[r] = polys[r].outer().empty() ? 0.0 : bg::area(polys[r]);
-  std::stable_sort(by_area.begin(), by_area.end(), [&](int a, int b) { return area0[a] > area0[b]; });
-  {
-    CellHash held(4.0);
-    std::vector<BPoly> final_polys(n_plan);
-    for (int r : by_area) {
-      if (polys[r].outer().size() < 3) continue;
-      bg::model::box<BPoint> bb;
-      bg::envelope(polys[r], bb);
-      const Vec2 lo(bb.min_corner().x(), bb.min_corner().y()), hi(bb.max_corner().x(), bb.max_corner().y());
-      BMulti cur;
-      cur.push_back(polys[r]);
-      for (int other : held.Query(lo, hi)) {
-        if (!bg::intersects(cur, final_polys[other])) continue;
-        BMulti diff;
-        bg::difference(cur, final_polys[other], diff);
-        cur = std::move(diff);
-      }
-      // The largest piece, without holes.
-      double best_a = 0.0;
-      BPoly best;
-      for (const auto& p : cur) {
-        const double a = bg::area(p);
-        if (a > best_a) best_a = a, best = p;
-      }
-      best.inners().clear();
-      if (best_a < o.min_room_area_m2) continue;
-      final_polys[r] = best;
-      held.Add(lo, hi, r);
-    }
-    polys = std::move(final_polys);
   }
 
   // ---------------------------------------------------------------- assemble rooms

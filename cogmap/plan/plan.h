@@ -100,7 +100,6 @@ struct PlanOptions {
   double corridor_max_width_m = 3.0;   // a corridor piece: at most this wide ...
   double corridor_min_aspect = 2.0;    // ... and at least this many times longer than wide
   double sliver_path_m = 0.5;          // a store room with less path than this is absorbed by a neighbour
-  double polygon_tolerance_m = 0.12;   // Douglas-Peucker tolerance of room outlines
   double min_room_area_m2 = 0.25;      // smaller rooms are dropped
 };
 
