@@ -1,32 +1,50 @@
 #!/usr/bin/env bash
-# Fuzzes every reader with libFuzzer (clang) under AddressSanitizer and
-# UndefinedBehaviorSanitizer, SECONDS each (default 60), starting from the seed
-# corpus (fuzz/corpus/<target>/); what libFuzzer finds is kept in
-# build-fuzz/findings/<target>/ (crash-*, timeout-*, oom-* files). A finding,
-# once fixed, belongs in fuzz/corpus/<target>/, which the tests replay.
+# Fuzzes every reader with libFuzzer (clang) under AddressSanitizer (with leak
+# detection) and UndefinedBehaviorSanitizer (any report stops the run), SECONDS
+# each (default 60), one target at a time in one process (no -jobs), starting
+# from the seed corpus fuzz/corpus/<target>/. What libFuzzer finds is kept in
+# build-fuzz/findings/<target>/ (crash-*, leak-*, timeout-*, oom-* files); a
+# finding, once fixed, belongs in fuzz/corpus/<target>/, which the tests replay
+# (ctest -R fuzz_replay). Prints one line per target: seconds, executions,
+# corpus size, findings; the same lines go to build-fuzz/summary.txt.
 #   bash scripts/fuzz.sh [SECONDS] [TARGET...]
+# FUZZ_BUILD_JOBS sets the build's parallelism (default: every core).
+# See docs/fuzzing.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}; shift || true
-bash scripts/install-deps.sh
-DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends clang libclang-rt-14-dev >/dev/null
+all=(log_native log_carmen log_ev3 log_auto world_aria robot_json png plan_json cdr store)
+targets=("$@")
+if ((${#targets[@]} == 0)); then targets=("${all[@]}"); fi
+for t in "${targets[@]}"; do
+  [[ " ${all[*]} " == *" $t "* ]] || { echo "fuzz.sh: unknown target $t (${all[*]})" >&2; exit 2; }
+done
+
+bash scripts/install-deps.sh --fuzz
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCOGMAP_FUZZ=ON \
   -DCOGMAP_BUILD_TESTS=OFF -DCOGMAP_BUILD_BENCH=OFF -DCOGMAP_BUILD_PYTHON=OFF -DCOGMAP_BUILD_ROS=OFF >/dev/null
-targets=("$@")
-if ((${#targets[@]} == 0)); then
-  targets=(log_native log_carmen log_ev3 log_auto world_aria robot_json png plan_json cdr)
-fi
-cmake --build build-fuzz -j"$(nproc)" --target "${targets[@]/#/cogmap_fuzz_}"
+cmake --build build-fuzz -j"${FUZZ_BUILD_JOBS:-$(nproc)}" --target "${targets[@]/#/cogmap_fuzz_}"
+
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=0}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
 status=0
+: >build-fuzz/summary.txt
 for t in "${targets[@]}"; do
-  corpus=build-fuzz/corpus/$t findings=build-fuzz/findings/$t
+  corpus=build-fuzz/corpus/$t findings=build-fuzz/findings/$t log=build-fuzz/$t.log
   mkdir -p "$corpus" "$findings"
   cp -n fuzz/corpus/"$t"/* "$corpus"/ 2>/dev/null || true
+  before=$(find "$findings" -type f | wc -l)
   echo "== $t ($seconds s)"
-  if ! build-fuzz/fuzz/cogmap_fuzz_"$t" "$corpus" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 \
-       -artifact_prefix="$findings/" -print_final_stats=1 2>"build-fuzz/$t.log"; then
-    echo "$t: finding(s) in $findings (log: build-fuzz/$t.log)"; status=1
+  rc=0
+  build-fuzz/fuzz/cogmap_fuzz_"$t" "$corpus" -max_total_time="$seconds" \
+    -rss_limit_mb=2048 -timeout=10 -artifact_prefix="$findings/" -print_final_stats=1 >"$log" 2>&1 || rc=$?
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+  rss=$(sed -n 's/^stat::peak_rss_mb: *//p' "$log" | tail -1)
+  found=$(($(find "$findings" -type f | wc -l) - before))
+  line="$t: ${seconds} s, ${execs:-?} executions, corpus $(find "$corpus" -type f | wc -l) files, peak RSS ${rss:-?} MB, ${found} new finding(s), exit $rc"
+  echo "$line" | tee -a build-fuzz/summary.txt
+  if ((rc != 0 || found > 0)); then
+    echo "$t: see $findings and $log"; status=1
   fi
-  grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "build-fuzz/$t.log" || true
 done
 exit $status

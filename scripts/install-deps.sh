@@ -22,9 +22,14 @@ PKGS=(
   libcairo2-dev libpango1.0-dev fonts-dejavu-core chromium
 )
 # Peers for side-by-side comparisons (bench/), large: only with --peers.
-if [[ "${1:-}" == "--peers" ]]; then
-  PKGS+=(libopencv-dev mrpt-apps)
-fi
+# clang with libFuzzer and the sanitizer runtimes (scripts/fuzz.sh): only with --fuzz.
+for opt in "$@"; do
+  case "$opt" in
+    --peers) PKGS+=(libopencv-dev mrpt-apps) ;;
+    --fuzz) PKGS+=(clang libclang-rt-14-dev) ;;
+    *) echo "install-deps.sh: unknown option $opt (--peers, --fuzz)" >&2; exit 2 ;;
+  esac
+done
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

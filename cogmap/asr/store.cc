@@ -212,7 +212,10 @@ class Stmt {
   void BindBlob(int i, const std::string& v) {
     sqlite3_bind_blob(stmt_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
   }
-  int Step() { return sqlite3_step(stmt_); }
+  int Step() { return last_ = sqlite3_step(stmt_); }
+  // Not prepared, or the last step failed (a corrupt file, an I/O error):
+  // never read as the end of the rows.
+  bool failed() const { return !stmt_ || (last_ != SQLITE_ROW && last_ != SQLITE_DONE); }
   double Double(int i) { return sqlite3_column_double(stmt_, i); }
   int64_t Int(int i) { return sqlite3_column_int64(stmt_, i); }
   std::string Blob(int i) {
@@ -228,6 +231,7 @@ class Stmt {
  private:
   sqlite3* db_;
   sqlite3_stmt* stmt_ = nullptr;
+  int last_ = SQLITE_DONE;
 };
 
 const char* kSchema = R"sql(
@@ -548,7 +552,10 @@ std::optional<Asr> SqliteAsrStore::Get(int id) const {
   Stmt s(Db(db_), "SELECT * FROM asr WHERE id=?");
   if (!s.ok()) Fail(sqlite3_errmsg(Db(db_)));
   s.BindInt(1, id);
-  if (s.Step() != SQLITE_ROW) return std::nullopt;
+  if (s.Step() != SQLITE_ROW) {
+    if (s.failed()) Fail("ASR " + std::to_string(id) + ": " + sqlite3_errmsg(Db(db_)));
+    return std::nullopt;
+  }
   Asr a;
   int i = 0;
   a.id = static_cast<int>(s.Int(i++));
@@ -587,17 +594,20 @@ std::vector<int> SqliteAsrStore::Ids() const {
   Stmt s(Db(db_), "SELECT id FROM asr ORDER BY id");
   std::vector<int> ids;
   while (s.ok() && s.Step() == SQLITE_ROW) ids.push_back(static_cast<int>(s.Int(0)));
+  if (s.failed()) Fail(sqlite3_errmsg(Db(db_)));
   return ids;
 }
 
 int SqliteAsrStore::Count() const {
   Stmt s(Db(db_), "SELECT count(*) FROM asr");
-  return s.ok() && s.Step() == SQLITE_ROW ? static_cast<int>(s.Int(0)) : 0;
+  if (!s.ok() || s.Step() != SQLITE_ROW) Fail(sqlite3_errmsg(Db(db_)));
+  return static_cast<int>(s.Int(0));
 }
 
 int SqliteAsrStore::MaxId() const {
   Stmt s(Db(db_), "SELECT coalesce(max(id), -1) FROM asr");
-  return s.ok() && s.Step() == SQLITE_ROW ? static_cast<int>(s.Int(0)) : -1;
+  if (!s.ok() || s.Step() != SQLITE_ROW) Fail(sqlite3_errmsg(Db(db_)));
+  return static_cast<int>(s.Int(0));
 }
 
 std::vector<int> SqliteAsrStore::Neighbours(int id) const {
@@ -607,6 +617,7 @@ std::vector<int> SqliteAsrStore::Neighbours(int id) const {
   s.BindInt(1, id);
   std::vector<int> out;
   while (s.ok() && s.Step() == SQLITE_ROW) out.push_back(static_cast<int>(s.Int(0)));
+  if (s.failed()) Fail(sqlite3_errmsg(Db(db_)));
   return out;
 }
 
@@ -621,14 +632,16 @@ std::vector<Edge> SqliteAsrStore::Edges() const {
     e.width_m = s.Double(4);
     out.push_back(e);
   }
+  if (s.failed()) Fail(sqlite3_errmsg(Db(db_)));
   return out;
 }
 
 std::optional<std::string> SqliteAsrStore::GetMeta(const std::string& key) const {
   Stmt s(Db(db_), "SELECT value FROM meta WHERE key=?");
   s.BindText(1, key);
-  if (!s.ok() || s.Step() != SQLITE_ROW) return std::nullopt;
-  return s.Text(0);
+  if (s.ok() && s.Step() == SQLITE_ROW) return s.Text(0);
+  if (s.failed()) Fail("meta " + key + ": " + sqlite3_errmsg(Db(db_)));
+  return std::nullopt;
 }
 
 void SqliteAsrStore::SetMeta(const std::string& key, const std::string& value) {
@@ -757,7 +770,10 @@ std::optional<Placement> SqliteAsrStore::GetPlacement(int id) const {
   if (!HasTable(db, "placement")) return std::nullopt;  // a version-1 store read as it is
   Stmt s(db, "SELECT room_id, cov, uncertain, why, drift_rate, corrected_path FROM placement WHERE asr_id=?");
   sqlite3_bind_int(s.get(), 1, id);
-  if (!s.ok() || s.Step() != SQLITE_ROW) return std::nullopt;
+  if (!s.ok() || s.Step() != SQLITE_ROW) {
+    if (s.failed()) Fail("placement of ASR " + std::to_string(id) + ": " + sqlite3_errmsg(db));
+    return std::nullopt;
+  }
   Placement p;
   p.asr_id = id;
   p.room_id = static_cast<int>(s.Int(0));
@@ -773,7 +789,11 @@ std::optional<Placement> SqliteAsrStore::GetPlacement(int id) const {
   {
     const void* b = sqlite3_column_blob(s.get(), 5);
     const int n = sqlite3_column_bytes(s.get(), 5);
-    p.corrected_path = DecodePoses(std::string(b ? static_cast<const char*>(b) : "", b ? n : 0));
+    try {
+      p.corrected_path = DecodePoses(std::string(b ? static_cast<const char*>(b) : "", b ? n : 0));
+    } catch (const std::runtime_error& e) {  // a corrupt blob: the file's error, not a crash
+      throw InputError(path_, 0, "placement of ASR " + std::to_string(id) + ": " + e.what());
+    }
   }
   return p;
 }
@@ -801,6 +821,7 @@ std::vector<ClosureRecord> SqliteAsrStore::Closures() const {
     c.reason = s.Text(10);
     out.push_back(c);
   }
+  if (s.failed()) Fail(sqlite3_errmsg(db));
   return out;
 }
 

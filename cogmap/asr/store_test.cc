@@ -448,6 +448,59 @@ TEST(SqliteAsrStore, OlderSchemaIsAClearError) {
   }
 }
 
+// A corrupt placement blob (found by fuzz_store) is the file's error, not a crash.
+TEST(SqliteAsrStore, CorruptPlacementIsAnInputError) {
+  const std::string path = TempDir("corrupt_placement") + "/map.sqlite";
+  {
+    auto s = SqliteAsrStore::Open(path);
+    Placement p;
+    p.asr_id = 0;
+    p.room_id = 0;
+    p.corrected_path = {{0, 0, 0}, {1, 0, 0}};
+    s->PutPlacements({MakeAsr(0)}, {p}, {});
+  }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  // A count of 5 poses and no pose after it.
+  ASSERT_EQ(sqlite3_exec(db, "UPDATE placement SET corrected_path=x'05000000'", nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(db);
+  auto s = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
+  try {
+    s->GetPlacement(0);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": placement of ASR 0: corrupt ASR blob (count past the end)");
+  }
+  EXPECT_THROW(s->RoomOf(0), InputError);
+}
+
+// A store whose data pages were overwritten reads as an error naming the
+// file, never as a store with fewer ASRs. (A store cut short is refused when
+// opened: SQLite finds fewer pages than its header says.)
+TEST(SqliteAsrStore, CorruptPagesAreAnInputErrorNotFewerAsrs) {
+  const std::string path = TempDir("corrupt_pages") + "/map.sqlite";
+  {
+    auto s = SqliteAsrStore::Open(path);
+    for (int id = 0; id < 40; ++id) s->Put(MakeAsr(id, 20));
+  }
+  const auto size = fs::file_size(path);
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(static_cast<std::streamoff>(size / 2));
+    const std::string junk(size - size / 2, '\x55');
+    f.write(junk.data(), static_cast<std::streamsize>(junk.size()));
+  }
+  try {
+    auto s = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
+    for (int id : s->Ids()) s->Get(id);
+    s->Count();
+    FAIL() << "a store whose second half is overwritten read without an error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+    std::printf("%s\n", e.what());
+  }
+}
+
 TEST(AsrGraph, HoldsCurrentAndNeighboursAndLoadsTheRestOnDemand) {
   MemoryAsrStore store;
   for (int i = 0; i < 20; ++i) store.Put(MakeAsr(i));
