@@ -9,7 +9,9 @@ range of kill moments, its files the "old" map).
 Each trial:
   1. OUT = a copy of the reference folder (the previous, finished map);
   2. `cogmap map LOG -o OUT` (default outputs) is killed with SIGKILL at a
-     moment drawn uniformly from [0, 1.1 T] (some runs finish first);
+     moment drawn uniformly from [0, 1.1 T] (some runs finish first); in the
+     --commit-trials that follow, 0-3 ms after the commit journal appears
+     (while the files are being moved into place);
   3. OUT as the kill left it must hold the old map (every file byte-identical
      to the reference) or the new one complete (one run_id in report.json, the
      store and the manifest; the deterministic files equal the reference's),
@@ -18,9 +20,9 @@ Each trial:
   4. every store left (OUT/map.sqlite, the staging store of the killed run)
      passes PRAGMA integrity_check (checked on a copy);
   5. the next run (a log whose line 4 is bad) must exit 2 with one line naming
-     that log, finish a half-done commit, set the killed run's staging folder
-     aside as failed-run-*-killed, and leave OUT holding the old or the new
-     map whole;
+     that log, finish a half-done commit (whose staging folder then goes), set
+     the killed run's staging folder aside as failed-run-*-killed otherwise,
+     and leave OUT holding the old or the new map whole;
   6. the killed run's ASRs must be identical (every column) to the same ids in
      every other trial's (before the end-of-run rewrite) or to the reference's
      (after it);
@@ -32,7 +34,7 @@ Each trial:
 
 Prints one line per trial and the figures at the end; exit status 1 when any
 check failed.
-  python3 tests/kill_test.py --cogmap build/app/cogmap [--rooms 100] [--trials 100] [--seed 1]
+  python3 tests/kill_test.py --cogmap build/app/cogmap [--rooms 100] [--trials 100] [--commit-trials 20] [--seed 1]
 """
 import argparse
 import hashlib
@@ -186,6 +188,8 @@ def main():
     ap.add_argument("--rooms", type=int, default=100)
     ap.add_argument("--trials", type=int, default=100)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--commit-trials", type=int, default=0,
+                    help="more trials, each killed 0-3 ms after its commit journal appears")
     ap.add_argument("--work", help="work folder (default: a temporary one, removed at the end)")
     args = ap.parse_args()
     cogmap = os.path.abspath(args.cogmap)
@@ -239,14 +243,21 @@ def main():
     rows_compared = rows_equal = 0
     resumed, resume_ok, resume_skipped = 0, 0, {}
     asr_diffs, room_diffs, resume_secs, kept_asrs = [], [], [], []
-    for trial in range(args.trials):
+    for trial in range(args.trials + args.commit_trials):
+        at_commit = trial >= args.trials
         out = j("out")
         shutil.rmtree(out, ignore_errors=True)
         shutil.copytree(ref, out)
-        kill_at = rng.uniform(0.0, 1.1 * full_s)
+        kill_at = rng.uniform(0.0, 0.003 if at_commit else 1.1 * full_s)
+        journal = os.path.join(out, ".cogmap-commit.json")
         p = subprocess.Popen([cogmap, "map", log, "-o", out], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        started = time.monotonic()
+        if at_commit:  # poll for the journal, then wait kill_at
+            while p.poll() is None and not os.path.exists(journal):
+                time.sleep(0.0002)
+            kill_at += time.monotonic() - started
         try:
-            p.wait(timeout=kill_at)
+            p.wait(timeout=max(0.0, kill_at - (time.monotonic() - started)))
             finished = True
         except subprocess.TimeoutExpired:
             p.send_signal(signal.SIGKILL)
@@ -259,6 +270,7 @@ def main():
             check(p.returncode == 0, "trial %d: finished with exit %d" % (trial, p.returncode))
         # Every store left behind passes integrity_check.
         stagings = [n for n in os.listdir(out) if n.startswith(".staging-")]
+        full = [n for n in stagings if os.listdir(os.path.join(out, n))]
         stores = [os.path.join(out, "map.sqlite")] + [os.path.join(out, s, "map.sqlite") for s in stagings]
         for s in stores:
             if os.path.exists(s) and os.path.getsize(s) > 0:
@@ -277,10 +289,12 @@ def main():
         left = sorted(n for n in os.listdir(out) if n.startswith(".staging-"))
         check(not left, "trial %d: staging folders left: %s" % (trial, left))
         killed = sorted(n for n in os.listdir(out) if n.startswith("failed-run-"))
-        check(len(killed) == len(stagings) and all(n.endswith("-killed") for n in killed),
+        # Set aside: every staging folder that holds something, except the one of
+        # a half-done commit (finished from it, then empty); empty ones are removed.
+        check(len(killed) == max(0, len(full) - (state == "commit")) and all(n.endswith("-killed") for n in killed),
               "trial %d: set aside %s for staging %s" % (trial, killed, stagings))
-        line = "trial %3d: kill at %5.2f s%s: %s -> %s" % (trial, kill_at, " (finished)" if finished else "",
-                                                           state, after)
+        line = "trial %3d: kill at %5.2f s%s%s: %s -> %s" % (
+            trial, kill_at, " (at commit)" if at_commit else "", " (finished)" if finished else "", state, after)
         partial = os.path.join(out, killed[0], "map.sqlite") if killed else None
         if partial and os.path.exists(partial) and os.path.getsize(partial) > 0:
             try:
@@ -337,8 +351,8 @@ def main():
                 resume_ok += ok
         print(line, flush=True)
 
-    print("\nfigures (%d trials, %d-room building, reference %d ASRs / %s rooms, run %.1f s):"
-          % (args.trials, args.rooms, ref_asrs, ref_rooms, full_s))
+    print("\nfigures (%d random + %d at-commit trials, %d-room building, reference %d ASRs / %s rooms, run %.1f s):"
+          % (args.trials, args.commit_trials, args.rooms, ref_asrs, ref_rooms, full_s))
     print("  folder as the kill left it: %s" % ", ".join("%s %d" % kv for kv in sorted(states.items())))
     print("  folder after the next run:  %s" % ", ".join("%s %d" % kv for kv in sorted(after_states.items())))
     print("  stores passing integrity_check: %d of %d" % (stores_ok, stores_checked))
