@@ -404,20 +404,31 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     if (!probe) throw InputError(path, 0, "cannot open store: " + error);
     int app_id = 0, version = 0;
     bool readable = true;
+    std::string why;  // SQLite's first complaint ("database disk image is malformed")
+    auto unreadable = [&] {
+      if (readable) why = sqlite3_errmsg(probe);
+      readable = false;
+    };
     {
       Stmt a(probe, "PRAGMA application_id");
-      if (a.ok() && a.Step() == SQLITE_ROW) app_id = static_cast<int>(a.Int(0)); else readable = false;
+      if (a.ok() && a.Step() == SQLITE_ROW) app_id = static_cast<int>(a.Int(0)); else unreadable();
       Stmt v(probe, "PRAGMA user_version");
-      if (v.ok() && v.Step() == SQLITE_ROW) version = static_cast<int>(v.Int(0)); else readable = false;
+      if (v.ok() && v.Step() == SQLITE_ROW) version = static_cast<int>(v.Int(0)); else unreadable();
     }
     int tables = 0;
     {
       Stmt t(probe, "SELECT count(*) FROM sqlite_master");
-      if (t.ok() && t.Step() == SQLITE_ROW) tables = static_cast<int>(t.Int(0)); else readable = false;
+      if (t.ok() && t.Step() == SQLITE_ROW) tables = static_cast<int>(t.Int(0)); else unreadable();
     }
-    const std::string schema = readable && tables > 0 ? SchemaOf(probe, &readable) : std::string();
+    std::string schema;
+    if (readable && tables > 0) {
+      schema = SchemaOf(probe, &readable);
+      if (!readable) why = sqlite3_errmsg(probe);
+    }
     sqlite3_close(probe);
-    if (!readable) throw InputError(path, 0, "not a cogmap store (unreadable SQLite file)");
+    // A cogmap store cut short or overwritten reads like this too: say both.
+    if (!readable)
+      throw InputError(path, 0, "a damaged store or not a cogmap store (unreadable SQLite file: " + why + ")");
     if (tables > 0 && app_id != kStoreApplicationId)
       throw InputError(path, 0, "not a cogmap store (an SQLite database of another application)");
     if (version > kStoreSchemaVersion)

@@ -501,6 +501,27 @@ TEST(SqliteAsrStore, CorruptPagesAreAnInputErrorNotFewerAsrs) {
   }
 }
 
+// A store cut short (a copy that stopped half way) is refused when opened,
+// with SQLite's reason, in every mode.
+TEST(SqliteAsrStore, TruncatedStoreIsRefusedWhenOpened) {
+  const std::string path = TempDir("truncated") + "/map.sqlite";
+  {
+    auto s = SqliteAsrStore::Open(path);
+    for (int id = 0; id < 40; ++id) s->Put(MakeAsr(id, 20));
+  }
+  fs::resize_file(path, fs::file_size(path) / 2);
+  for (auto mode : {SqliteAsrStore::OpenMode::kReadOnly, SqliteAsrStore::OpenMode::kOpenExisting}) {
+    try {
+      SqliteAsrStore::Open(path, mode);
+      FAIL() << "no error";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()),
+                path + ": a damaged store or not a cogmap store (unreadable SQLite file: database disk image is "
+                       "malformed)");
+    }
+  }
+}
+
 TEST(AsrGraph, HoldsCurrentAndNeighboursAndLoadsTheRestOnDemand) {
   MemoryAsrStore store;
   for (int i = 0; i < 20; ++i) store.Put(MakeAsr(i));
