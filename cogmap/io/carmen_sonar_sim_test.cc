@@ -33,15 +33,23 @@ std::string ToCarmen(const std::vector<sensors::LogRecord>& records, const senso
   return out.str();
 }
 
-TEST(CarmenSonarFromSimulation, ReadsBackAndMapsLikeTheRun) {
+// A simulated run through nine_rooms.
+std::vector<sensors::LogRecord> SimulatedRun(const sensors::RobotDescription& robot, unsigned seed, double max_time_s,
+                                             int sonar_bank_size = 8) {
   const FloorPlan plan = ReadAriaMap(std::string(COGMAP_SHARED_DIR) + "/worlds/nine_rooms.map").plan;
-  const sensors::RobotDescription robot = sensors::BuiltinRobot("pioneer16");
   sim::SimulatorOptions o;
-  o.seed = 3;
-  o.max_time_s = 40.0;
-  o.sonar_bank_size = 1;  // every transducer in every record, as CARMEN's SONAR has them
+  o.seed = seed;
+  o.max_time_s = max_time_s;
+  o.sonar_bank_size = sonar_bank_size;
   std::vector<sensors::LogRecord> run;
   sim::Simulate(plan, robot, o, [&](const sensors::LogRecord& r) { run.push_back(r); });
+  return run;
+}
+
+TEST(CarmenSonarFromSimulation, ReadsBackAndMapsLikeTheRun) {
+  const sensors::RobotDescription robot = sensors::BuiltinRobot("pioneer16");
+  // Bank size 1: every transducer in every record, as CARMEN's SONAR has them.
+  const std::vector<sensors::LogRecord> run = SimulatedRun(robot, 3, 40.0, 1);
   ASSERT_GT(run.size(), 100u);
 
   auto reader = OpenLog(WriteTemp("sim_sonar.clf", ToCarmen(run, robot)), "auto");
@@ -119,13 +127,8 @@ TEST(CarmenLogWriter, WritesCarmenFieldOrder) {
 // A simulated laser run: ROBOTLASER1 messages read back as the same scans on
 // a laser with the same beams.
 TEST(CarmenLogWriter, LaserRunReadsBackAsTheSameScans) {
-  const FloorPlan plan = ReadAriaMap(std::string(COGMAP_SHARED_DIR) + "/worlds/nine_rooms.map").plan;
   const sensors::RobotDescription robot = sensors::BuiltinRobot("laser");
-  sim::SimulatorOptions o;
-  o.seed = 5;
-  o.max_time_s = 20.0;
-  std::vector<sensors::LogRecord> run;
-  sim::Simulate(plan, robot, o, [&](const sensors::LogRecord& r) { run.push_back(r); });
+  const std::vector<sensors::LogRecord> run = SimulatedRun(robot, 5, 20.0);
   std::vector<sensors::LogRecord> want;
   for (const auto& r : run)
     if (!r.ranges.empty()) want.push_back(r);
