@@ -39,6 +39,7 @@ check failed.
 import argparse
 import hashlib
 import json
+import math
 import os
 import random
 import shutil
@@ -242,7 +243,7 @@ def main():
     seen_rows = {}  # ASR id -> row, from killed runs' stores before the end-of-run rewrite
     rows_compared = rows_equal = 0
     resumed, resume_ok, resume_skipped = 0, 0, {}
-    asr_diffs, room_diffs, resume_secs, kept_asrs = [], [], [], []
+    asr_diffs, room_diffs, resume_secs, kept_asrs, pose_diffs = [], [], [], [], []
     for trial in range(args.trials + args.commit_trials):
         at_commit = trial >= args.trials
         out = j("out")
@@ -339,10 +340,13 @@ def main():
                 if ok:
                     rep = json.load(open(os.path.join(rdir, "report.json")))
                     _, rrows, _ = read_store(os.path.join(rdir, "map.sqlite"), scratch)
-                    # Every stored ASR is still there, with its walls (column 16 here) unchanged
-                    # unless the end-of-run solve corrected them: count those kept whole.
+                    # Every stored ASR is still there. The killed run's ASRs are placed again
+                    # by the resumed run (docs/store.md): compare their final walls (column
+                    # 16 here) and corrected positions (4, 5) with the uninterrupted run's.
                     ok = check(all(i in rrows for i in rows), "trial %d: resume lost stored ASRs" % trial)
-                    kept_asrs.append(sum(rrows[i][16] == rows[i][16] for i in rows) / len(rows))
+                    kept_asrs.append(sum(rrows[i][16] == ref_rows[i][16] for i in rows if i in ref_rows) / len(rows))
+                    pose_diffs.extend(math.hypot(rrows[i][4] - ref_rows[i][4], rrows[i][5] - ref_rows[i][5])
+                                      for i in rows if i in ref_rows)
                     asr_diffs.append(rep["asr_count"] - ref_asrs)
                     rooms = rep.get("pose_graph", {}).get("rooms")
                     if rooms is not None and ref_rooms is not None:
@@ -365,8 +369,11 @@ def main():
         print("  resumed rooms - uninterrupted: min %+d median %+g max %+d" % (
             min(room_diffs), statistics.median(room_diffs), max(room_diffs)))
     if kept_asrs:
-        print("  stored ASRs whose walls the resumed run kept byte-identical: median %.0f %%"
+        print("  killed run's ASRs whose final walls equal the uninterrupted run's (byte-identical): median %.0f %%"
               % (100 * statistics.median(kept_asrs)))
+    if pose_diffs:
+        print("  their final positions against the uninterrupted run's: median %.3f m, max %.3f m"
+              % (statistics.median(pose_diffs), max(pose_diffs)))
     if resume_secs:
         print("  resume run: median %.1f s" % statistics.median(resume_secs))
     print("  failures: %d" % len(failures))

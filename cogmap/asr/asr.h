@@ -36,7 +36,8 @@ struct StageSeconds {
 // The dominant orientation of an ASR's occupied grid cells (a projection
 // profile, vectorize::DominantOrientation), in the local frame, folded into
 // [-45, 45) degrees. Computed when the ASR closes, while its grid exists; the
-// default heading correction refines the EM direction with it. Not stored.
+// default heading correction refines the EM direction with it. Stored from
+// schema 3 on (a resumed pose graph replays it).
 struct GridOrientation {
   bool valid = false;
   double angle_rad = 0.0;

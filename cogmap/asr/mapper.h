@@ -47,6 +47,11 @@ Pose2 BestRigidFit(const std::vector<Pose2>& from, const std::vector<Pose2>& to)
 // Run-state keys written with every ASR (so --resume can continue).
 constexpr const char* kMetaLastRawPose = "last_raw_pose";  // "x y theta"
 constexpr const char* kMetaNextId = "next_asr_id";
+// The largest ASR id of a run that finished (-1: none yet), written by
+// mapping::MappingPipeline when it creates a store and at Finish(). ASRs after
+// it were stored by a run that stopped before its end (a kill); absent in
+// stores written before schema 3.
+constexpr const char* kMetaFinishedThrough = "finished_through";
 
 struct MapperStats {
   int asr_count = 0;

@@ -271,6 +271,18 @@ CREATE TABLE IF NOT EXISTS closure(
   PRIMARY KEY(from_asr, to_asr));
 )sql";
 
+// Schema version 3 (resume after a kill, issue 14): each ASR's grid
+// orientation (GridOrientation), which the pose graph's heading estimate uses
+// and which cannot be recomputed once the room's grid is gone. With it a
+// store cut short by a kill replays into the pose graph as the uninterrupted
+// run placed it (docs/store.md, "--resume"). Version-1 and -2 stores are
+// migrated by creating the table (their ASRs have no orientation row).
+const char* kSchemaV3 = R"sql(
+CREATE TABLE IF NOT EXISTS orientation(
+  asr_id INTEGER PRIMARY KEY, valid INTEGER NOT NULL, angle_rad REAL NOT NULL,
+  contrast REAL NOT NULL, cells INTEGER NOT NULL);
+)sql";
+
 bool HasSqliteHeader(const std::string& path, bool* empty) {
   std::ifstream in(path, std::ios::binary);
   char header[16] = {};
@@ -344,12 +356,13 @@ std::string SchemaOf(sqlite3* db, bool* readable) {
   return out;
 }
 
-// The tables a store of 'version' has (1 or kStoreSchemaVersion).
+// The tables a store of 'version' (1 .. kStoreSchemaVersion) has.
 std::string SchemaOfVersion(int version) {
   sqlite3* db = nullptr;
   sqlite3_open(":memory:", &db);
   sqlite3_exec(db, kSchema, nullptr, nullptr, nullptr);
   if (version >= 2) sqlite3_exec(db, kSchemaV2, nullptr, nullptr, nullptr);
+  if (version >= 3) sqlite3_exec(db, kSchemaV3, nullptr, nullptr, nullptr);
   bool readable = true;
   std::string s = SchemaOf(db, &readable);
   sqlite3_close(db);
@@ -359,9 +372,17 @@ const std::string& ExpectedSchema() {
   static const std::string schema = SchemaOfVersion(kStoreSchemaVersion);
   return schema;
 }
-const std::string& ExpectedSchemaV1() {
-  static const std::string schema = SchemaOfVersion(1);
-  return schema;
+bool HasTable(sqlite3* db, const char* name) {
+  Stmt s(db, "SELECT count(*) FROM sqlite_master WHERE type='table' AND name=?");
+  sqlite3_bind_text(s.get(), 1, name, -1, SQLITE_TRANSIENT);
+  return s.ok() && s.Step() == SQLITE_ROW && s.Int(0) > 0;
+}
+
+// An older version this cogmap migrates (and reads as it is when read-only):
+// its tables must be exactly that version's.
+bool MigratableVersion(int version, const std::string& schema) {
+  static const std::string v1 = SchemaOfVersion(1), v2 = SchemaOfVersion(2);
+  return (version == 1 && schema == v1) || (version == 2 && schema == v2);
 }
 
 }  // namespace
@@ -434,13 +455,14 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     if (version > kStoreSchemaVersion)
       throw InputError(path, 0, "schema version " + std::to_string(version) +
                                     " is newer than this cogmap (" + std::to_string(kStoreSchemaVersion) + ")");
-    // Version 1 is migrated (read-only: read as it is, without placements).
-    const bool v1 = tables > 0 && version == 1 && schema == ExpectedSchemaV1();
-    if (tables > 0 && version < kStoreSchemaVersion && !v1)
+    // Versions 1 and 2 are migrated (read-only: read as they are, without
+    // placements or orientations).
+    const bool older = tables > 0 && version < kStoreSchemaVersion && MigratableVersion(version, schema);
+    if (tables > 0 && version < kStoreSchemaVersion && !older)
       throw InputError(path, 0, "schema version " + std::to_string(version) +
                                     " is older than this cogmap (" + std::to_string(kStoreSchemaVersion) +
                                     ") and cannot be migrated");
-    if (tables > 0 && !v1 && schema != ExpectedSchema())
+    if (tables > 0 && !older && schema != ExpectedSchema())
       throw InputError(path, 0, "not a cogmap store of schema version " + std::to_string(kStoreSchemaVersion) +
                                     " (its tables differ)");
     if (read_only && tables == 0) throw InputError(path, 0, "not a cogmap store (an empty SQLite database)");
@@ -450,7 +472,9 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     std::string error;
     sqlite3* db = OpenForReading(path, &error);
     if (!db) throw InputError(path, 0, "cannot open store: " + error);
-    return std::unique_ptr<SqliteAsrStore>(new SqliteAsrStore(path, db, /*read_only=*/true));
+    std::unique_ptr<SqliteAsrStore> store(new SqliteAsrStore(path, db, /*read_only=*/true));
+    store->has_orientation_ = HasTable(db, "orientation");
+    return store;
   }
   sqlite3* db = nullptr;
   if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) != SQLITE_OK) {
@@ -473,6 +497,8 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
   try {
     store->Exec(kSchema);
     store->Exec(kSchemaV2);
+    store->Exec(kSchemaV3);
+    store->has_orientation_ = true;
     store->Exec("PRAGMA application_id=" + std::to_string(kStoreApplicationId));
     store->Exec("PRAGMA user_version=" + std::to_string(kStoreSchemaVersion));
     store->Exec("INSERT OR IGNORE INTO meta(key, value) VALUES('application', 'cogmap')");
@@ -538,6 +564,17 @@ void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string
     s.BindBlob(i++, EncodePoses(asr.true_path));
     if (s.Step() != SQLITE_DONE) fail("insert");
   }
+  {
+    const GridOrientation& g = asr.grid_orientation;
+    Stmt s(db, "INSERT OR REPLACE INTO orientation VALUES(?,?,?,?,?)");
+    if (!s.ok()) fail("prepare");
+    s.BindInt(1, asr.id);
+    s.BindInt(2, g.valid ? 1 : 0);
+    s.Bind(3, g.angle_rad);
+    s.Bind(4, g.contrast);
+    s.BindInt(5, g.cells);
+    if (s.Step() != SQLITE_DONE) fail("insert orientation");
+  }
   for (const auto& e : asr.exits) {
     if (e.from_asr < 0 || e.to_asr < 0) continue;
     Stmt s(db, "INSERT OR REPLACE INTO edge VALUES(?,?,?,?,?)");
@@ -597,6 +634,19 @@ std::optional<Asr> SqliteAsrStore::Get(int id) const {
     a.true_path = DecodePoses(s.Blob(i++));
   } catch (const std::runtime_error& e) {
     throw InputError(path_, 0, "ASR " + std::to_string(id) + ": " + e.what());
+  }
+  if (has_orientation_) {
+    Stmt o(Db(db_), "SELECT valid, angle_rad, contrast, cells FROM orientation WHERE asr_id=?");
+    if (!o.ok()) Fail(sqlite3_errmsg(Db(db_)));
+    o.BindInt(1, id);
+    if (o.Step() == SQLITE_ROW) {
+      a.grid_orientation.valid = o.Int(0) != 0;
+      a.grid_orientation.angle_rad = o.Double(1);
+      a.grid_orientation.contrast = o.Double(2);
+      a.grid_orientation.cells = static_cast<int>(o.Int(3));
+    } else if (o.failed()) {
+      Fail("orientation of ASR " + std::to_string(id) + ": " + sqlite3_errmsg(Db(db_)));
+    }
   }
   return a;
 }
@@ -723,13 +773,6 @@ void AsrGraph::Invalidate(int id) {
 
 namespace cogmap::asr {
 
-namespace {
-bool HasTable(sqlite3* db, const char* name) {
-  Stmt s(db, "SELECT count(*) FROM sqlite_master WHERE type='table' AND name=?");
-  sqlite3_bind_text(s.get(), 1, name, -1, SQLITE_TRANSIENT);
-  return s.ok() && s.Step() == SQLITE_ROW && s.Int(0) > 0;
-}
-}  // namespace
 
 void SqliteAsrStore::PutPlacements(const std::vector<Asr>& asrs, const std::vector<Placement>& placements,
                                    const std::vector<ClosureRecord>& closures) {

@@ -191,7 +191,7 @@ TEST(SqliteAsrStore, VersionOneStoreIsMigrated) {
   // Back to what version 1 wrote: no placement / closure tables.
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db, "DROP TABLE placement; DROP TABLE closure; PRAGMA user_version=1; "
+  ASSERT_EQ(sqlite3_exec(db, "DROP TABLE placement; DROP TABLE closure; DROP TABLE orientation; PRAGMA user_version=1; "
                              "UPDATE meta SET value='1' WHERE key='schema_version'",
                          nullptr, nullptr, nullptr),
             SQLITE_OK);
@@ -212,6 +212,41 @@ TEST(SqliteAsrStore, VersionOneStoreIsMigrated) {
   p.room_id = 0;
   s->PutPlacements({}, {p}, {});
   EXPECT_EQ(s->RoomOf(1), 0);
+}
+
+// Version 2 had no orientation table: read as it is (no orientation), then
+// migrated by creating it; the grid orientation round-trips from version 3 on.
+TEST(SqliteAsrStore, VersionTwoStoreIsMigratedAndOrientationsRoundTrip) {
+  const std::string path = TempDir("v2") + "/map.sqlite";
+  Asr a = MakeAsr(0);
+  a.grid_orientation = {true, 0.25, 3.5, 812};
+  {
+    auto s = SqliteAsrStore::Open(path);
+    s->Put(a);
+    const Asr back = *s->Get(0);
+    EXPECT_TRUE(back.grid_orientation.valid);
+    EXPECT_EQ(back.grid_orientation.angle_rad, 0.25);
+    EXPECT_EQ(back.grid_orientation.contrast, 3.5);
+    EXPECT_EQ(back.grid_orientation.cells, 812);
+  }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, "DROP TABLE orientation; PRAGMA user_version=2; "
+                             "UPDATE meta SET value='2' WHERE key='schema_version'",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  {
+    auto r = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
+    const Asr back = *r->Get(0);
+    EXPECT_FALSE(back.grid_orientation.valid);
+    EXPECT_EQ(back.grid_orientation.cells, 0);
+  }
+  auto s = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kOpenExisting);
+  EXPECT_EQ(*s->GetMeta("schema_version"), std::to_string(kStoreSchemaVersion));
+  EXPECT_FALSE(s->Get(0)->grid_orientation.valid);
+  s->Put(a);
+  EXPECT_EQ(s->Get(0)->grid_orientation.cells, 812);
 }
 
 TEST(SqliteAsrStore, ReplaceStartsEmpty) {

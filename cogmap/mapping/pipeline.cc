@@ -1,5 +1,6 @@
 #include "cogmap/mapping/pipeline.h"
 
+#include <limits>
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -114,6 +115,8 @@ MappingPipeline::MappingPipeline(sensors::RobotDescription robot, MappingOptions
       drift_adder_(options.add_drift_rad_per_m) {
   options_.Validate();
   result_.correction = options_.correction();
+  if (store_ && store_->MaxId() < 0 && !store_->GetMeta(asr::kMetaFinishedThrough))
+    store_->SetMeta(asr::kMetaFinishedThrough, "-1");
   mapper_ = std::make_unique<asr::CognitiveMapper>(robot_, MapperOptionsFor(robot_, options_), store_,
                                                    [this](const asr::Asr& x) { Closed(x); });
   switch (result_.correction) {
@@ -186,8 +189,25 @@ void MappingPipeline::Resume() {
   drift_corrector_.Restore(carried, reference);
   r.last_raw_pose = ParsePose(store_->GetMeta(asr::kMetaLastRawPose));
   mapper_->Resume(r);
-  if (optimizer_)
-    for (int id : store_->Ids()) optimizer_->AddStored(*store_->Get(id), store_->RoomOf(id));
+  if (optimizer_) {
+    // The ASRs of a run that finished stay where it placed them. The ASRs of a
+    // run cut short (killed before Finish: after finished_through, without a
+    // placement) are placed again, in order, from their stored raw fields, as
+    // that run placed them: the pose graph, its loop closures and its room
+    // identities continue as if it had not stopped (docs/store.md).
+    const auto through = store_->GetMeta(asr::kMetaFinishedThrough);
+    const int finished_through = through ? std::atoi(through->c_str()) : std::numeric_limits<int>::max();
+    for (int id : store_->Ids()) {
+      auto x = store_->Get(id);
+      if (!x) continue;
+      if (id <= finished_through || store_->GetPlacement(id)) {
+        optimizer_->AddStored(*x, store_->RoomOf(id));
+      } else {
+        optimizer_->Place(std::move(*x));
+        ++result_.replayed;
+      }
+    }
+  }
   if (result_.correction == Correction::kNone && (carried.theta != 0.0 || carried.x != 0.0 || carried.y != 0.0)) {
     mapper_->SetCorrector([carried](asr::Asr raw) {
       raw.world_from_local_corrected = carried * raw.world_from_local_raw;
@@ -264,6 +284,7 @@ const RunResult& MappingPipeline::Finish() {
   }
   for (auto& s : result_.asrs)
     if (auto it = revised.find(s.id); it != revised.end()) s.heading_correction_rad = it->second;
+  if (store_) store_->SetMeta(asr::kMetaFinishedThrough, std::to_string(store_->MaxId()));
   return result_;
 }
 

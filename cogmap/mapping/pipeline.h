@@ -75,6 +75,7 @@ struct RunResult {
   asr::MapperStats mapper;
   graph::OptimizerResult graph;         // kPoseGraph
   int smoothed = 0;                     // kDriftFilter: ASRs revised by smoothing
+  int replayed = 0;                     // --resume: stored ASRs of a run cut short, placed again
   // kDriftFilter: the filter's figures.
   double drift_rate_rad_per_m = 0.0;
   double drift_rate_sigma_rad_per_m = 0.0;

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
@@ -14,6 +15,7 @@
 #include "cogmap/io/native_log.h"
 #include "cogmap/io/world_io.h"
 #include "cogmap/mapping/map_job.h"
+#include "cogmap/sim/building.h"
 #include "cogmap/sim/simulator.h"
 
 namespace cogmap::mapping {
@@ -164,6 +166,85 @@ TEST(MappingPipeline, ResumeContinuesTheStoredRunsIds) {
   ASSERT_FALSE(r.asrs.empty());
   EXPECT_GE(r.asrs.front().id, first_run);
   EXPECT_EQ(store->Count(), first_run + static_cast<int>(r.asrs.size()));
+}
+
+// The distinct rooms of a store (the pose graph's room identities).
+size_t RoomCount(const asr::SqliteAsrStore& store) {
+  std::set<int> rooms;
+  for (int id : store.Ids()) rooms.insert(store.RoomOf(id));
+  return rooms.size();
+}
+
+// A run killed after some ASRs (no Finish: no placements, no room ids) and
+// resumed with the rest of its log ends with the rooms of the uninterrupted
+// run: the cut-short ASRs are placed again, so the loop closures among them
+// (the corridor seen three times) and their room identities are not lost.
+// Held fixed as stored, as before, they gave one room per ASR.
+TEST(MappingPipeline, ResumeAfterAKillKeepsTheRunsLoopClosuresAndRooms) {
+  sim::BuildingOptions bo;
+  bo.rooms = 8;
+  bo.corridor_m = 40.0;
+  const FloorPlan plan = sim::GenerateBuilding(bo);
+  sim::SimulatorOptions so;
+  so.seed = 1;
+  so.odometry.drift_rad_per_m = DegToRad(1.0);
+  std::vector<sensors::LogRecord> records;
+  sim::Simulate(plan, sensors::BuiltinRobot("pioneer16"), so,
+                [&records](const sensors::LogRecord& r) { records.push_back(r); });
+
+  const std::string whole_path = TestTempPath("uninterrupted.sqlite");
+  auto whole = asr::SqliteAsrStore::Open(whole_path, asr::SqliteAsrStore::OpenMode::kReplace);
+  int whole_asrs = 0, whole_closures = 0;
+  {
+    MappingPipeline p(sensors::BuiltinRobot("pioneer16"), {}, whole.get());
+    for (const auto& r : records) p.Push(r);
+    const RunResult& r = p.Finish();
+    whole_asrs = static_cast<int>(r.asrs.size());
+    for (const auto& c : r.graph.closures) whole_closures += c.accepted;
+  }
+  ASSERT_GE(whole_closures, 2);  // the corridor is revisited and recognised
+  ASSERT_LT(RoomCount(*whole), static_cast<size_t>(whole_asrs));
+
+  // The kill: after the ASR that follows the first two accepted closures.
+  const std::string path = TestTempPath("killed.sqlite");
+  const int kill_after = 6;
+  size_t resume_at = 0;
+  {
+    auto store = asr::SqliteAsrStore::Open(path, asr::SqliteAsrStore::OpenMode::kReplace);
+    MappingPipeline p(sensors::BuiltinRobot("pioneer16"), {}, store.get());
+    bool killed = false;
+    p.OnAsrClosed([&](const asr::Asr& x, const AsrSummary&) { killed |= x.id == kill_after; });
+    for (size_t i = 0; i < records.size() && !killed; ++i) {
+      p.Push(records[i]);
+      resume_at = i;  // the record at which the last stored ASR was written
+    }
+    ASSERT_TRUE(killed);
+  }  // no Finish()
+  auto store = asr::SqliteAsrStore::Open(path, asr::SqliteAsrStore::OpenMode::kOpenExisting);
+  ASSERT_EQ(store->MaxId(), kill_after);
+  EXPECT_FALSE(store->GetPlacement(0));
+  MappingPipeline p(sensors::BuiltinRobot("pioneer16"), {}, store.get());
+  p.Resume();
+  for (size_t i = resume_at; i < records.size(); ++i) p.Push(records[i]);
+  const RunResult& r = p.Finish();
+  EXPECT_EQ(r.replayed, kill_after + 1);
+  int closures = 0;
+  for (const auto& c : r.graph.closures) closures += c.accepted;
+  EXPECT_GE(closures, 2);
+  // The join costs at most an ASR (the robot restarts at the last close, not at the door).
+  EXPECT_NEAR(store->Count(), whole->Count(), 1);
+  EXPECT_NEAR(static_cast<double>(RoomCount(*store)), static_cast<double>(RoomCount(*whole)), 1.0);
+  // The ASRs placed again end where the uninterrupted run put them.
+  for (int id = 0; id <= kill_after; ++id) {
+    const Pose2 a = store->Get(id)->world_from_local_corrected, b = whole->Get(id)->world_from_local_corrected;
+    EXPECT_NEAR(a.x, b.x, 0.05) << id;
+    EXPECT_NEAR(a.y, b.y, 0.05) << id;
+    EXPECT_NEAR(a.theta, b.theta, DegToRad(0.5)) << id;
+  }
+  // A finished run is the end of a session: resumed again, nothing is replayed.
+  MappingPipeline again(sensors::BuiltinRobot("pioneer16"), {}, store.get());
+  again.Resume();
+  EXPECT_EQ(again.Finish().replayed, 0);
 }
 
 }  // namespace

@@ -130,6 +130,7 @@ nlohmann::json MakeReport(const ReportContext& c) {
       {"smoothed_asrs", run.smoothed},
       {"added_drift_deg_per_m", RadToDeg(job.mapping.add_drift_rad_per_m)},
       {"resumed", job.resume},
+      {"replayed_asrs", run.replayed},
       {"records", run.records},
       {"asr_count", static_cast<int>(c.all->size())},
       {"asr_count_this_run", static_cast<int>(run.asrs.size())},
