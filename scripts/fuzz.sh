@@ -9,6 +9,9 @@
 # corpus size, findings; the same lines go to build-fuzz/summary.txt.
 #   bash scripts/fuzz.sh [SECONDS] [TARGET...]
 # FUZZ_BUILD_JOBS sets the build's parallelism (default: every core).
+# FUZZ_RUNS=N makes each run deterministic: at most N inputs with libFuzzer's
+# seed 1 (SECONDS still caps it). CI runs `FUZZ_RUNS=20000 scripts/fuzz.sh 30`
+# after the tests (.ci/run).
 # See docs/fuzzing.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,12 +39,14 @@ for t in "${targets[@]}"; do
   before=$(find "$findings" -type f | wc -l)
   echo "== $t ($seconds s)"
   rc=0
-  build-fuzz/fuzz/cogmap_fuzz_"$t" "$corpus" -max_total_time="$seconds" \
+  limits=(-max_total_time="$seconds")
+  if [[ -n "${FUZZ_RUNS:-}" ]]; then limits+=(-runs="$FUZZ_RUNS" -seed=1); fi
+  build-fuzz/fuzz/cogmap_fuzz_"$t" "$corpus" "${limits[@]}" \
     -rss_limit_mb=2048 -timeout=10 -artifact_prefix="$findings/" -print_final_stats=1 >"$log" 2>&1 || rc=$?
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   rss=$(sed -n 's/^stat::peak_rss_mb: *//p' "$log" | tail -1)
   found=$(($(find "$findings" -type f | wc -l) - before))
-  line="$t: ${seconds} s, ${execs:-?} executions, corpus $(find "$corpus" -type f | wc -l) files, peak RSS ${rss:-?} MB, ${found} new finding(s), exit $rc"
+  line="$t: ${seconds} s${FUZZ_RUNS:+ or $FUZZ_RUNS runs}, ${execs:-?} executions, corpus $(find "$corpus" -type f | wc -l) files, peak RSS ${rss:-?} MB, ${found} new finding(s), exit $rc"
   echo "$line" | tee -a build-fuzz/summary.txt
   if ((rc != 0 || found > 0)); then
     echo "$t: see $findings and $log"; status=1
