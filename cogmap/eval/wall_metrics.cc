@@ -108,6 +108,21 @@ class BoxGrid {
     std::sort(out->begin(), out->end());
     out->erase(std::unique(out->begin(), out->end()), out->end());
   }
+  // Whether f(item) holds for an item listed in a cell that meets [lo, hi]:
+  // cell by cell, stopping at the first that does (an item listed in several
+  // cells may be tried more than once; for points, each is listed once).
+  template <class F>
+  bool AnyIn(const Vec2& lo, const Vec2& hi, F&& f) const {
+    const int x0 = std::clamp(static_cast<int>(std::floor((lo.x() - lo_.x()) / cell_)), 0, w_ - 1);
+    const int x1 = std::clamp(static_cast<int>(std::floor((hi.x() - lo_.x()) / cell_)), 0, w_ - 1);
+    const int y0 = std::clamp(static_cast<int>(std::floor((lo.y() - lo_.y()) / cell_)), 0, h_ - 1);
+    const int y1 = std::clamp(static_cast<int>(std::floor((hi.y() - lo_.y()) / cell_)), 0, h_ - 1);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x)
+        for (int item : buckets_[static_cast<size_t>(y) * w_ + x])
+          if (f(item)) return true;
+    return false;
+  }
 
  private:
   template <class F>
@@ -149,7 +164,7 @@ RecallStats WallRecall(const std::vector<Polyline>& map_walls, const std::vector
   for (size_t k = 0; k < true_walls.size(); ++k) wall_grid.Add(true_walls[k].a, true_walls[k].b, static_cast<int>(k));
   BoxGrid path_grid(lo, hi, std::max(options.sensor_range_m, 0.5));
   for (size_t k = 0; k < path.size(); ++k) path_grid.Add(path[k], path[k], static_cast<int>(k));
-  std::vector<int> candidates, near_path;
+  std::vector<int> candidates;
   std::vector<Segment2> nearby;
   const Vec2 r(options.sensor_range_m, options.sensor_range_m);
   for (const auto& w : true_walls) {
@@ -168,16 +183,11 @@ RecallStats WallRecall(const std::vector<Polyline>& map_walls, const std::vector
     for (size_t i = 0; i < pts.size(); ++i) {
       const double weight = pts.size() == 1 ? 0.0 : ((i == 0 || i + 1 == pts.size()) ? each / 2 : each);
       ++st.samples;
-      bool seen = false;
-      path_grid.Query(pts[i] - r, pts[i] + r, &near_path);
-      for (int k : near_path) {
+      // Any path point in range with a clear sight line (which one does not matter).
+      const bool seen = path_grid.AnyIn(pts[i] - r, pts[i] + r, [&](int k) {
         const Vec2& q = path[k];
-        if ((q - pts[i]).squaredNorm() > range2) continue;
-        if (ClearLineOfSight(q, pts[i], nearby, options.sight_tolerance_m)) {
-          seen = true;
-          break;
-        }
-      }
+        return (q - pts[i]).squaredNorm() <= range2 && ClearLineOfSight(q, pts[i], nearby, options.sight_tolerance_m);
+      });
       if (!seen) continue;
       ++st.seeable_samples;
       st.seeable_length_m += weight;

@@ -50,14 +50,28 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
   std::vector<Vec2> true_path;
   // The true path from the folder's store when there is one (the folder is
   // then self-contained: moved or copied, it evaluates without the log);
-  // else (cogmap vectorize's folder) from the log.
-  const std::filesystem::path folder_store =
+  // else (cogmap vectorize's folder) from the log. The store is read once:
+  // its ASRs and their placements serve the room, heading, trajectory and
+  // calibration metrics below.
+  const std::filesystem::path store_path =
       std::filesystem::is_directory(dir) ? dir / "map.sqlite" : dir.parent_path() / "map.sqlite";
-  if (have_world && std::filesystem::exists(folder_store)) {
-    auto store = asr::SqliteAsrStore::Open(folder_store.string(), asr::SqliteAsrStore::OpenMode::kReadOnly);
+  const bool have_store = std::filesystem::exists(store_path);
+  std::vector<asr::Asr> asrs;
+  std::map<int, std::vector<Pose2>> placed_paths;
+  std::map<int, Eigen::Matrix3d> covariances;
+  if (have_store) {
+    // Read only: works on a read-only folder or copy, and changes nothing.
+    auto store = asr::SqliteAsrStore::Open(store_path.string(), asr::SqliteAsrStore::OpenMode::kReadOnly);
     for (int id : store->Ids())
-      if (auto x = store->Get(id))
-        for (const auto& p : x->true_path) true_path.push_back(p.translation());
+      if (auto one = store->Get(id)) asrs.push_back(std::move(*one));
+    for (const auto& x : asrs)
+      if (auto p = store->GetPlacement(x.id)) {
+        placed_paths[x.id] = std::move(p->corrected_path);
+        covariances[x.id] = p->covariance;
+      }
+    if (have_world)
+      for (const auto& x : asrs)
+        for (const auto& p : x.true_path) true_path.push_back(p.translation());
   }
   if (have_world && true_path.empty()) {
     auto log = io::OpenLog(wf.log_path, wf.log_format);
@@ -110,13 +124,7 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
   std::optional<localize::HeadingErrorStats> headings;
   std::optional<eval::TrajectoryMetrics> trajectory;
   std::optional<eval::PoseCalibration> calibration;
-  const std::filesystem::path store_path = std::filesystem::is_directory(dir) ? dir / "map.sqlite" : dir.parent_path() / "map.sqlite";
-  if (std::filesystem::exists(store_path)) {
-    // Read only: works on a read-only folder or copy, and changes nothing.
-    auto store = asr::SqliteAsrStore::Open(store_path.string(), asr::SqliteAsrStore::OpenMode::kReadOnly);
-    std::vector<asr::Asr> asrs;
-    for (int id : store->Ids())
-      if (auto one = store->Get(id)) asrs.push_back(std::move(*one));
+  if (have_store) {
     rooms = asr::EvaluateRooms(asrs, world.plan.rooms);
     j["asr_count"] = rooms->asr_count;
     if (have_world && !world.plan.rooms.empty()) {
@@ -126,18 +134,12 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
       j["room_precision"] = nullptr;  // the world has no ground-truth Room areas
       j["room_recall"] = nullptr;
     }
-    std::map<int, std::vector<Pose2>> placed_paths;
-    for (const auto& x : asrs)
-      if (auto p = store->GetPlacement(x.id)) placed_paths[x.id] = std::move(p->corrected_path);
     headings = localize::ComputeHeadingErrors(asrs, placed_paths);
     for (const auto& [key, value] : localize::HeadingErrorEvalKeys(*headings)) j[key] = value;
     // ATE/RPE of the corrected and the raw trajectories against the log's
     // reference poses (the same with or without a world: ATE aligns once, RPE
     // is frame-free).
-    std::map<int, std::vector<Pose2>> corrected_paths;
-    for (const auto& x : asrs)
-      if (auto p = store->GetPlacement(x.id)) corrected_paths[x.id] = std::move(p->corrected_path);
-    const eval::AsrTrajectories traj = eval::PairAsrTrajectories(asrs, corrected_paths);
+    const eval::AsrTrajectories traj = eval::PairAsrTrajectories(asrs, placed_paths);
     trajectory = eval::ComputeTrajectoryMetrics(traj);
     for (const auto& [key, value] : eval::TrajectoryEvalKeys(*trajectory)) {
       if (value) j[key] = *value;
@@ -145,9 +147,6 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
     }
     // Calibration of the pose graph's covariances (issue 10): the ASRs the
     // graph placed with a covariance, against their true frame poses.
-    std::map<int, Eigen::Matrix3d> covariances;
-    for (const auto& one : asrs)
-      if (const auto p = store->GetPlacement(one.id)) covariances[one.id] = p->covariance;
     calibration = eval::ComputePoseCalibration(asrs, covariances);
     for (const auto& [key, value] : eval::PoseCalibrationEvalKeys(*calibration)) {
       if (value) j[key] = *value;

@@ -168,9 +168,24 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   const std::string& staging = dir;
   std::optional<FloorPlan> truth_plan;
   if (!job.world.empty()) truth_plan = io::ReadWorld(job.world).plan;
-  // The master map from everything in the store (earlier runs included).
+  // Everything in the store (earlier runs included), in one pass: the ASRs,
+  // the robot's path through each as placed (drift inside it removed), their
+  // rooms.
   std::vector<asr::Asr> all;
-  for (int id : store->Ids()) all.push_back(*store->Get(id));
+  std::map<int, std::vector<Pose2>> placed_paths;
+  std::map<int, int> room_of;
+  for (int id : store->Ids()) {
+    all.push_back(*store->Get(id));
+    if (auto p = store->GetPlacement(id)) placed_paths[id] = std::move(p->corrected_path);
+    room_of[id] = store->RoomOf(id);
+  }
+  // What reads the true paths comes first (the heading error per ASR, the
+  // rooms against the truth); then they go: nothing below reads them.
+  const localize::HeadingErrorStats heading = localize::ComputeHeadingErrors(all, placed_paths);
+  std::optional<asr::RoomMetrics> room_metrics;
+  if (truth_plan) room_metrics = asr::EvaluateRooms(all, truth_plan->rooms);
+  for (auto& x : all) std::vector<Pose2>().swap(x.true_path);
+  // The master map.
   const io::MasterMap master = io::BuildMasterMap(all, !job.raw);
   MapJobSummary out;
   out.written = {"map.sqlite"};
@@ -181,15 +196,8 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   for (const auto& f : draw::WriteMasterMapPictures(staging, master, job.outputs.svg, job.outputs.png, false, map_picture))
     out.written.push_back(fs::path(f).filename().string());
 
-  // The robot's path through each ASR as placed (drift inside it removed).
-  std::map<int, std::vector<Pose2>> placed_paths;
-  for (int id : store->Ids())
-    if (auto p = store->GetPlacement(id)) placed_paths[id] = std::move(p->corrected_path);
-
   // The floor plan (docs/floor-plan.md): plan.json always (cogmap eval reads
   // it), and the files made from it.
-  std::map<int, int> room_of;
-  for (int id : store->Ids()) room_of[id] = store->RoomOf(id);
   const plan::Plan floor_plan = plan::BuildPlan(all, room_of, {}, placed_paths);
   io::WriteFileAtomically((fs::path(staging) / "plan.json").string(), plan::PlanToJsonText(floor_plan));
   out.written.push_back("plan.json");
@@ -232,7 +240,6 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
     out.written.push_back("map_compare.png");
   }
   // The heading error per ASR against the truth, on the path as placed.
-  const localize::HeadingErrorStats heading = localize::ComputeHeadingErrors(all, placed_paths);
   if (job.outputs.heading && heading.asrs > 0) {
     draw::PlotHeadingErrors(heading).Write((fs::path(staging) / "heading_error.png").string());
     out.written.push_back("heading_error.png");
@@ -275,7 +282,7 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   out.bytes_grid = wf.bytes_grid;
   out.bytes_polylines = wf.bytes_polylines;
   std::set<int> rooms;
-  for (int id : store->Ids()) rooms.insert(store->RoomOf(id));
+  for (const auto& [id, room] : room_of) rooms.insert(room);
   out.rooms = static_cast<int>(rooms.size());
   out.heading_asrs = heading.asrs;
   out.heading_median_deg = heading.median_deg;
@@ -294,11 +301,10 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   ctx.run_id = octx.run_id;
   ctx.mapping_seconds = octx.mapping_seconds;
   ctx.rss_mapping_kb = octx.rss_mapping_kb;
-  if (truth_plan) {
-    const asr::RoomMetrics m = asr::EvaluateRooms(all, truth_plan->rooms);
-    out.room_precision = m.room_precision;
-    out.room_recall = m.room_recall;
-    ctx.room_metrics = m;
+  if (room_metrics) {
+    out.room_precision = room_metrics->room_precision;
+    out.room_recall = room_metrics->room_recall;
+    ctx.room_metrics = *room_metrics;
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - octx.start).count();
   out.times_real_time = out.seconds > 0 ? run.duration_s() / out.seconds : 0.0;

@@ -146,7 +146,7 @@ void MappingPipeline::OnAsrClosed(std::function<void(const asr::Asr&, const AsrS
 const localize::DirectionEstimate* MappingPipeline::LastEstimate() const {
   switch (result_.correction) {
     case Correction::kDriftFilter: return &drift_corrector_.LastEstimate();
-    case Correction::kPoseGraph: return &optimizer_->LastEstimate();
+    case Correction::kPoseGraph: return optimizer_ ? &optimizer_->LastEstimate() : nullptr;
     case Correction::kPerAsrEm: return &corrector_.LastEstimate();
     case Correction::kNone: return nullptr;
   }
@@ -237,20 +237,25 @@ const RunResult& MappingPipeline::Finish() {
     std::vector<asr::Asr> updated;
     std::vector<asr::Placement> placements;
     std::vector<asr::ClosureRecord> closures;
-    for (const auto& e : result_.graph.asrs) {
+    // Each ASR's corrected path and walls move into the store (its placement
+    // and its walls): RunResult keeps the graph's figures, not a second copy
+    // of the map.
+    for (auto& e : result_.graph.asrs) {
       asr::Placement p;
       p.asr_id = e.asr_id;
       p.room_id = e.room_id;
       p.covariance = e.covariance;
       p.uncertain = e.uncertain;
       p.drift_rate_rad_per_m = e.drift_rate_rad_per_m;
-      p.corrected_path = e.corrected_path;
+      p.corrected_path = std::move(e.corrected_path);
+      e.corrected_path = {};
       for (const auto& w : e.why) p.why += (p.why.empty() ? "" : "; ") + w;
       placements.push_back(std::move(p));
       auto x = store_->Get(e.asr_id);
       if (!x) continue;
       x->world_from_local_corrected = e.pose;
-      if (!e.corrected_walls.empty() || x->walls_local.empty()) x->walls_local = e.corrected_walls;
+      if (!e.corrected_walls.empty() || x->walls_local.empty()) x->walls_local = std::move(e.corrected_walls);
+      e.corrected_walls = {};
       x->heading_correction_rad = localize::CorrectionOf(*x).theta;
       if (e.has_covariance) x->heading_uncertainty_rad = std::sqrt(std::max(0.0, e.covariance(2, 2)));
       revised[e.asr_id] = x->heading_correction_rad;
@@ -260,6 +265,9 @@ const RunResult& MappingPipeline::Finish() {
       closures.push_back({c.from_asr, c.to_asr, c.relative, c.agreement, c.rmse_m, c.mahalanobis2, c.accepted,
                           c.same_room, c.reason});
     store_->PutPlacements(updated, placements, closures);
+    // The graph (every ASR's faces, samples and paths) is no longer needed:
+    // the outputs are written from the store.
+    optimizer_.reset();
   } else if (result_.correction == Correction::kDriftFilter) {
     if (options_.smooth) {
       // The drift rate learnt along the run revises the corrections of this

@@ -73,7 +73,10 @@ struct RunResult {
   std::optional<Pose2> world_from_map;  // from the log's ground truth (first record that has it)
   std::vector<AsrSummary> asrs;         // this run's, in closing order
   asr::MapperStats mapper;
-  graph::OptimizerResult graph;         // kPoseGraph
+  // kPoseGraph. Its per-ASR corrected paths and walls are moved into the
+  // store at Finish() (asr::Placement::corrected_path, the ASRs' walls) and
+  // left empty here.
+  graph::OptimizerResult graph;
   int smoothed = 0;                     // kDriftFilter: ASRs revised by smoothing
   int replayed = 0;                     // --resume: stored ASRs of a run cut short, placed again
   // kDriftFilter: the filter's figures.

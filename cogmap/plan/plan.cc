@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <deque>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <set>
 #include <unordered_map>
@@ -199,6 +200,91 @@ std::vector<Vec2> FromBoost(const BPoly& p) {
   return clean;
 }
 
+// ------------------------------------------------------------------ tiled lattice
+// A w x h lattice stored in square tiles of kSide x kSide cells, each allocated
+// on the first write of a value other than 'fill'; unwritten cells read as
+// 'fill'. The room grid's masks and labels cost what the walls and rooms on
+// them cost, not the bounding box of the map (docs/floor-plan.md, "Memory").
+template <class T>
+class TiledLattice {
+ public:
+  static constexpr int kShift = 4;
+  static constexpr int kSide = 1 << kShift;
+  static constexpr int kMask = kSide - 1;
+
+  TiledLattice(int w, int h, T fill)
+      : w_(w), h_(h), tw_((w + kMask) >> kShift), th_((h + kMask) >> kShift), fill_(fill),
+        tiles_(static_cast<size_t>(tw_) * th_) {}
+  TiledLattice(const TiledLattice& o) : w_(o.w_), h_(o.h_), tw_(o.tw_), th_(o.th_), fill_(o.fill_), tiles_(o.tiles_.size()) {
+    for (size_t t = 0; t < tiles_.size(); ++t)
+      if (o.tiles_[t]) {
+        tiles_[t] = std::make_unique<T[]>(kSide * kSide);
+        std::copy_n(o.tiles_[t].get(), kSide * kSide, tiles_[t].get());
+      }
+  }
+  TiledLattice(TiledLattice&&) = default;
+  TiledLattice& operator=(TiledLattice&&) = default;
+  TiledLattice& operator=(const TiledLattice&) = delete;
+
+  // (x, y) inside the lattice.
+  T Get(int x, int y) const {
+    const auto& t = tiles_[Tile(x >> kShift, y >> kShift)];
+    return t ? t[Within(x, y)] : fill_;
+  }
+  void Set(int x, int y, T v) {
+    auto& t = tiles_[Tile(x >> kShift, y >> kShift)];
+    if (!t) {
+      if (v == fill_) return;
+      t = std::make_unique<T[]>(kSide * kSide);
+      std::fill_n(t.get(), kSide * kSide, fill_);
+    }
+    t[Within(x, y)] = v;
+  }
+  // f(x, y, value) for every cell of an allocated tile, in the lattice's
+  // row-major order (y, then x): the order of a dense lattice, unwritten cells
+  // left out.
+  template <class F>
+  void ForEachStored(F&& f) const {
+    for (int y = 0; y < h_; ++y) {
+      const int ty = y >> kShift;
+      for (int tx = 0; tx < tw_; ++tx) {
+        const auto& t = tiles_[Tile(tx, ty)];
+        if (!t) continue;
+        const int x0 = tx << kShift, x1 = std::min(w_, x0 + kSide);
+        const T* row = t.get() + ((y & kMask) << kShift);
+        for (int x = x0; x < x1; ++x) f(x, y, row[x - x0]);
+      }
+    }
+  }
+  // f(x, y) for every cell of a tile that is allocated or touches one (8
+  // neighbours): every cell within kSide cells of a written one (any order).
+  template <class F>
+  void ForEachNearStored(F&& f) const {
+    for (int ty = 0; ty < th_; ++ty)
+      for (int tx = 0; tx < tw_; ++tx) {
+        bool near = false;
+        for (int dy = -1; dy <= 1 && !near; ++dy)
+          for (int dx = -1; dx <= 1 && !near; ++dx) {
+            const int ux = tx + dx, uy = ty + dy;
+            near = ux >= 0 && uy >= 0 && ux < tw_ && uy < th_ && tiles_[Tile(ux, uy)];
+          }
+        if (!near) continue;
+        const int x1 = std::min(w_, (tx + 1) << kShift), y1 = std::min(h_, (ty + 1) << kShift);
+        for (int y = ty << kShift; y < y1; ++y)
+          for (int x = tx << kShift; x < x1; ++x) f(x, y);
+      }
+  }
+
+ private:
+  size_t Tile(int tx, int ty) const { return static_cast<size_t>(ty) * tw_ + tx; }
+  static int Within(int x, int y) { return ((y & kMask) << kShift) | (x & kMask); }
+  int w_, h_, tw_, th_;
+  T fill_;
+  std::vector<std::unique_ptr<T[]>> tiles_;
+};
+using Mask = TiledLattice<uint8_t>;    // 1: blocked (a wall or a door line)
+using Labels = TiledLattice<int>;      // room per cell, -1: none
+
 // ------------------------------------------------------------------ room grid
 // A grid in the building frame (rotated by -phi so walls run along the axes).
 struct RoomGrid {
@@ -206,7 +292,6 @@ struct RoomGrid {
   double phi = 0.0;
   Vec2 lo{0, 0};
   int w = 0, h = 0;
-  std::vector<uint8_t> blocked;
   Vec2 ToFrame(const Vec2& p) const { return RotateAbout(p, Vec2(0, 0), -phi); }
   Vec2 FromFrame(const Vec2& p) const { return RotateAbout(p, Vec2(0, 0), phi); }
   bool Cell(const Vec2& world, int* cx, int* cy) const {
@@ -218,7 +303,7 @@ struct RoomGrid {
   Vec2 Center(int cx, int cy) const { return FromFrame(Vec2(lo.x() + (cx + 0.5) * cell, lo.y() + (cy + 0.5) * cell)); }
   size_t Idx(int cx, int cy) const { return static_cast<size_t>(cy) * w + cx; }
   // Marks the cells a segment crosses, 4-connected (a 4-connected flood cannot slip through).
-  void Block(const Vec2& a, const Vec2& b, std::vector<uint8_t>* mask, uint8_t value = 1) const {
+  void Block(const Vec2& a, const Vec2& b, Mask* mask, uint8_t value = 1) const {
     const double len = (b - a).norm();
     const int steps = std::max(1, static_cast<int>(std::ceil(len / (0.25 * cell))));
     int px = 0, py = 0;
@@ -229,8 +314,8 @@ struct RoomGrid {
         have = false;
         continue;
       }
-      if (have && cx != px && cy != py) (*mask)[Idx(px, cy)] = value;  // close the diagonal step
-      (*mask)[Idx(cx, cy)] = value;
+      if (have && cx != px && cy != py) mask->Set(px, cy, value);  // close the diagonal step
+      mask->Set(cx, cy, value);
       px = cx, py = cy, have = true;
     }
   }
@@ -238,34 +323,33 @@ struct RoomGrid {
 
 // Multi-source breadth-first flood: each seed cell's label spreads through free
 // cells its region allows, first come first served (a geodesic Voronoi split).
-std::vector<int> Flood(const RoomGrid& g, const std::vector<uint8_t>& blocked,
-                       const std::vector<std::vector<size_t>>& seeds,
-                       const std::vector<std::vector<Vec2>>& hulls_frame) {
-  std::vector<int> label(blocked.size(), -1);
+Labels Flood(const RoomGrid& g, const Mask& blocked, const std::vector<std::vector<size_t>>& seeds,
+             const std::vector<std::vector<Vec2>>& hulls_frame) {
+  Labels label(g.w, g.h, -1);
   std::deque<size_t> q;
-  auto allowed = [&](int r, size_t idx) {
-    const int cx = static_cast<int>(idx % g.w), cy = static_cast<int>(idx / g.w);
+  auto allowed = [&](int r, int cx, int cy) {
     const Vec2 p(g.lo.x() + (cx + 0.5) * g.cell, g.lo.y() + (cy + 0.5) * g.cell);
     return InConvex(hulls_frame[r], p);
   };
   for (size_t r = 0; r < seeds.size(); ++r)
-    for (size_t idx : seeds[r])
-      if (!blocked[idx] && label[idx] < 0) {
-        label[idx] = static_cast<int>(r);
+    for (size_t idx : seeds[r]) {
+      const int cx = static_cast<int>(idx % g.w), cy = static_cast<int>(idx / g.w);
+      if (!blocked.Get(cx, cy) && label.Get(cx, cy) < 0) {
+        label.Set(cx, cy, static_cast<int>(r));
         q.push_back(idx);
       }
+    }
   while (!q.empty()) {
     const size_t idx = q.front();
     q.pop_front();
-    const int r = label[idx];
     const int cx = static_cast<int>(idx % g.w), cy = static_cast<int>(idx / g.w);
+    const int r = label.Get(cx, cy);
     const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
     for (int k = 0; k < 4; ++k) {
       if (nx[k] < 0 || ny[k] < 0 || nx[k] >= g.w || ny[k] >= g.h) continue;
-      const size_t j = g.Idx(nx[k], ny[k]);
-      if (blocked[j] || label[j] >= 0 || !allowed(r, j)) continue;
-      label[j] = r;
-      q.push_back(j);
+      if (blocked.Get(nx[k], ny[k]) || label.Get(nx[k], ny[k]) >= 0 || !allowed(r, nx[k], ny[k])) continue;
+      label.Set(nx[k], ny[k], r);
+      q.push_back(g.Idx(nx[k], ny[k]));
     }
   }
   return label;
@@ -277,15 +361,13 @@ struct CellBox {
 };
 
 // The cell box of every label, in one pass.
-std::vector<CellBox> LabelBoxes(const RoomGrid& g, const std::vector<int>& label, int n) {
+std::vector<CellBox> LabelBoxes(const Labels& label, int n) {
   std::vector<CellBox> b(n);
-  for (int y = 0; y < g.h; ++y)
-    for (int x = 0; x < g.w; ++x) {
-      const int r = label[g.Idx(x, y)];
-      if (r < 0) continue;
-      b[r].x0 = std::min(b[r].x0, x), b[r].x1 = std::max(b[r].x1, x);
-      b[r].y0 = std::min(b[r].y0, y), b[r].y1 = std::max(b[r].y1, y);
-    }
+  label.ForEachStored([&](int x, int y, int r) {
+    if (r < 0) return;
+    b[r].x0 = std::min(b[r].x0, x), b[r].x1 = std::max(b[r].x1, x);
+    b[r].y0 = std::min(b[r].y0, y), b[r].y1 = std::max(b[r].y1, y);
+  });
   return b;
 }
 
@@ -300,36 +382,36 @@ std::vector<CellBox> LabelBoxes(const RoomGrid& g, const std::vector<int>& label
 // site sets are disjoint by construction.
 class HalfCells {
  public:
-  HalfCells(const RoomGrid& g, std::vector<int>* label) : g_(g), label_(*label), w_(2 * g.w), h_(2 * g.h) {
-    auto cell = [&](int x, int y) { return x < 0 || y < 0 || x >= g.w || y >= g.h ? -1 : label_[g.Idx(x, y)]; };
-    for (int cy = 0; cy < g.h; ++cy)
-      for (int cx = 0; cx < g.w; ++cx) {
-        if (label_[g.Idx(cx, cy)] >= 0) continue;
-        std::array<int, 4> q{-1, -1, -1, -1};
-        bool any = false;
-        for (int k = 0; k < 4; ++k) {
-          const int dx = (k & 1) ? 1 : -1, dy = (k & 2) ? 1 : -1;
-          const int h = cell(cx + dx, cy), v = cell(cx, cy + dy);
-          q[k] = h >= 0 && v >= 0 ? std::min(h, v) : h >= 0 ? h : v;
-          any = any || q[k] >= 0;
-        }
-        if (any) quarters_[g.Idx(cx, cy)] = q;
+  HalfCells(const RoomGrid& g, Labels* label) : g_(g), label_(*label), w_(2 * g.w), h_(2 * g.h) {
+    auto cell = [&](int x, int y) { return x < 0 || y < 0 || x >= g.w || y >= g.h ? -1 : label_.Get(x, y); };
+    // Only cells within a tile of a labelled one can border a room.
+    label_.ForEachNearStored([&](int cx, int cy) {
+      if (label_.Get(cx, cy) >= 0) return;
+      std::array<int, 4> q{-1, -1, -1, -1};
+      bool any = false;
+      for (int k = 0; k < 4; ++k) {
+        const int dx = (k & 1) ? 1 : -1, dy = (k & 2) ? 1 : -1;
+        const int h = cell(cx + dx, cy), v = cell(cx, cy + dy);
+        q[k] = h >= 0 && v >= 0 ? std::min(h, v) : h >= 0 ? h : v;
+        any = any || q[k] >= 0;
       }
+      if (any) quarters_[g.Idx(cx, cy)] = q;
+    });
     // A quarter at a room's outer corner: both its outer neighbours took the
     // same room (so the room grows by a square, as a mitred buffer would).
+    // Such a cell lies within two cells of a labelled one.
     std::vector<std::pair<size_t, std::pair<int, int>>> corner;  // cell, quarter, label
-    for (int cy = 0; cy < g.h; ++cy)
-      for (int cx = 0; cx < g.w; ++cx) {
-        const size_t c = g.Idx(cx, cy);
-        if (label_[c] >= 0) continue;
-        for (int k = 0; k < 4; ++k) {
-          if (Quarter(cx, cy, k) >= 0) continue;
-          const int dx = (k & 1) ? 1 : -1, dy = (k & 2) ? 1 : -1;
-          const int h = Quarter(cx + dx, cy, (k & 2) | (dx > 0 ? 0 : 1));
-          const int v = Quarter(cx, cy + dy, (k & 1) | (dy > 0 ? 0 : 2));
-          if (h >= 0 && h == v) corner.push_back({c, {k, h}});
-        }
+    label_.ForEachNearStored([&](int cx, int cy) {
+      const size_t c = g.Idx(cx, cy);
+      if (label_.Get(cx, cy) >= 0) return;
+      for (int k = 0; k < 4; ++k) {
+        if (Quarter(cx, cy, k) >= 0) continue;
+        const int dx = (k & 1) ? 1 : -1, dy = (k & 2) ? 1 : -1;
+        const int h = Quarter(cx + dx, cy, (k & 2) | (dx > 0 ? 0 : 1));
+        const int v = Quarter(cx, cy + dy, (k & 1) | (dy > 0 ? 0 : 2));
+        if (h >= 0 && h == v) corner.push_back({c, {k, h}});
       }
+    });
     for (const auto& [c, kr] : corner) {
       auto it = quarters_.try_emplace(c, std::array<int, 4>{-1, -1, -1, -1}).first;
       it->second[kr.first] = kr.second;
@@ -345,8 +427,8 @@ class HalfCells {
   // one label, so every region that holds one of them holds all four).
   void Set(int i, int j, int r) {
     const size_t c = g_.Idx(i >> 1, j >> 1);
-    if (label_[c] >= 0) {
-      label_[c] = r;
+    if (label_.Get(i >> 1, j >> 1) >= 0) {
+      label_.Set(i >> 1, j >> 1, r);
       return;
     }
     auto it = quarters_.try_emplace(c, std::array<int, 4>{-1, -1, -1, -1}).first;
@@ -356,13 +438,13 @@ class HalfCells {
  private:
   int Quarter(int cx, int cy, int k) const {
     if (cx < 0 || cy < 0 || cx >= g_.w || cy >= g_.h) return -1;
-    const size_t c = g_.Idx(cx, cy);
-    if (label_[c] >= 0) return label_[c];
-    auto it = quarters_.find(c);
+    const int l = label_.Get(cx, cy);
+    if (l >= 0) return l;
+    auto it = quarters_.find(g_.Idx(cx, cy));
     return it == quarters_.end() ? -1 : it->second[k];
   }
   const RoomGrid& g_;
-  std::vector<int>& label_;
+  Labels& label_;
   int w_, h_;
   std::unordered_map<size_t, std::array<int, 4>> quarters_;
 };
@@ -535,19 +617,17 @@ struct Shape {
   Vec2 axis{1, 0};
 };
 
-std::vector<Shape> RegionShapes(const RoomGrid& g, const std::vector<int>& label, int n) {
+std::vector<Shape> RegionShapes(const RoomGrid& g, const Labels& label, int n) {
   std::vector<Moments> m(n);
   std::vector<double> cells(n, 0.0);
-  for (int y = 0; y < g.h; ++y)
-    for (int x = 0; x < g.w; ++x) {
-      const int r = label[g.Idx(x, y)];
-      if (r < 0) continue;
-      const Vec2 p(g.lo.x() + (x + 0.5) * g.cell, g.lo.y() + (y + 0.5) * g.cell);
-      m[r].w += 1.0;
-      m[r].s += p;
-      m[r].ss += p * p.transpose();
-      cells[r] += 1.0;
-    }
+  label.ForEachStored([&](int x, int y, int r) {  // row-major: the sums' order is the dense lattice's
+    if (r < 0) return;
+    const Vec2 p(g.lo.x() + (x + 0.5) * g.cell, g.lo.y() + (y + 0.5) * g.cell);
+    m[r].w += 1.0;
+    m[r].s += p;
+    m[r].ss += p * p.transpose();
+    cells[r] += 1.0;
+  });
   std::vector<Shape> out(n);
   for (int r = 0; r < n; ++r) {
     if (m[r].w < 1.0) continue;
@@ -1108,7 +1188,7 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
     g.w = static_cast<int>(std::ceil((hi.x() - lo.x()) / g.cell));
     g.h = static_cast<int>(std::ceil((hi.y() - lo.y()) / g.cell));
   }
-  std::vector<uint8_t> wall_mask(static_cast<size_t>(g.w) * g.h, 0);
+  Mask wall_mask(g.w, g.h, 0);
   for (const auto& s : segs) g.Block(s.a, s.b, &wall_mask);
   // A door across an open space reaches from wall to wall (up to 3 m each way).
   auto door_span = [&](DoorCand* d) {
@@ -1117,7 +1197,7 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
       double t = 0.0;
       for (; t < 3.0; t += 0.5 * g.cell) {
         int cx, cy;
-        if (!g.Cell(d->line_c + side * t * d->line_u, &cx, &cy) || wall_mask[g.Idx(cx, cy)]) break;
+        if (!g.Cell(d->line_c + side * t * d->line_u, &cx, &cy) || wall_mask.Get(cx, cy)) break;
       }
       if (side < 0) d->lo = -t; else d->hi = t;
     }
@@ -1205,7 +1285,7 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
     }
   };
   auto door_mask = [&](const std::vector<int>& room_of_unit) {
-    std::vector<uint8_t> m = wall_mask;
+    Mask m = wall_mask;
     for (const auto& d : door_cands) {
       auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
       if (a != index_of.end() && b != index_of.end() &&
@@ -1224,8 +1304,11 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
   std::vector<std::vector<size_t>> seeds;
   std::vector<std::vector<Vec2>> hulls;
   build_regions(unit_room, n1, &seeds, &hulls);
-  std::vector<int> label = Flood(g, door_mask(unit_room), seeds, hulls);
-  const std::vector<Shape> shapes = RegionShapes(g, label, n1);
+  std::vector<Shape> shapes;
+  {  // pass 1's labels go before pass 2 floods
+    const Labels label1 = Flood(g, door_mask(unit_room), seeds, hulls);
+    shapes = RegionShapes(g, label1, n1);
+  }
 
   // Corridor pieces joined through exits are one corridor (a loop stays cut at one door).
   // A piece is narrow when at most corridor_max_width_m wide, elongated when
@@ -1264,7 +1347,7 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
 
   // Pass 2: the plan rooms.
   build_regions(plan_of_unit, n_plan, &seeds, &hulls);
-  label = Flood(g, door_mask(plan_of_unit), seeds, hulls);
+  Labels label = Flood(g, door_mask(plan_of_unit), seeds, hulls);
 
   // ---------------------------------------------------------------- room polygons
   std::vector<Room> rooms(n_plan);
@@ -1286,14 +1369,14 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
   // room's outline is traced along the lattice: the outlines of disjoint
   // sets, so no two rooms overlap, exactly (they share edges where they
   // meet). docs/floor-plan.md, "Polygons".
-  const std::vector<CellBox> boxes = LabelBoxes(g, label, n_plan);
+  const std::vector<CellBox> boxes = LabelBoxes(label, n_plan);
   for (int r = 0; r < n_plan; ++r) {  // one piece of cells per room, before it grows onto the walls
     const CellBox& b = boxes[r];
     if (b.x1 < 0) continue;
-    const Region reg = FillRegion(b.x0, b.y0, b.x1, b.y1, [&](int x, int y) { return label[g.Idx(x, y)] == r; }, false);
+    const Region reg = FillRegion(b.x0, b.y0, b.x1, b.y1, [&](int x, int y) { return label.Get(x, y) == r; }, false);
     for (int y = b.y0; y <= b.y1; ++y)
       for (int x = b.x0; x <= b.x1; ++x)
-        if (label[g.Idx(x, y)] == r && !reg.at(x - b.x0 + 1, y - b.y0 + 1)) label[g.Idx(x, y)] = -1;
+        if (label.Get(x, y) == r && !reg.at(x - b.x0 + 1, y - b.y0 + 1)) label.Set(x, y, -1);
   }
   HalfCells half(g, &label);
   auto half_box = [&](int r, int* x0, int* y0, int* x1, int* y1) {

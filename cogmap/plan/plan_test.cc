@@ -127,6 +127,36 @@ bool OnLine(const Wall& w, bool vertical, double c, double tol) {
   return true;
 }
 
+TEST(BuildPlan, RoomFarAwayIsTracedAsWhenNear) {
+  // The room grid stores only the tiles that rooms and walls reach. A second
+  // room 16 m east of the first, or 256 m east and 128 m north (a grid of
+  // some 2 M cells, nearly all empty), is traced alike, moved by the offset.
+  // Cells of 1/8 m and offsets of a whole number of cells and a half: every
+  // coordinate is exact in binary and no wall lies on a cell border.
+  PlanOptions o;
+  o.cell_m = 0.125;
+  const asr::Asr a = MakeAsr(0, {Box(0, 0, 4, 3)}, Line({1, 1}, {3, 2}));
+  auto room_at = [&](const Vec2& off) {
+    return MakeAsr(1, {Box(off.x(), off.y(), off.x() + 4, off.y() + 3)}, Line(Vec2(1, 1) + off, Vec2(3, 2) + off),
+                   10.0);
+  };
+  const Vec2 near(16.0625, 0.0625), far(256.0625, 128.0625);
+  const Plan pn = BuildPlan({a, room_at(near)}, {{0, 0}, {1, 1}}, o);
+  const Plan pf = BuildPlan({a, room_at(far)}, {{0, 0}, {1, 1}}, o);
+  ASSERT_EQ(pn.rooms.size(), 2u);
+  ASSERT_EQ(pf.rooms.size(), 2u);
+  for (size_t k = 0; k < 2; ++k) {
+    const Room& rn = pn.rooms[k];
+    const Room& rf = pf.rooms[k];
+    ASSERT_EQ(rn.asr_ids, rf.asr_ids);
+    const Vec2 shift = rn.asr_ids == std::vector<int>{1} ? Vec2(far - near) : Vec2(0, 0);
+    EXPECT_NEAR(rn.area_m2, 12.0, 1.0);
+    EXPECT_NEAR(rf.area_m2, rn.area_m2, 1e-6);
+    ASSERT_EQ(rf.polygon.size(), rn.polygon.size());
+    for (size_t i = 0; i < rn.polygon.size(); ++i) EXPECT_LT((rf.polygon[i] - shift - rn.polygon[i]).norm(), 1e-6) << i;
+  }
+}
+
 TEST(BuildPlan, SquareRoomSeenTwiceGivesFourWalls) {
   // Two ASRs of one room see the same 4 x 4 m walls, the second 4 cm off.
   std::vector<asr::Asr> asrs = {
