@@ -227,7 +227,11 @@ std::vector<std::string> WriteMasterMapFiles(const std::string& dir, const Maste
     // Walls only, in a header that does not call them ground truth.
     plan::Plan walls;
     for (const auto& r : map.rooms)
-      for (const auto& l : r.walls) walls.walls.push_back({l});
+      for (const auto& l : r.walls) {
+        plan::Wall w;
+        w.points = l;
+        walls.walls.push_back(std::move(w));
+      }
     walls.min = map.min;
     walls.max = map.max;
     WriteFileAtomically(base + ".map", FormatPlanAriaMap(walls));
