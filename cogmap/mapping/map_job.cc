@@ -186,7 +186,7 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   if (truth_plan) room_metrics = asr::EvaluateRooms(all, truth_plan->rooms);
   for (auto& x : all) std::vector<Pose2>().swap(x.true_path);
   // The master map.
-  const io::MasterMap master = io::BuildMasterMap(all, !job.raw);
+  io::MasterMap master = io::BuildMasterMap(all, !job.raw);
   MapJobSummary out;
   out.written = {"map.sqlite"};
   // The master map's pictures (every ASR's walls); its files come from the
@@ -195,6 +195,31 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   map_picture.picture.px_per_m = job.px_per_m;
   for (const auto& f : draw::WriteMasterMapPictures(staging, master, job.outputs.svg, job.outputs.png, false, map_picture))
     out.written.push_back(fs::path(f).filename().string());
+
+  // Before / after correction side by side (drawn before the floor plan,
+  // listed after it).
+  std::vector<std::string> compare_written;
+  if (job.outputs.compare) {
+    const io::MasterMap raw_map = io::BuildMasterMap(all, false);
+    const io::MasterMap cor_map = job.raw ? io::BuildMasterMap(all, true) : master;
+    // With pre-correction each ASR's walls were mapped on corrected odometry:
+    // the left picture places them by odometry (the true raw map: --no-correct).
+    const std::string lt = run.correction == Correction::kDriftFilter ? "Before: ASRs at their odometry poses"
+                                                                      : "Before: odometry";
+    const std::string rt = run.correction == Correction::kNone        ? "After: not corrected (--no-correct)"
+                           : run.correction == Correction::kPoseGraph ? std::string("After: pose graph (default)")
+                           : "After: heading correction (" + std::string(job.mapping.paper ? "paper" : "default") + ")";
+    const draw::Drawing compare = draw::DrawSideBySide(raw_map, lt, cor_map, rt);
+    compare.Write((fs::path(staging) / "map_compare.svg").string());
+    compare.Write((fs::path(staging) / "map_compare.png").string());
+    compare_written = {"map_compare.svg", "map_compare.png"};
+  }
+  // What is drawn is drawn: the paths go before the floor plan is built (it
+  // reads the placed paths; an ASR without one keeps its raw path).
+  for (auto& r : master.rooms) std::vector<Vec2>().swap(r.path);
+  for (auto& x : all)
+    if (auto it = placed_paths.find(x.id); it != placed_paths.end() && !it->second.empty())
+      std::vector<Pose2>().swap(x.path);
 
   // The floor plan (docs/floor-plan.md): plan.json always (cogmap eval reads
   // it), and the files made from it.
@@ -221,24 +246,8 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   out.plan_rooms = static_cast<int>(floor_plan.rooms.size());
   out.plan_walls = static_cast<int>(floor_plan.walls.size());
   out.plan_doors = static_cast<int>(floor_plan.doors.size());
+  out.written.insert(out.written.end(), compare_written.begin(), compare_written.end());
 
-  // Before / after correction side by side.
-  if (job.outputs.compare) {
-    const io::MasterMap raw_map = io::BuildMasterMap(all, false);
-    const io::MasterMap cor_map = job.raw ? io::BuildMasterMap(all, true) : master;
-    // With pre-correction each ASR's walls were mapped on corrected odometry:
-    // the left picture places them by odometry (the true raw map: --no-correct).
-    const std::string lt = run.correction == Correction::kDriftFilter ? "Before: ASRs at their odometry poses"
-                                                                      : "Before: odometry";
-    const std::string rt = run.correction == Correction::kNone        ? "After: not corrected (--no-correct)"
-                           : run.correction == Correction::kPoseGraph ? std::string("After: pose graph (default)")
-                           : "After: heading correction (" + std::string(job.mapping.paper ? "paper" : "default") + ")";
-    const draw::Drawing compare = draw::DrawSideBySide(raw_map, lt, cor_map, rt);
-    compare.Write((fs::path(staging) / "map_compare.svg").string());
-    compare.Write((fs::path(staging) / "map_compare.png").string());
-    out.written.push_back("map_compare.svg");
-    out.written.push_back("map_compare.png");
-  }
   // The heading error per ASR against the truth, on the path as placed.
   if (job.outputs.heading && heading.asrs > 0) {
     draw::PlotHeadingErrors(heading).Write((fs::path(staging) / "heading_error.png").string());

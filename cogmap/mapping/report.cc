@@ -1,6 +1,7 @@
 #include "cogmap/mapping/report.h"
 
 #include <cmath>
+#include <map>
 #include <filesystem>
 
 #include "cogmap/core/angles.h"
@@ -100,11 +101,13 @@ nlohmann::json MakeReport(const ReportContext& c) {
   for (const auto& s : run.asrs) per_asr.push_back(AsrJson(s));
   // Per ASR of this run: its heading error against the truth (one global
   // rotation removed), when the log has ground truth.
+  std::map<int, std::vector<size_t>> entries_of;  // ASR id -> its entries in per_asr
+  for (size_t k = 0; k < run.asrs.size(); ++k) entries_of[run.asrs[k].id].push_back(k);
   for (const auto& e : c.heading->per_asr)
-    for (auto& j : per_asr)
-      if (j["id"].get<int>() == e.asr_id) {
-        j["heading_error_deg"] = RadToDeg(e.corrected_rad);
-        j["heading_error_raw_deg"] = RadToDeg(e.raw_rad);
+    if (auto it = entries_of.find(e.asr_id); it != entries_of.end())
+      for (size_t k : it->second) {
+        per_asr[k]["heading_error_deg"] = RadToDeg(e.corrected_rad);
+        per_asr[k]["heading_error_raw_deg"] = RadToDeg(e.raw_rad);
       }
   asr::StageBytes bytes;
   nlohmann::json seconds_all = nlohmann::json::array();

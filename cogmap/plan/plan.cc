@@ -371,6 +371,46 @@ std::vector<CellBox> LabelBoxes(const Labels& label, int n) {
   return b;
 }
 
+// The quarters (HalfCells) of the unlabelled cells beside a room, by tile of
+// 16 x 16 cells: per tile, a list of (cell in the tile, its four quarters)
+// sorted by cell. About 20 bytes a cell, where a hash map took some 56.
+class QuarterTable {
+  struct Entry {
+    uint8_t at;  // (y & 15) * 16 + (x & 15)
+    std::array<int, 4> q;
+  };
+  template <class V>
+  static auto Lower(V& t, uint8_t at) {
+    return std::lower_bound(t.begin(), t.end(), at, [](const Entry& e, uint8_t a) { return e.at < a; });
+  }
+
+ public:
+  QuarterTable(int w, int h) : tw_((w + 15) >> 4), tiles_(static_cast<size_t>(tw_) * ((h + 15) >> 4)) {}
+  // The cell's quarters, or nullptr when it has none.
+  const std::array<int, 4>* Find(int cx, int cy) const {
+    const std::vector<Entry>& t = tiles_[Tile(cx, cy)];
+    const auto it = Lower(t, At(cx, cy));
+    return it != t.end() && it->at == At(cx, cy) ? &it->q : nullptr;
+  }
+  // The cell's quarters, added as four -1 when it has none.
+  std::array<int, 4>& Get(int cx, int cy) {
+    std::vector<Entry>& t = tiles_[Tile(cx, cy)];
+    const uint8_t at = At(cx, cy);
+    auto it = Lower(t, at);
+    if (it == t.end() || it->at != at) it = t.insert(it, Entry{at, {-1, -1, -1, -1}});
+    return it->q;
+  }
+  void ShrinkToFit() {
+    for (auto& t : tiles_) t.shrink_to_fit();
+  }
+
+ private:
+  size_t Tile(int cx, int cy) const { return static_cast<size_t>(cy >> 4) * tw_ + (cx >> 4); }
+  static uint8_t At(int cx, int cy) { return static_cast<uint8_t>(((cy & 15) << 4) | (cx & 15)); }
+  int tw_;
+  std::vector<std::vector<Entry>> tiles_;
+};
+
 // The rooms on a lattice of half cells (site (i, j) is quarter (i & 1, j & 1)
 // of cell (i >> 1, j >> 1)): a labelled cell's four quarters carry its label;
 // a cell the flood left unlabelled (walls and door lines run through it, or no
@@ -382,7 +422,8 @@ std::vector<CellBox> LabelBoxes(const Labels& label, int n) {
 // site sets are disjoint by construction.
 class HalfCells {
  public:
-  HalfCells(const RoomGrid& g, Labels* label) : g_(g), label_(*label), w_(2 * g.w), h_(2 * g.h) {
+  HalfCells(const RoomGrid& g, Labels* label)
+      : g_(g), label_(*label), w_(2 * g.w), h_(2 * g.h), quarters_(g.w, g.h) {
     auto cell = [&](int x, int y) { return x < 0 || y < 0 || x >= g.w || y >= g.h ? -1 : label_.Get(x, y); };
     // Only cells within a tile of a labelled one can border a room.
     label_.ForEachNearStored([&](int cx, int cy) {
@@ -395,27 +436,27 @@ class HalfCells {
         q[k] = h >= 0 && v >= 0 ? std::min(h, v) : h >= 0 ? h : v;
         any = any || q[k] >= 0;
       }
-      if (any) quarters_[g.Idx(cx, cy)] = q;
+      if (any) quarters_.Get(cx, cy) = q;
     });
     // A quarter at a room's outer corner: both its outer neighbours took the
     // same room (so the room grows by a square, as a mitred buffer would).
     // Such a cell lies within two cells of a labelled one.
-    std::vector<std::pair<size_t, std::pair<int, int>>> corner;  // cell, quarter, label
+    struct Corner {
+      int cx, cy, k, r;
+    };
+    std::vector<Corner> corner;
     label_.ForEachNearStored([&](int cx, int cy) {
-      const size_t c = g.Idx(cx, cy);
       if (label_.Get(cx, cy) >= 0) return;
       for (int k = 0; k < 4; ++k) {
         if (Quarter(cx, cy, k) >= 0) continue;
         const int dx = (k & 1) ? 1 : -1, dy = (k & 2) ? 1 : -1;
         const int h = Quarter(cx + dx, cy, (k & 2) | (dx > 0 ? 0 : 1));
         const int v = Quarter(cx, cy + dy, (k & 1) | (dy > 0 ? 0 : 2));
-        if (h >= 0 && h == v) corner.push_back({c, {k, h}});
+        if (h >= 0 && h == v) corner.push_back({cx, cy, k, h});
       }
     });
-    for (const auto& [c, kr] : corner) {
-      auto it = quarters_.try_emplace(c, std::array<int, 4>{-1, -1, -1, -1}).first;
-      it->second[kr.first] = kr.second;
-    }
+    for (const Corner& c : corner) quarters_.Get(c.cx, c.cy)[c.k] = c.r;
+    quarters_.ShrinkToFit();
   }
   int w() const { return w_; }
   int h() const { return h_; }
@@ -426,13 +467,11 @@ class HalfCells {
   // A labelled cell moves whole (its four quarters are 4-connected and share
   // one label, so every region that holds one of them holds all four).
   void Set(int i, int j, int r) {
-    const size_t c = g_.Idx(i >> 1, j >> 1);
     if (label_.Get(i >> 1, j >> 1) >= 0) {
       label_.Set(i >> 1, j >> 1, r);
       return;
     }
-    auto it = quarters_.try_emplace(c, std::array<int, 4>{-1, -1, -1, -1}).first;
-    it->second[(j & 1) * 2 + (i & 1)] = r;
+    quarters_.Get(i >> 1, j >> 1)[(j & 1) * 2 + (i & 1)] = r;
   }
 
  private:
@@ -440,13 +479,13 @@ class HalfCells {
     if (cx < 0 || cy < 0 || cx >= g_.w || cy >= g_.h) return -1;
     const int l = label_.Get(cx, cy);
     if (l >= 0) return l;
-    auto it = quarters_.find(g_.Idx(cx, cy));
-    return it == quarters_.end() ? -1 : it->second[k];
+    const std::array<int, 4>* q = quarters_.Find(cx, cy);
+    return q ? (*q)[k] : -1;
   }
   const RoomGrid& g_;
   Labels& label_;
   int w_, h_;
-  std::unordered_map<size_t, std::array<int, 4>> quarters_;
+  QuarterTable quarters_;
 };
 
 // One room on a lattice box [x0, x1] x [y0, y1] (inclusive), with a frame of
@@ -1272,11 +1311,13 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
         hull_pts[r].push_back(g.ToFrame(p));
         int cx, cy;
         if (!g.Cell(p, &cx, &cy)) continue;
-        all_path[r].push_back(g.Idx(cx, cy));
+        // A cell repeated next in one room's list would flood nothing more: once.
+        const size_t idx = g.Idx(cx, cy);
+        if (all_path[r].empty() || all_path[r].back() != idx) all_path[r].push_back(idx);
         bool near_door = false;
         for (const DoorCand* d : own_doors)
           if (PointSegmentDistance(p, d->a, d->b) < o.seed_door_clearance_m) near_door = true;
-        if (!near_door) (*seeds)[r].push_back(g.Idx(cx, cy));
+        if (!near_door && ((*seeds)[r].empty() || (*seeds)[r].back() != idx)) (*seeds)[r].push_back(idx);
       }
     }
     for (int r = 0; r < n_rooms; ++r) {
