@@ -69,8 +69,10 @@ MapOptimizer::Node MapOptimizer::MakeNode(const asr::Asr& a) const {
   n.path_raw = a.path;
   n.walls = a.walls_local;
   n.faces = FaceWalls(a.walls_local, n.path_local);
-  n.samples = SampleFaces(n.faces, options_.registration.sample_step_m);
-  n.index = FaceIndex(n.faces, std::max(0.5, options_.loop_tolerance_m));
+  // The samples and the face index are made again when a loop closure needs
+  // them (TryLoopClosures, a few candidates per ASR) rather than kept for
+  // every ASR of the run.
+  n.sample_count = static_cast<int>(SampleFaces(n.faces, options_.registration.sample_step_m).size());
   // Centre and radius of everything the ASR holds (walls and path).
   Vec2 lo(1e18, 1e18), hi(-1e18, -1e18);
   auto grow = [&](const Vec2& p) {
@@ -195,7 +197,8 @@ std::vector<FacedPoint> MapOptimizer::InBox(const std::vector<FacedPoint>& pts, 
 
 void MapOptimizer::TryLoopClosures(int n) {
   Node& cur = nodes_[n];
-  if (cur.samples.size() < static_cast<size_t>(options_.min_matches)) return;
+  if (cur.sample_count < options_.min_matches) return;
+  const std::vector<FacedPoint> cur_samples = SampleFaces(cur.faces, options_.registration.sample_step_m);
   const Pose2 Tn = graph_.pose(n);
   const Vec2 cn = Tn * cur.centre_local;
   struct Cand {
@@ -205,7 +208,7 @@ void MapOptimizer::TryLoopClosures(int n) {
   std::vector<Cand> cands;
   for (int k = 0; k + 1 < n; ++k) {
     const Node& o = nodes_[k];
-    if (o.samples.size() < static_cast<size_t>(options_.min_matches)) continue;
+    if (o.sample_count < options_.min_matches) continue;
     const double var = std::max(0.0, cur.var_prefix - o.var_prefix) + 0.01;
     const double gate = options_.candidate_sigmas * std::sqrt(var);
     const double dist = (graph_.pose(k) * o.centre_local - cn).norm();
@@ -218,6 +221,8 @@ void MapOptimizer::TryLoopClosures(int n) {
   const double cos_max = options_.registration.max_normal_angle_rad;
   for (const Cand& c : cands) {
     const Node& o = nodes_[c.k];
+    const std::vector<FacedPoint> o_samples = SampleFaces(o.faces, options_.registration.sample_step_m);
+    const FaceIndex o_index(o.faces, std::max(0.5, options_.loop_tolerance_m));
     LoopClosure lc;
     lc.from_asr = o.asr_id;
     lc.to_asr = cur.asr_id;
@@ -236,7 +241,7 @@ void MapOptimizer::TryLoopClosures(int n) {
     const double hsig = std::sqrt(cur.heading_var + o.heading_var) + DegToRad(1.0);
     const double hrange = std::min(options_.candidate_sigmas * hsig, options_.max_search_rad);
     std::vector<FacedPoint> coarse;
-    for (size_t i = 0; i < cur.samples.size(); i += 3) coarse.push_back(cur.samples[i]);
+    for (size_t i = 0; i < cur_samples.size(); i += 3) coarse.push_back(cur_samples[i]);
     struct Start {
       Pose2 pose;
       double score;
@@ -253,7 +258,7 @@ void MapOptimizer::TryLoopClosures(int n) {
           const Pose2 start = Pose2{dx, dy, 0.0} * rot * guess;
           // Matched samples (not a fraction): two long ASRs overlap only in part.
           const double score =
-              o.index.Agreement(o.faces, TransformPoints(start, coarse), options_.loop_tolerance_m, cos_max) *
+              o_index.Agreement(o.faces, TransformPoints(start, coarse), options_.loop_tolerance_m, cos_max) *
               static_cast<double>(coarse.size());
           starts.push_back({start, score});
         }
@@ -275,8 +280,8 @@ void MapOptimizer::TryLoopClosures(int n) {
       if (!reg.converged || reg.matches < options_.min_matches) continue;
       // Agreement where the two overlap: the samples of each that fall in the
       // other's box (walls the other could have seen).
-      const auto pts_in_o = InBox(TransformPoints(reg.target_from_source, cur.samples), o);
-      const auto o_in_cur = InBox(TransformPoints(reg.target_from_source.inverse(), o.samples), cur);
+      const auto pts_in_o = InBox(TransformPoints(reg.target_from_source, cur_samples), o);
+      const auto o_in_cur = InBox(TransformPoints(reg.target_from_source.inverse(), o_samples), cur);
       if (static_cast<int>(std::min(pts_in_o.size(), o_in_cur.size())) < options_.min_matches) continue;
       const double a1 = AgreementFraction(o.faces, pts_in_o, options_.loop_tolerance_m, cos_max);
       const double a2 = AgreementFraction(cur.faces, o_in_cur, options_.loop_tolerance_m, cos_max);

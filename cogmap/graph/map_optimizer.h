@@ -153,8 +153,7 @@ class MapOptimizer {
     int asr_id;
     Pose2 raw;                       // world_from_local_raw
     std::vector<FacedSegment> faces; // local frame
-    std::vector<FacedPoint> samples; // local frame
-    FaceIndex index;                 // of faces, for the loop-closure search
+    int sample_count = 0;            // SampleFaces(faces): made again when a loop closure needs them
     std::vector<Vec2> path_local;    // robot path, local frame, every ~0.2 m
     std::vector<Pose2> path_raw;     // raw path (world raw), for the odometry factor
     std::vector<Polyline> walls;     // local frame, as mapped

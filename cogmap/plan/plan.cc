@@ -166,6 +166,7 @@ std::vector<Vec2> ConvexHull(std::vector<Vec2> pts) {
     h[k++] = pts[i];
   }
   h.resize(k - 1);
+  h.shrink_to_fit();  // kept per room while the rooms flood
   return h;  // counter-clockwise
 }
 
@@ -1388,7 +1389,13 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
 
   // Pass 2: the plan rooms.
   build_regions(plan_of_unit, n_plan, &seeds, &hulls);
+  // The paths and walls have served (the seeds and hulls carry what the flood
+  // needs), then the seeds and hulls: freed before the polygons are traced.
+  std::vector<std::vector<Vec2>>().swap(path);
+  std::vector<std::vector<Polyline>>().swap(walls);
   Labels label = Flood(g, door_mask(plan_of_unit), seeds, hulls);
+  std::vector<std::vector<size_t>>().swap(seeds);
+  std::vector<std::vector<Vec2>>().swap(hulls);
 
   // ---------------------------------------------------------------- room polygons
   std::vector<Room> rooms(n_plan);
