@@ -1,4 +1,7 @@
+// The MRPT rawlog reader and writer: the module libcogmap_io_mrpt.so
+// (plugin_api.h), loaded by plugins.cc when a rawlog is read or written.
 #include "cogmap/io/mrpt_rawlog.h"
+#include "cogmap/io/plugin_api.h"
 
 #include <mrpt/core/Clock.h>
 #include <mrpt/io/CFileGZInputStream.h>
@@ -351,14 +354,12 @@ class RawlogReader : public LogReader {
   std::vector<LogContent> contents_;
 };
 
-}  // namespace
-
-std::unique_ptr<LogReader> OpenMrptRawlog(const std::string& path, const LogOpenOptions& options) {
+std::unique_ptr<LogReader> OpenRawlog(const std::string& path, const LogOpenOptions& options) {
   return std::make_unique<RawlogReader>(path, options);
 }
 
-long WriteMrptRawlog(const std::string& path, const sensors::RobotDescription& robot,
-                     const std::function<bool(sensors::LogRecord*)>& next) {
+long WriteRawlog(const std::string& path, const sensors::RobotDescription& robot,
+                 const std::function<bool(sensors::LogRecord*)>& next) {
   const auto fans = LaserFans(robot);
   std::vector<int> fan_of(robot.sensors.size(), -1);
   for (size_t f = 0; f < fans.size(); ++f)
@@ -447,25 +448,11 @@ long WriteMrptRawlog(const std::string& path, const sensors::RobotDescription& r
   return records;
 }
 
-bool LooksLikeMrptRawlogHead(std::string_view head) {
-  if (head.size() < 2 || !(static_cast<unsigned char>(head[0]) & 0x80)) return false;
-  const size_t len = static_cast<unsigned char>(head[0]) & 0x7F;
-  if (len < 2 || len + 1 > head.size()) return false;
-  // MRPT 2 writes "mrpt::obs::CObservationOdometry", MRPT 1 "CObservationOdometry".
-  const std::string_view name = head.substr(1, len);
-  if (name[0] != 'C' && name.rfind("mrpt::", 0) != 0) return false;
-  for (char c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != ':') return false;
-  return true;
-}
-
-bool LooksLikeMrptRawlog(const std::string& path) {
-  gzFile f = gzopen(path.c_str(), "rb");
-  if (!f) return false;
-  char head[130];
-  const int n = gzread(f, head, sizeof head);
-  gzclose(f);
-  return n > 0 && LooksLikeMrptRawlogHead(std::string_view(head, static_cast<size_t>(n)));
-}
-
+}  // namespace
 }  // namespace cogmap::io
+
+extern "C" __attribute__((visibility("default"))) const cogmap::io::plugin::MrptTable* cogmap_io_mrpt_table() {
+  static const cogmap::io::plugin::MrptTable table{cogmap::io::plugin::kPluginAbi, COGMAP_VERSION,
+                                                   &cogmap::io::OpenRawlog, &cogmap::io::WriteRawlog};
+  return &table;
+}

@@ -24,9 +24,9 @@ long WriteRosAriaBag(const std::string& path, const sensors::RobotDescription& r
   const std::string tmp = path + ".partial";
   long records = 0;
   try {
-    msg::Ros1BagWriter bag(tmp);
-    records = msg::WriteRosAriaMessages(path, robot, next, bag);
-    bag.Close();
+    const std::unique_ptr<msg::BagWriter> bag = msg::MakeRos1BagWriter(tmp);
+    records = msg::WriteRosAriaMessages(path, robot, next, *bag);
+    bag->Close();
   } catch (...) {
     std::remove(tmp.c_str());
     throw;

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "cogmap/core/error.h"
+#include "cogmap/io/plugin_api.h"
 #include "cogmap/io/ros1_messages.h"
 #include "cogmap/io/ros_messages.h"
 
@@ -143,13 +144,21 @@ class Ros1Source : public ros::BagSource {
   uint32_t total_ = 0, done_ = 0;
 };
 
-}  // namespace
+// Writes a ROS 1 bag: LaserScan, PointCloud (as sensor_msgs/PointCloud),
+// Odometry and TfMessage (as tf2_msgs/TFMessage). The bag time of a message
+// is its time_ns, at least 1 ns (rosbag refuses 0).
+class Ros1BagWriter : public BagWriter {
+ public:
+  explicit Ros1BagWriter(const std::string& path);
+  void Write(const std::string& topic, int64_t time_ns, const Message& message) override;
+  void Close() override;
 
-std::unique_ptr<BagSource> OpenRos1BagSource(const std::string& path) { return std::make_unique<Ros1Source>(path); }
-
-struct Ros1BagWriter::Impl {
-  std::string path;
-  rosbag::Bag bag;
+ private:
+  struct Impl {
+    std::string path;
+    rosbag::Bag bag;
+  };
+  std::unique_ptr<Impl> impl_;
 };
 
 Ros1BagWriter::Ros1BagWriter(const std::string& path) : impl_(std::make_unique<Impl>()) {
@@ -160,8 +169,6 @@ Ros1BagWriter::Ros1BagWriter(const std::string& path) : impl_(std::make_unique<I
     throw InputError(path + ": cannot write the bag (" + std::string(e.what()) + ")");
   }
 }
-
-Ros1BagWriter::~Ros1BagWriter() = default;
 
 void Ros1BagWriter::Write(const std::string& topic, int64_t time_ns, const Message& message) {
   const ::ros::Time when = std::max(RosTime(time_ns), ::ros::TIME_MIN);
@@ -223,4 +230,14 @@ void Ros1BagWriter::Close() {
   }
 }
 
+std::unique_ptr<BagSource> OpenSource(const std::string& path) { return std::make_unique<Ros1Source>(path); }
+std::unique_ptr<BagWriter> MakeWriter(const std::string& path) { return std::make_unique<Ros1BagWriter>(path); }
+
+}  // namespace
 }  // namespace cogmap::io::ros
+
+extern "C" __attribute__((visibility("default"))) const cogmap::io::plugin::Ros1Table* cogmap_io_ros1_table() {
+  static const cogmap::io::plugin::Ros1Table table{cogmap::io::plugin::kPluginAbi, COGMAP_VERSION,
+                                                   &cogmap::io::ros::OpenSource, &cogmap::io::ros::MakeWriter};
+  return &table;
+}

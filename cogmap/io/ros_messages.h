@@ -116,8 +116,9 @@ class BagSource {
 double YawOf(const Transform3& t);
 Transform3 FromPose2(double x, double y, double yaw_rad);
 
-// ROS 1 bags through rosbag_storage (ros1_bag_source.cc). Opening throws
-// InputError naming the file for a bag rosbag cannot open.
+// ROS 1 bags through rosbag_storage (ros1_bag_source.cc, in the module
+// plugin_api.h loads). Opening throws InputError naming the file for a bag
+// rosbag cannot open.
 std::unique_ptr<BagSource> OpenRos1BagSource(const std::string& path);
 
 // A bag being written, message by message (ROS 1 or ROS 2).
@@ -129,21 +130,10 @@ class BagWriter {
   virtual void Close() = 0;
 };
 
-// Writes a ROS 1 bag: LaserScan, PointCloud (as sensor_msgs/PointCloud),
-// Odometry and TfMessage (as tf2_msgs/TFMessage). The bag time of a message
-// is its time_ns, at least 1 ns (rosbag refuses 0).
-class Ros1BagWriter : public BagWriter {
- public:
-  explicit Ros1BagWriter(const std::string& path);
-  ~Ros1BagWriter() override;
-  Ros1BagWriter(const Ros1BagWriter&) = delete;
-  Ros1BagWriter& operator=(const Ros1BagWriter&) = delete;
-  void Write(const std::string& topic, int64_t time_ns, const Message& message) override;
-  void Close() override;
-
- private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
-};
+// Writes a ROS 1 bag (ros1_bag_source.cc, in the module plugin_api.h
+// loads): LaserScan, PointCloud (as sensor_msgs/PointCloud), Odometry and
+// TfMessage (as tf2_msgs/TFMessage). The bag time of a message is its time_ns,
+// at least 1 ns (rosbag refuses 0).
+std::unique_ptr<BagWriter> MakeRos1BagWriter(const std::string& path);
 
 }  // namespace cogmap::io::ros
