@@ -304,8 +304,8 @@ def main(argv=None, smoke_default=False):
             r["map_report"] = {k: v for k, v in rep_.items() if not isinstance(v, (list, dict))}
     with open(os.path.join(docs, "benchmarks", "results.json"), "w") as f:
         json.dump(results, f, indent=1, default=str)
-    md = report.Report(results).markdown()
     md_path = os.path.join(docs, "BENCHMARKS.md")
+    md = keep_hand_sections(report.Report(results).markdown(), md_path)
     with open(md_path, "w") as f:
         f.write(md)
     log(f"wrote {md_path} and {os.path.join(docs, 'benchmarks', 'results.json')} "
@@ -314,6 +314,43 @@ def main(argv=None, smoke_default=False):
     if args.smoke:
         return smoke_check(results)
     return 0
+
+
+def _sections(md):
+    """[(heading or None for the text before the first '## '), text], in order."""
+    out, title, lines = [], None, []
+    for line in md.splitlines(keepends=True):
+        if line.startswith("## "):
+            out.append((title, "".join(lines)))
+            title, lines = line[3:].strip(), []
+        lines.append(line)
+    out.append((title, "".join(lines)))
+    return out
+
+
+def keep_hand_sections(md, old_path):
+    """The generated markdown, plus every '## ' section of the existing file
+    that the suite does not write (measured by hand: reading speeds, memory,
+    ...), in their old order, before '## Figures'."""
+    try:
+        with open(old_path) as f:
+            old = _sections(f.read())
+    except OSError:
+        return md
+    new = _sections(md)
+    generated = {t for t, _ in new if t}
+    kept = [text.rstrip("\n") + "\n\n" for t, text in old if t and t not in generated]
+    if not kept:
+        return md
+    out, placed = [], False
+    for t, text in new:
+        if t == "Figures" and not placed:
+            out += kept
+            placed = True
+        out.append(text)
+    if not placed:
+        out += kept
+    return "".join(out)
 
 
 def smoke_check(results):
