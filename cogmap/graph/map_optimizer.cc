@@ -604,16 +604,36 @@ OptimizerResult MapOptimizer::Finish() {
   // least min_dof_to_shrink degrees of freedom.
   t0 = std::chrono::steady_clock::now();
   std::vector<Eigen::Matrix3d> cov;
+  double cov_chi2 = res.chi2;  // chi-square of the model the covariances come from
   if (res.solution != "odometry") {
     // With the rates free even when the test kept them at zero: an
     // undetected drift is still a possible one, and the sigmas must say so.
     const bool zero = !res.drift_detected;
     if (zero) graph_.SetRatesFixedAtZero(false);
+    // The fitted sigma factors may shrink a kind of factor below its noise
+    // model for the estimate; for the covariance they only inflate it. A
+    // group's residuals are small where nothing else measures the same
+    // relative pose (a chain without loops, a corridor's length), which says
+    // nothing about the noise there (the global redundancy share cannot tell).
+    const FactorKind kinds[] = {FactorKind::kOdometry, FactorKind::kDirection, FactorKind::kRegistration,
+                                FactorKind::kLoopClosure};
+    std::map<FactorKind, double> fitted;
+    if (options_.covariance_sigma_floor) {
+      for (FactorKind k : kinds) {
+        fitted[k] = graph_.SigmaFactor(k);
+        graph_.SetSigmaFactor(k, std::max(1.0, fitted[k]));
+      }
+      // The variance factor below then belongs to the same (floored) model.
+      cov_chi2 = 0.0;
+      for (const auto& r : graph_.Residuals())
+        if (r.enabled) cov_chi2 += r.chi2;
+    }
     cov = graph_.Covariances();
+    for (const auto& [k, f] : fitted) graph_.SetSigmaFactor(k, f);
     if (zero) graph_.SetRatesFixedAtZero(true);
   }
   res.covariance_seconds = Seconds(t0);
-  const double factor = res.chi2 / res.chi2_dof;
+  const double factor = cov_chi2 / res.chi2_dof;
   const double inflate =
       res.chi2_dof >= options_.min_dof_to_shrink ? std::max(options_.min_variance_factor, factor) : std::max(1.0, factor);
   res.variance_factor = inflate;

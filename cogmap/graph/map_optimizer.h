@@ -63,6 +63,8 @@ struct MapOptimizerOptions {
   // A-posteriori variance factor on the covariances (see Finish).
   int min_dof_to_shrink = 10;
   double min_variance_factor = 0.25;
+  // Covariances with every fitted sigma factor at least 1 (see Finish()).
+  bool covariance_sigma_floor = true;
 };
 
 struct LoopClosure {

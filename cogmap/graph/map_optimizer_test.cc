@@ -97,6 +97,39 @@ TEST(MapOptimizer, SquareLoopWithKnownDriftCloses) {
   EXPECT_GT(raw_err, 1.0);  // the odometry alone is far off
 }
 
+// Exact synthetic walls and odometry leave residuals near zero, and the
+// variance components fitted to them shrink each kind of factor's sigma. An
+// open chain (no loop) cannot tell the noise of one kind from another's, so
+// the reported covariances use the fitted factors only where they inflate
+// (the fit serves the estimate): no smaller than with nothing fitted. Without
+// that floor they are smaller, here.
+TEST(MapOptimizer, FittedSigmaFactorsNeverShrinkTheCovariances) {
+  std::vector<Visit> visits;  // fourteen 4 x 4 m rooms in a row
+  for (int i = 0; i < 14; ++i)
+    visits.push_back({Box(4.0 * i - 2, -2, 4.0 * i + 2, 2), Pose2{i == 0 ? 0.0 : 4.0 * i - 2, 0.0, 0.0}});
+  const auto asrs = Simulate(visits, DegToRad(1.0));
+  auto solve = [&asrs](const MapOptimizerOptions& o) {
+    MapOptimizer opt(o);
+    for (const auto& a : asrs) opt.Place(a);
+    return opt.Finish();
+  };
+  MapOptimizerOptions unfitted;  // the noise model as it is
+  unfitted.variance_rounds = 0;
+  MapOptimizerOptions unfloored;
+  unfloored.covariance_sigma_floor = false;
+  const OptimizerResult p = solve(unfitted), f = solve({}), u = solve(unfloored);
+  ASSERT_EQ(p.asrs.size(), asrs.size());
+  ASSERT_EQ(f.asrs.size(), asrs.size());
+  ASSERT_EQ(u.asrs.size(), asrs.size());
+  EXPECT_LT(std::min(f.odometry_sigma_factor, f.registration_sigma_factor), 1.0);  // the fit did shrink
+  auto sigma = [](const AsrEstimate& e) { return std::sqrt(e.covariance(0, 0) + e.covariance(1, 1)); };
+  for (size_t i = 1; i < asrs.size(); ++i) {
+    EXPECT_GE(sigma(f.asrs[i]), 0.999 * sigma(p.asrs[i])) << i;
+    EXPECT_GE(std::sqrt(f.asrs[i].covariance(2, 2)), 0.999 * std::sqrt(p.asrs[i].covariance(2, 2))) << i;
+  }
+  EXPECT_LT(sigma(u.asrs.back()), 0.9 * sigma(p.asrs.back()));
+}
+
 TEST(MapOptimizer, IdenticalRoomsFarApartAreNotMerged) {
   // Room A, a connecting room, then room C, identical to A, 8 m on. The
   // odometry is declared so poor (0.5 m per sqrt(m)) that C is a candidate
