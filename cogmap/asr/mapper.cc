@@ -183,7 +183,9 @@ void CognitiveMapper::Push(const sensors::LogRecord& input) {
   if (!current_) {
     std::optional<Exit> entry;
     if (resumed_ && resume_.previous_asr && stats_.asr_count == 0) {
-      entry = Exit{record.odom.translation(), 0.0, *resume_.previous_asr, next_id_};
+      entry = resume_.leaving_exit ? Exit{resume_.leaving_exit->center_m, resume_.leaving_exit->width_m,
+                                          *resume_.previous_asr, next_id_}
+                                   : Exit{record.odom.translation(), 0.0, *resume_.previous_asr, next_id_};
     }
     Start(record.odom, record.time_s, entry);
   }

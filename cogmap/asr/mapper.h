@@ -33,7 +33,11 @@ struct MapperOptions {
 // Continuing a run into an existing store (cogmap map --resume).
 struct MapperResume {
   int next_id = 0;                 // the first new ASR's id (store MaxId() + 1)
-  std::optional<int> previous_asr; // linked to the first new ASR by a width-0 exit
+  // Linked to the first new ASR: through 'leaving_exit' when the stored run
+  // left it through a doorway (a run killed after a cut: the exit it was left
+  // by, stored with it), else by a width-0 exit where the new log starts.
+  std::optional<int> previous_asr;
+  std::optional<Exit> leaving_exit;
   // Where the stored run ended (raw world frame): the new log's first odometry
   // pose is taken to be this pose, and every later one follows by dead reckoning.
   std::optional<Pose2> last_raw_pose;

@@ -179,7 +179,11 @@ void MappingPipeline::Resume() {
   std::optional<double> reference;
   if (last >= 0) {
     r.previous_asr = last;
-    carried = localize::CorrectionOf(*store_->Get(last));
+    const auto last_asr = store_->Get(last);
+    carried = localize::CorrectionOf(*last_asr);
+    // A run killed after a cut stored the exit it left the last ASR by.
+    for (const asr::Exit& e : last_asr->exits)
+      if (e.from_asr == last && e.to_asr == r.next_id) r.leaving_exit = e;
     for (int id : store_->Ids()) {  // one ASR at a time: the first accepted one sets it
       reference = localize::ReferenceDirection({*store_->Get(id)}, heading_options_);
       if (reference) break;

@@ -234,6 +234,15 @@ TEST(MappingPipeline, ResumeAfterAKillKeepsTheRunsLoopClosuresAndRooms) {
   // The join costs at most an ASR (the robot restarts at the last close, not at the door).
   EXPECT_NEAR(store->Count(), whole->Count(), 1);
   EXPECT_NEAR(static_cast<double>(RoomCount(*store)), static_cast<double>(RoomCount(*whole)), 1.0);
+  // The join goes through the doorway the killed run left its last ASR by,
+  // as in the uninterrupted run (not a width-0 exit where the tail starts).
+  bool joined = false;
+  for (const auto& e : store->Edges())
+    if (e.from_asr == kill_after && e.to_asr == kill_after + 1) {
+      joined = true;
+      EXPECT_GT(e.width_m, 0.5);
+    }
+  EXPECT_TRUE(joined);
   // The ASRs placed again end where the uninterrupted run put them.
   for (int id = 0; id <= kill_after; ++id) {
     const Pose2 a = store->Get(id)->world_from_local_corrected, b = whole->Get(id)->world_from_local_corrected;
