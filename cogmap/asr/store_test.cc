@@ -182,6 +182,19 @@ TEST(SqliteAsrStore, PlacementsAndClosuresRoundTrip) {
   EXPECT_EQ(s->IntegrityCheck(), "ok");
 }
 
+// Turns a store back into what an older cogmap wrote: 'sql' drops the newer
+// tables, then the version is set.
+void DowngradeStore(const std::string& path, const std::string& sql, int version) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  const std::string v = std::to_string(version);
+  ASSERT_EQ(sqlite3_exec(db, (sql + "; PRAGMA user_version=" + v + "; UPDATE meta SET value='" + v +
+                              "' WHERE key='schema_version'").c_str(),
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+}
+
 TEST(SqliteAsrStore, VersionOneStoreIsMigrated) {
   const std::string path = TempDir("v1") + "/map.sqlite";
   {
@@ -189,13 +202,7 @@ TEST(SqliteAsrStore, VersionOneStoreIsMigrated) {
     for (int i = 0; i < 2; ++i) s->Put(MakeAsr(i));
   }
   // Back to what version 1 wrote: no placement / closure tables.
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db, "DROP TABLE placement; DROP TABLE closure; DROP TABLE orientation; PRAGMA user_version=1; "
-                             "UPDATE meta SET value='1' WHERE key='schema_version'",
-                         nullptr, nullptr, nullptr),
-            SQLITE_OK);
-  sqlite3_close(db);
+  DowngradeStore(path, "DROP TABLE placement; DROP TABLE closure; DROP TABLE orientation", 1);
   {
     // Read-only: read as it is.
     auto r = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
@@ -229,13 +236,7 @@ TEST(SqliteAsrStore, VersionTwoStoreIsMigratedAndOrientationsRoundTrip) {
     EXPECT_EQ(back.grid_orientation.contrast, 3.5);
     EXPECT_EQ(back.grid_orientation.cells, 812);
   }
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db, "DROP TABLE orientation; PRAGMA user_version=2; "
-                             "UPDATE meta SET value='2' WHERE key='schema_version'",
-                         nullptr, nullptr, nullptr),
-            SQLITE_OK);
-  sqlite3_close(db);
+  DowngradeStore(path, "DROP TABLE orientation", 2);
   {
     auto r = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
     const Asr back = *r->Get(0);

@@ -72,22 +72,22 @@ const Table* LoadTable(const std::string& name, const char* symbol, const std::s
                            "; looked in " + tried + "; COGMAP_PLUGIN_DIR overrides)");
 }
 
-const plugin::Ros1Table& Ros1() {
+// The table of one module, loaded once (one module per table type); a
+// failed load is tried again at the next call.
+template <class Table>
+const Table& Loaded(const char* name, const char* symbol, const char* what) {
   static std::once_flag once;
-  static const plugin::Ros1Table* table = nullptr;
-  std::call_once(once, [] {
-    table = LoadTable<plugin::Ros1Table>("cogmap_io_ros1", "cogmap_io_ros1_table", "read or write ROS 1 bags");
-  });
+  static const Table* table = nullptr;
+  std::call_once(once, [&] { table = LoadTable<Table>(name, symbol, what); });
   return *table;
 }
 
+const plugin::Ros1Table& Ros1() {
+  return Loaded<plugin::Ros1Table>("cogmap_io_ros1", "cogmap_io_ros1_table", "read or write ROS 1 bags");
+}
+
 const plugin::MrptTable& Mrpt() {
-  static std::once_flag once;
-  static const plugin::MrptTable* table = nullptr;
-  std::call_once(once, [] {
-    table = LoadTable<plugin::MrptTable>("cogmap_io_mrpt", "cogmap_io_mrpt_table", "read or write MRPT rawlogs");
-  });
-  return *table;
+  return Loaded<plugin::MrptTable>("cogmap_io_mrpt", "cogmap_io_mrpt_table", "read or write MRPT rawlogs");
 }
 
 }  // namespace
