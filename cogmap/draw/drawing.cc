@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <sstream>
 #include <stdexcept>
 
 #include "cogmap/core/error.h"
@@ -64,8 +65,9 @@ cairo_t* MeasureContext() {
 }
 
 cairo_status_t AppendBytes(void* closure, const unsigned char* data, unsigned int length) {
-  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
-  return CAIRO_STATUS_SUCCESS;
+  std::ostream& out = *static_cast<std::ostream*>(closure);
+  out.write(reinterpret_cast<const char*>(data), length);
+  return out ? CAIRO_STATUS_SUCCESS : CAIRO_STATUS_WRITE_ERROR;
 }
 
 void CheckStatus(cairo_status_t status, const char* what) {
@@ -247,14 +249,14 @@ void Drawing::Replay(cairo_t* cr) const {
   }
 }
 
-std::string Drawing::Encode(Format format) const {
-  std::string bytes;
+void Drawing::EncodeTo(Format format, std::ostream& out) const {
+  std::ostream* bytes = &out;  // cairo writes through AppendBytes as it goes
   cairo_surface_t* surface = nullptr;
   if (format == Format::kSvg) {
-    surface = cairo_svg_surface_create_for_stream(AppendBytes, &bytes, width_, height_);
+    surface = cairo_svg_surface_create_for_stream(AppendBytes, bytes, width_, height_);
     cairo_svg_surface_set_document_unit(surface, CAIRO_SVG_UNIT_PX);
   } else if (format == Format::kPdf) {
-    surface = cairo_pdf_surface_create_for_stream(AppendBytes, &bytes, width_, height_);
+    surface = cairo_pdf_surface_create_for_stream(AppendBytes, bytes, width_, height_);
     cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATOR, "cogmap");
   } else {
     int w = 0, h = 0;
@@ -268,17 +270,22 @@ std::string Drawing::Encode(Format format) const {
   cairo_destroy(cr);
   if (format == Format::kPng && drawn == CAIRO_STATUS_SUCCESS) {
     cairo_surface_flush(surface);
-    const cairo_status_t written = cairo_surface_write_to_png_stream(surface, AppendBytes, &bytes);
+    const cairo_status_t written = cairo_surface_write_to_png_stream(surface, AppendBytes, bytes);
     cairo_surface_destroy(surface);
     CheckStatus(written, "PNG");
-    return bytes;
+    return;
   }
   cairo_surface_finish(surface);
   const cairo_status_t finished = cairo_surface_status(surface);
   cairo_surface_destroy(surface);
   CheckStatus(drawn, "drawing");
   CheckStatus(finished, "finishing");
-  return bytes;
+}
+
+std::string Drawing::Encode(Format format) const {
+  std::ostringstream bytes;
+  EncodeTo(format, bytes);
+  return std::move(bytes).str();
 }
 
 io::RgbImage Drawing::Rasterize() const {
@@ -305,7 +312,16 @@ io::RgbImage Drawing::Rasterize() const {
 
 void Drawing::Write(const std::string& path) const {
   const Format format = FormatOfPath(path);
-  io::WriteFileAtomically(path, Encode(format));
+  // Streamed into the file as cairo writes it: a 1000-room map.svg is some
+  // 16 MB, which a string would hold (and double while growing).
+  io::WriteFileAtomically(path, [&](std::ostream& out) {
+    try {
+      EncodeTo(format, out);
+    } catch (const std::runtime_error&) {
+      if (!out) throw InputError(path, 0, "write failed (disk full?)");  // cairo's stream error, said as the file's
+      throw;
+    }
+  });
 }
 
 }  // namespace cogmap::draw

@@ -6,6 +6,7 @@
 // Every picture of cogmap is made of one of these (docs/pictures.md).
 #include <functional>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -91,6 +92,8 @@ class Drawing {
   // The drawing as file bytes: SVG (units px), PNG (8-bit RGB, ceil(width) x
   // ceil(height) pixels) or PDF (1 px = 1 pt).
   std::string Encode(Format format) const;
+  // The same, written to 'out' as cairo produces it.
+  void EncodeTo(Format format, std::ostream& out) const;
   // Rasterised as the PNG would be.
   io::RgbImage Rasterize() const;
   // Writes the format the extension names, atomically (io::WriteFileAtomically).
