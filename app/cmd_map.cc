@@ -22,7 +22,7 @@ namespace {
 
 struct MapArgs {
   mapping::MapJob job;  // most options bind to its fields
-  std::string mode = "default", boundary = "doorway", outputs = "default", geo_anchor;
+  std::string mode = "default", boundary = "doorway", outputs = "default", geo_anchor, walls = "default";
   bool no_correct = false, no_drift_filter = false, no_graph = false, no_smooth = false;
   double add_drift_deg_per_m = 0.0;
   std::vector<std::string> topics;
@@ -34,6 +34,9 @@ int RunMap(MapArgs& a) {
   if (a.boundary != "doorway" && a.boundary != "fixed")
     throw InputError("--boundary " + a.boundary + ": expected doorway or fixed");
   job.mapping.paper = a.mode == "paper";
+  if (a.walls != "default" && a.walls != "lines" && a.walls != "chains")
+    throw InputError("--walls " + a.walls + ": expected lines or chains");
+  if (a.walls != "default") job.mapping.wall_lines = a.walls == "lines";
   job.mapping.boundary = a.boundary == "fixed" ? asr::BoundaryMode::kFixedLength : asr::BoundaryMode::kDoorway;
   job.mapping.correct = !a.no_correct;
   job.mapping.pose_graph = !a.no_graph;
@@ -82,6 +85,10 @@ std::function<int()> SetupMap(CLI::App& sub) {
   sub.add_option("--max-asr", a->job.mapping.max_asr_m,
                  "Default mode, doorway boundaries: cut a space after this many metres of driving without a "
                  "doorway or corridor cut (0 = never, as in paper mode)")
+      ->capture_default_str();
+  sub.add_option("--walls", a->walls,
+                 "Default mode: how each room's walls are found: lines (lines in the cleaned cells, docs/walls.md) "
+                 "or chains (the thesis's chain simplify and fit); paper mode always uses chains")
       ->capture_default_str();
   sub.add_flag("--no-correct", a->no_correct, "Skip every correction: ASRs placed by odometry");
   sub.add_flag("--no-smooth", a->no_smooth,

@@ -21,6 +21,7 @@ struct VectorizeArgs {
   mapping::VectorizeJob job;  // the options bind to its fields
   std::string mode = "default";
   std::string keep;
+  std::string walls = "default";
 };
 
 int RunVectorize(VectorizeArgs& a) {
@@ -31,6 +32,9 @@ int RunVectorize(VectorizeArgs& a) {
   if (a.keep == "face") job.keep = vectorize::KeepCell::kFace;
   else if (a.keep == "middle") job.keep = vectorize::KeepCell::kRunMiddle;
   else if (!a.keep.empty()) throw InputError("--keep " + a.keep + ": expected face or middle");
+  if (a.walls != "default" && a.walls != "lines" && a.walls != "chains")
+    throw InputError("--walls " + a.walls + ": expected lines or chains");
+  if (a.walls != "default") job.wall_lines = a.walls == "lines";
   ProgressBar bar("vectorize");
   job.progress = [&bar](double f) { bar.Update(f); };
   job.notice = [&bar](const std::string& s) {
@@ -77,6 +81,10 @@ std::function<int()> SetupVectorize(CLI::App& sub) {
                  "squares, rotation-invariant test, corners closed)")
       ->capture_default_str();
   sub.add_flag("--truth", a->job.use_truth, "Fuse at the log's ground-truth poses instead of odometry");
+  sub.add_option("--walls", a->walls,
+                 "Default mode: lines (walls as lines in the cleaned cells, docs/walls.md) or chains (the "
+                 "thesis's simplify and fit); paper mode always uses chains")
+      ->capture_default_str();
   sub.add_option("--keep", a->keep,
                  "Cell a wall keeps when cleaned: face (the paper) or middle (of the band behind the "
                  "face; the default mode's)");

@@ -71,11 +71,25 @@ bool LaserOnly(const sensors::RobotDescription& robot) {
                      [](const auto& s) { return s.kind == sensors::SensorKind::kLaser; });
 }
 
+void ConfigureWallLines(const sensors::RobotDescription& robot, bool on, vectorize::VectorizeOptions* v) {
+  v->wall_lines = on;
+  double half = 0.0;
+  for (const auto& s : robot.sensors) half = std::max(half, 0.5 * s.beam_width_rad);
+  v->lines.beam_half_width_rad = half;
+  v->lines.max_range_cells = v->clean.max_dist_cells;
+  v->lines.path_clearance_m = robot.radius_m;
+  // A sonar's cleaned faces hold the smear of door jambs in front of the
+  // wall; the whole band holds the wall behind it. A laser's hits are the
+  // wall's surface, which the cleaning keeps.
+  v->lines.all_occupied = !LaserOnly(robot);
+}
+
 asr::MapperOptions MapperOptionsFor(const sensors::RobotDescription& robot, const MappingOptions& o) {
   asr::MapperOptions m;
   m.cell_m = o.cell_m;
   m.mhimm.window_m = o.window_m;
   m.vectorize = o.paper ? vectorize::VectorizeOptions::Paper() : vectorize::VectorizeOptions{};
+  if (!o.paper) ConfigureWallLines(robot, o.wall_lines, &m.vectorize);
   m.boundary.mode = o.boundary;
   m.boundary.asr_length_m = o.asr_length_m;
   // Default mode also bounds how far an ASR runs without a doorway (a hall, a

@@ -45,6 +45,9 @@ struct MappingOptions {
   bool drift_filter = true;            // without the graph: the drift-rate filter
   bool smooth = true;                  // drift filter: revise the run's corrections at the end
   double add_drift_rad_per_m = 0.0;    // a systematic heading drift added to the odometry (tests on real logs)
+  // Default mode: walls as lines in each room's cleaned cells (docs/walls.md);
+  // false: the chain pipeline (simplify + fit). Paper mode: always the chains.
+  bool wall_lines = false;
 
   // Throws InputError naming the option when a value is out of range.
   void Validate() const;
@@ -152,6 +155,10 @@ class MappingPipeline {
 // The mapper options a MappingOptions implies for a robot (exposed for tools
 // that build the mapper themselves, e.g. benchmarks).
 asr::MapperOptions MapperOptionsFor(const sensors::RobotDescription& robot, const MappingOptions& options);
+
+// Turns the line extraction of the walls on or off in 'v' and sets its sonar
+// blur from the robot's widest beam (docs/walls.md).
+void ConfigureWallLines(const sensors::RobotDescription& robot, bool on, vectorize::VectorizeOptions* v);
 // True when every range sensor of the robot is a laser.
 bool LaserOnly(const sensors::RobotDescription& robot);
 

@@ -72,6 +72,25 @@ TEST(MappingOptions, CorrectionFollowsTheModeAndFlags) {
   EXPECT_EQ(o.correction(), Correction::kNone);
 }
 
+TEST(MapperOptionsFor, WallLinesFollowTheModeAndTheRobot) {
+  MappingOptions o;
+  o.wall_lines = true;
+  const auto sonar = MapperOptionsFor(sensors::BuiltinRobot("pioneer16"), o).vectorize;
+  EXPECT_TRUE(sonar.wall_lines);
+  EXPECT_TRUE(sonar.lines.all_occupied);
+  EXPECT_NEAR(RadToDeg(sonar.lines.beam_half_width_rad), 15.0, 1e-9);
+  EXPECT_DOUBLE_EQ(sonar.lines.path_clearance_m, sensors::BuiltinRobot("pioneer16").radius_m);
+  const auto laser = MapperOptionsFor(sensors::BuiltinRobot("laser"), o).vectorize;
+  EXPECT_TRUE(laser.wall_lines);
+  EXPECT_FALSE(laser.lines.all_occupied);
+  EXPECT_NEAR(RadToDeg(laser.lines.beam_half_width_rad), 0.5, 1e-9);  // 180 degrees over 180 steps, halved
+  o.paper = true;
+  EXPECT_FALSE(MapperOptionsFor(sensors::BuiltinRobot("pioneer16"), o).vectorize.wall_lines);
+  o.paper = false;
+  o.wall_lines = false;
+  EXPECT_FALSE(MapperOptionsFor(sensors::BuiltinRobot("pioneer16"), o).vectorize.wall_lines);
+}
+
 TEST(OutputChoice, ParsesListsAndNamesAnUnknownOutput) {
   const OutputChoice d = OutputChoice::Parse("default");
   EXPECT_TRUE(d.svg && d.geojson && d.aria);

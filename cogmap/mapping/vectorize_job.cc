@@ -12,6 +12,7 @@
 #include "cogmap/io/atomic_file.h"
 #include "cogmap/io/output_folder.h"
 #include "cogmap/io/polyline_io.h"
+#include "cogmap/mapping/pipeline.h"
 #include "cogmap/sensors/robot_json.h"
 
 namespace cogmap::mapping {
@@ -90,6 +91,8 @@ nlohmann::json MakeVectorizeReport(const VectorizeJob& job, const vectorize::Vec
       {"min_corner_deg", vo.fit.min_corner_deg},
       {"min_chain_points", vo.min_chain_points},
       {"smooth_half_window", vo.smooth_half_window},
+      {"wall_lines", vo.wall_lines},
+      {"beam_half_width_deg", vo.lines.beam_half_width_rad * 180.0 / 3.14159265358979323846},
       {"quantum_mm", vo.codec.quantum_mm}};
   rep["counts"] = {{"occupied_cells", r.clean_stats.occupied_in},
                    {"cleaned_cells", r.clean_stats.kept},
@@ -106,7 +109,13 @@ nlohmann::json MakeVectorizeReport(const VectorizeJob& job, const vectorize::Vec
                    {"fits_rejected", r.fit_stats.rejected},
                    {"edges_too_few_points", r.fit_stats.too_few_points},
                    {"corners_joined", r.fit_stats.corners_joined},
-                   {"chamfers_removed", r.fit_stats.chamfers_removed}};
+                   {"chamfers_removed", r.fit_stats.chamfers_removed},
+                   {"line_peaks", r.line_stats.lines},
+                   {"line_segments", r.line_stats.segments},
+                   {"line_runs_rejected", r.line_stats.rejected_runs},
+                   {"line_corners_joined", r.line_stats.corners_joined},
+                   {"line_t_joins", r.line_stats.t_joins},
+                   {"line_chamfers_removed", r.line_stats.chamfers_removed}};
   rep["bytes"] = {{"grid", r.bytes.grid}, {"vertices", r.bytes.vertices}, {"polylines", r.bytes.polylines}};
   rep["seconds"] = {{"grid", out.grid_seconds},
                     {"clean", r.seconds.clean},
@@ -141,7 +150,7 @@ vectorize::VectorizeOptions VectorizeJob::StageOptions() const {
 
 VectorizeJobResult RunVectorizeJob(io::LogReader& log, const VectorizeJob& job) {
   job.Validate();
-  const vectorize::VectorizeOptions vo = job.StageOptions();
+  vectorize::VectorizeOptions vo = job.StageOptions();
   // The output folder as `cogmap map` uses it (docs/store.md): locked, staged,
   // moved into place at the end.
   auto folder = io::OutputFolder::Open(job.output_dir);
@@ -150,6 +159,7 @@ VectorizeJobResult RunVectorizeJob(io::LogReader& log, const VectorizeJob& job) 
     out.robot = io::RobotFor(log, job.robot_spec);
     double max_range_m = 0.0;
     for (const auto& s : out.robot.sensors) max_range_m = std::max(max_range_m, s.max_range_m);
+    if (!job.paper) ConfigureWallLines(out.robot, job.wall_lines.value_or(MappingOptions{}.wall_lines), &vo);
 
     // Fuse the whole log as one space.
     const auto t_grid = std::chrono::steady_clock::now();

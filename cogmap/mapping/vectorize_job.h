@@ -30,6 +30,9 @@ struct VectorizeJob {
   int min_chain_points = -1;
   int smooth_half_window = -1;
   std::optional<vectorize::KeepCell> keep;
+  // Default mode: walls as lines (true) or from the chains (false); empty:
+  // MappingOptions' default. Paper mode: always the chains.
+  std::optional<bool> wall_lines;
   std::string output_dir;
   std::function<void(double fraction)> progress;  // fraction of the log read
   // A failed run's partial outputs set aside (the folder's path); the library never prints.

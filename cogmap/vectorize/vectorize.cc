@@ -25,6 +25,25 @@ VectorizeResult Vectorize(const grid::Grid2D<float>& grid, const VectorizeOption
   r.seconds.extract = Since(t0);
   r.bytes.vertices = 4 * r.extract_stats.points;
 
+  if (options.wall_lines) {
+    // Walls as lines in the cleaned cells; the timing goes to 'fit'.
+    t0 = std::chrono::steady_clock::now();
+    LineExtractResult lines = ExtractWallLines(r.cleaned, grid, options.lines);
+    r.line_stats = lines.stats;
+    for (const auto& s : lines.segments) r.simplified.push_back({s.a, s.b});
+    for (auto& wall : lines.walls) {
+      Polyline world;
+      world.reserve(wall.size());
+      for (const auto& p : wall) world.push_back(lim.FromCellCoords(p));
+      r.vertex_count += static_cast<int64_t>(world.size());
+      r.polylines.push_back(std::move(world));
+      r.fitted.push_back(std::move(wall));
+    }
+    r.seconds.fit = Since(t0);
+    r.bytes.polylines = static_cast<int64_t>(EncodePolylines(r.polylines, options.codec).size());
+    return r;
+  }
+
   t0 = std::chrono::steady_clock::now();
   std::vector<std::vector<Vec2>> points;
   std::vector<std::vector<int>> kept;

@@ -6,6 +6,7 @@
 #include "cogmap/grid/grid2d.h"
 #include "cogmap/vectorize/clean.h"
 #include "cogmap/vectorize/extract.h"
+#include "cogmap/vectorize/line_extract.h"
 #include "cogmap/vectorize/line_fit.h"
 #include "cogmap/vectorize/polyline_codec.h"
 #include "cogmap/vectorize/simplify.h"
@@ -39,12 +40,19 @@ struct VectorizeOptions {
   // from 0.35 m to 0.30 m and the vertices by a quarter, but it chamfers
   // corners (an L room's inner corner moved 0.2 m).
   int smooth_half_window = 0;
+  // Not in the paper: the walls are found as lines in the cleaned cells
+  // (ExtractWallLines, docs/walls.md) instead of by simplifying and fitting
+  // the extracted chains (the chains are still extracted, for the pictures).
+  bool wall_lines = false;
+  LineExtractOptions lines;
 
-  // The paper's choices: the face of the wall, least squares with Pearson.
+  // The paper's choices: the face of the wall, least squares with Pearson,
+  // walls from the chains.
   static VectorizeOptions Paper() {
     VectorizeOptions o;
     o.clean.keep = KeepCell::kFace;
     o.fit.mode = FitMode::kPaper;
+    o.wall_lines = false;
     return o;
   }
 };
@@ -68,11 +76,12 @@ struct VectorizeResult {
   // Intermediate products (cell coordinates, cell centres at .5) for pictures.
   grid::Grid2D<float> cleaned;
   std::vector<CellChain> chains;                // extracted, every chain
-  std::vector<std::vector<Vec2>> simplified;    // after VS + DP (walls only)
-  std::vector<std::vector<Vec2>> fitted;        // after the fit (walls only)
+  std::vector<std::vector<Vec2>> simplified;    // after VS + DP (walls only); wall_lines: the segments as found
+  std::vector<std::vector<Vec2>> fitted;        // after the fit (walls only); wall_lines: joined at corners
   CleanStats clean_stats;
   ExtractStats extract_stats;
   LineFitStats fit_stats;
+  LineExtractStats line_stats;  // wall_lines only
   int64_t vertices_after_vertex_simplify = 0;
   int64_t vertex_count = 0;  // vertices of 'polylines'
   int64_t dropped_chains = 0;  // chains shorter than min_chain_points
