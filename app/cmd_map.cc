@@ -87,8 +87,9 @@ std::function<int()> SetupMap(CLI::App& sub) {
                  "doorway or corridor cut (0 = never, as in paper mode)")
       ->capture_default_str();
   sub.add_option("--walls", a->walls,
-                 "Default mode: how each room's walls are found: lines (lines in the cleaned cells, docs/walls.md) "
-                 "or chains (the thesis's chain simplify and fit); paper mode always uses chains")
+                 "Default mode: how each room's walls are found: chains (the thesis's chain simplify and fit; "
+                 "what default means) or lines (lines in each room's occupancy evidence, docs/walls.md); paper "
+                 "mode always uses chains")
       ->capture_default_str();
   sub.add_flag("--no-correct", a->no_correct, "Skip every correction: ASRs placed by odometry");
   sub.add_flag("--no-smooth", a->no_smooth,

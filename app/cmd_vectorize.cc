@@ -82,8 +82,8 @@ std::function<int()> SetupVectorize(CLI::App& sub) {
       ->capture_default_str();
   sub.add_flag("--truth", a->job.use_truth, "Fuse at the log's ground-truth poses instead of odometry");
   sub.add_option("--walls", a->walls,
-                 "Default mode: lines (walls as lines in the cleaned cells, docs/walls.md) or chains (the "
-                 "thesis's simplify and fit); paper mode always uses chains")
+                 "Default mode: chains (the thesis's simplify and fit; what default means) or lines (walls as "
+                 "lines in the occupancy evidence, docs/walls.md); paper mode always uses chains")
       ->capture_default_str();
   sub.add_option("--keep", a->keep,
                  "Cell a wall keeps when cleaned: face (the paper) or middle (of the band behind the "
