@@ -170,12 +170,23 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
 
   const size_t closures_before = closures_.size();
   if (idx > 0) TryLoopClosures(idx);
+  // A closure frees the whole loop: every node from the oldest stored ASR it
+  // reaches to the new one (at least the local window), the nodes before it
+  // held as the anchor; a full solve when one is due (full_solve_growth) or
+  // at the end of the run.
+  int first_free = std::max(1, idx - options_.window + 1);
   bool closed_loop = false;
-  for (size_t k = closures_before; k < closures_.size(); ++k) closed_loop |= closures_[k].accepted;
-  if (idx > 0) {
-    const auto s = closed_loop ? graph_.Solve(0, options_.full_iterations)
-                               : graph_.Solve(std::max(1, idx - options_.window + 1), options_.local_iterations);
-    (void)s;
+  for (size_t k = closures_before; k < closures_.size(); ++k) {
+    if (!closures_[k].accepted) continue;
+    closed_loop = true;
+    first_free = std::min(first_free, std::max(1, node_of_asr_.at(closures_[k].from_asr)));
+  }
+  const bool full_due = idx - last_full_solve_ >= std::max<double>(options_.window, options_.full_solve_growth * idx);
+  if (idx > 0 && full_due) {
+    graph_.Solve(0, options_.full_iterations);
+    last_full_solve_ = idx;
+  } else if (idx > 0) {
+    graph_.Solve(first_free, closed_loop ? options_.full_iterations : options_.local_iterations);
   }
   const Pose2 T = graph_.pose(idx);
   a.world_from_local_corrected = T;

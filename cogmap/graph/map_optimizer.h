@@ -24,10 +24,16 @@ struct MapOptimizerOptions {
   // walls (docs/heading-correction.md): the factor uses max(floor, scale x it).
   double direction_sigma_scale = 2.0;
   double direction_sigma_floor_rad = DegToRad(1.0);
-  // Local solve when an ASR closes: the last 'window' nodes move.
+  // Local solve when an ASR closes: the last 'window' nodes move. A full
+  // solve once the graph has grown by full_solve_growth (and at least
+  // 'window' nodes) since the last one: the full solves cost O(N) each, so
+  // spacing them geometrically keeps their cost per ASR flat, and they stop
+  // the local windows (each anchored on a held node) from letting the heading
+  // slip a quarter turn over a long stretch (docs/pose-graph.md).
   int window = 8;
   int local_iterations = 20;
   int full_iterations = 100;
+  double full_solve_growth = 0.05;
   // Registration of each ASR against the previous one (across the exit).
   double min_match_fraction = 0.3;
   int min_matches = 20;
@@ -195,6 +201,7 @@ class MapOptimizer {
   int registrations_ = 0;
   localize::DirectionEstimate last_estimate_;
   double solve_seconds_ = 0.0;
+  int last_full_solve_ = 0;
 };
 
 }  // namespace cogmap::graph
