@@ -129,15 +129,27 @@ void Bounds(const plan::Plan& p, Vec2* lo, Vec2* hi) {
   *hi = b;
 }
 
-// A FeatureCollection as text: the collection's members on the first line,
-// then one feature per line (compact, and a diff shows which features changed).
-std::string CollectionText(const json& head, const json& features) {
-  std::string out = head.dump();
-  out.pop_back();  // the closing brace
-  out += ",\"features\":[\n";
-  for (size_t i = 0; i < features.size(); ++i) out += features[i].dump() + (i + 1 < features.size() ? ",\n" : "\n");
-  return out + "]}\n";
-}
+// A FeatureCollection written to its stream as it is made: the collection's
+// members on the first line, then one feature per line (compact, and a diff
+// shows which features changed). No feature is held after it is written, so
+// a big plan's file costs one feature's text, not the whole document.
+class CollectionWriter {
+ public:
+  CollectionWriter(std::ostream& out, const json& head) : out_(out) {
+    std::string text = head.dump();
+    text.pop_back();  // the closing brace
+    out_ << text << ",\"features\":[\n";
+  }
+  void Add(const json& feature) {
+    if (count_++ > 0) out_ << ",\n";
+    out_ << feature.dump();
+  }
+  void Close() { out_ << (count_ > 0 ? "\n" : "") << "]}\n"; }
+
+ private:
+  std::ostream& out_;
+  size_t count_ = 0;
+};
 
 }  // namespace
 
@@ -291,8 +303,26 @@ std::vector<GpkgLayer> PlanGpkgLayers(const plan::Plan& plan) {
 
 // ------------------------------------------------------------------ GeoJSON
 
-std::string FormatPlanGeoJson(const plan::Plan& plan, const std::optional<GeoAnchor>& anchor) {
+void WritePlanGeoJson(std::ostream& stream, const plan::Plan& plan, const std::optional<GeoAnchor>& anchor) {
   const Index idx(plan);
+  json doc = {{"type", "FeatureCollection"}, {"name", "cogmap floor plan"}};
+  if (anchor) {
+    doc["cogmap"] = {{"coordinates", "WGS 84 longitude, latitude (degrees), RFC 7946"},
+                     {"geo_anchor",
+                      {{"lat_deg", anchor->lat_deg},
+                       {"lon_deg", anchor->lon_deg},
+                       {"heading_deg", anchor->heading_deg},
+                       {"meaning", "map origin (0, 0) at lat, lon; the map's +x axis has this bearing, "
+                                   "degrees clockwise from true north"}}}};
+  } else {
+    doc["cogmap"] = {{"coordinates", "local metres in the cogmap map frame (x, y), not WGS 84 degrees"},
+                     {"units", "metre"},
+                     {"frame", "the map frame: the robot's odometry frame at the start, as corrected"}};
+    // The legacy (GeoJSON 2008) crs member: GDAL and QGIS read an engineering
+    // system in metres instead of assuming WGS 84.
+    doc["crs"] = {{"type", "name"}, {"properties", {{"name", MapFrameWkt()}}}};
+  }
+  CollectionWriter out(stream, doc);
   // Coordinates as written: mm in the map frame, or 1e-8 degree.
   auto place = [&](const Vec2& p) -> Vec2 {
     if (!anchor) return {RoundTo(p.x(), 1e-3), RoundTo(p.y(), 1e-3)};
@@ -314,7 +344,6 @@ std::string FormatPlanGeoJson(const plan::Plan& plan, const std::optional<GeoAnc
     return json{{"type", "Feature"}, {"geometry", std::move(geometry)}, {"properties", std::move(properties)}};
   };
   auto mm = [](double v) { return RoundTo(v, 1e-3); };
-  json features = json::array();
   for (const auto& r : plan.rooms) {
     auto ring = coords(CleanRing(r.polygon, 1e-9));
     ring = CleanRing(ring, 0.0);  // rounding may have merged points
@@ -322,18 +351,18 @@ std::string FormatPlanGeoJson(const plan::Plan& plan, const std::optional<GeoAnc
                   {"area_m2", mm(r.area_m2)}, {"corridor", r.corridor}, {"doors", r.doors}};
     if (ring.empty()) continue;
     ring.push_back(ring.front());
-    features.push_back(feature({{"type", "Polygon"}, {"coordinates", json::array({line_json(ring)})}}, props));
+    out.Add(feature({{"type", "Polygon"}, {"coordinates", json::array({line_json(ring)})}}, props));
   }
   for (const auto& w : plan.walls) {
     const auto pts = coords(w.points);
     if (pts.size() < 2) continue;
-    features.push_back(feature({{"type", "LineString"}, {"coordinates", line_json(pts)}},
-                               {{"layer", "walls"},
-                                {"weight", mm(w.weight)},
-                                {"squared", w.squared},
-                                {"free_on_left", w.free_on_left},
-                                {"two_sided", w.two_sided},
-                                {"length_m", mm(PolylineLength(w.points))}}));
+    out.Add(feature({{"type", "LineString"}, {"coordinates", line_json(pts)}},
+                    {{"layer", "walls"},
+                     {"weight", mm(w.weight)},
+                     {"squared", w.squared},
+                     {"free_on_left", w.free_on_left},
+                     {"two_sided", w.two_sided},
+                     {"length_m", mm(PolylineLength(w.points))}}));
   }
   for (const auto& d : plan.doors) {
     json rooms = json::array();
@@ -343,76 +372,72 @@ std::string FormatPlanGeoJson(const plan::Plan& plan, const std::optional<GeoAnc
                   {"room_a", d.room_a}, {"room_b", d.room_b}, {"rooms", rooms}};
     const auto pts = coords({d.a, d.b});
     if (pts.size() >= 2)
-      features.push_back(feature({{"type", "LineString"}, {"coordinates", line_json(pts)}}, props));
+      out.Add(feature({{"type", "LineString"}, {"coordinates", line_json(pts)}}, props));
     else
-      features.push_back(feature({{"type", "Point"}, {"coordinates", arr(place(d.center()))}}, props));
+      out.Add(feature({{"type", "Point"}, {"coordinates", arr(place(d.center()))}}, props));
   }
   for (const auto& e : plan.edges) {
     const auto pts = coords(EdgeLine(idx, e));
     if (pts.size() < 2) continue;
-    features.push_back(feature({{"type", "LineString"}, {"coordinates", line_json(pts)}},
-                               {{"layer", "room_graph"},
-                                {"room_a", e.room_a},
-                                {"room_b", e.room_b},
-                                {"door_id", e.door},
-                                {"name_a", RoomName(*idx.room(e.room_a))},
-                                {"name_b", RoomName(*idx.room(e.room_b))}}));
+    out.Add(feature({{"type", "LineString"}, {"coordinates", line_json(pts)}},
+                    {{"layer", "room_graph"},
+                     {"room_a", e.room_a},
+                     {"room_b", e.room_b},
+                     {"door_id", e.door},
+                     {"name_a", RoomName(*idx.room(e.room_a))},
+                     {"name_b", RoomName(*idx.room(e.room_b))}}));
   }
   if (plan.home) {
     // The heading as a bearing (clockwise from north) when placed on the Earth.
     const double heading = anchor ? std::fmod(anchor->heading_deg - RadToDeg(plan.home->theta) + 720.0, 360.0)
                                   : RadToDeg(NormalizeAngle(plan.home->theta));
-    features.push_back(feature({{"type", "Point"}, {"coordinates", arr(place(plan.home->translation()))}},
-                               {{"layer", "robot_home"}, {anchor ? "bearing_deg" : "heading_deg", RoundTo(heading, 0.1)}}));
+    out.Add(feature({{"type", "Point"}, {"coordinates", arr(place(plan.home->translation()))}},
+                    {{"layer", "robot_home"}, {anchor ? "bearing_deg" : "heading_deg", RoundTo(heading, 0.1)}}));
   }
-  json doc = {{"type", "FeatureCollection"}, {"name", "cogmap floor plan"}};
-  if (anchor) {
-    doc["cogmap"] = {{"coordinates", "WGS 84 longitude, latitude (degrees), RFC 7946"},
-                     {"geo_anchor",
-                      {{"lat_deg", anchor->lat_deg},
-                       {"lon_deg", anchor->lon_deg},
-                       {"heading_deg", anchor->heading_deg},
-                       {"meaning", "map origin (0, 0) at lat, lon; the map's +x axis has this bearing, "
-                                   "degrees clockwise from true north"}}}};
-  } else {
-    doc["cogmap"] = {{"coordinates", "local metres in the cogmap map frame (x, y), not WGS 84 degrees"},
-                     {"units", "metre"},
-                     {"frame", "the map frame: the robot's odometry frame at the start, as corrected"}};
-    // The legacy (GeoJSON 2008) crs member: GDAL and QGIS read an engineering
-    // system in metres instead of assuming WGS 84.
-    doc["crs"] = {{"type", "name"}, {"properties", {{"name", MapFrameWkt()}}}};
-  }
-  return CollectionText(doc, features);
+  out.Close();
+}
+
+std::string FormatPlanGeoJson(const plan::Plan& plan, const std::optional<GeoAnchor>& anchor) {
+  std::ostringstream out;
+  WritePlanGeoJson(out, plan, anchor);
+  return out.str();
 }
 
 // ------------------------------------------------------------------ Nav2 route graph
 
-std::string FormatRouteGraphGeoJson(const plan::Plan& plan) {
+void WriteRouteGraphGeoJson(std::ostream& stream, const plan::Plan& plan) {
   const Index idx(plan);
-  json features = json::array();
+  json doc = {{"type", "FeatureCollection"},
+              {"name", "cogmap room graph"},
+              {"cogmap",
+               {{"coordinates", "metres in the map frame (\"frame\": \"map\"), as the Nav2 Route Server reads them"},
+                {"nodes", "rooms (at their label point) and doors (at their centre)"},
+                {"edges", "directed, both ways, room -> door -> room through each doorway"}}},
+              {"crs", {{"type", "name"}, {"properties", {{"name", MapFrameWkt()}}}}}};
+  CollectionWriter out(stream, doc);
   std::map<int, unsigned> room_node, door_node;  // plan id -> node id
   unsigned next = 0;
   auto arr = [](const Vec2& p) { return json::array({RoundTo(p.x(), 1e-3), RoundTo(p.y(), 1e-3)}); };
   for (const auto& r : plan.rooms) {
     if (room_node.count(r.id)) continue;
     room_node[r.id] = next;
-    features.push_back({{"type", "Feature"},
-                        {"geometry", {{"type", "Point"}, {"coordinates", arr(r.label)}}},
-                        {"properties",
-                         {{"id", next},
-                          {"frame", "map"},
-                          {"metadata", {{"kind", "room"}, {"room_id", r.id}, {"name", RoomName(r)}}}}}});
+    out.Add(json{{"type", "Feature"},
+                  {"geometry", {{"type", "Point"}, {"coordinates", arr(r.label)}}},
+                  {"properties",
+                   {{"id", next},
+                    {"frame", "map"},
+                    {"metadata", {{"kind", "room"}, {"room_id", r.id}, {"name", RoomName(r)}}}}}});
     ++next;
   }
   for (const auto& d : plan.doors) {
     if (door_node.count(d.id)) continue;
     door_node[d.id] = next;
-    features.push_back({{"type", "Feature"},
-                        {"geometry", {{"type", "Point"}, {"coordinates", arr(d.center())}}},
-                        {"properties",
-                         {{"id", next},
-                          {"frame", "map"},
-                          {"metadata", {{"kind", "door"}, {"door_id", d.id}, {"width_m", RoundTo(d.width_m(), 1e-3)}}}}}});
+    out.Add(json{{"type", "Feature"},
+                  {"geometry", {{"type", "Point"}, {"coordinates", arr(d.center())}}},
+                  {"properties",
+                   {{"id", next},
+                    {"frame", "map"},
+                    {"metadata", {{"kind", "door"}, {"door_id", d.id}, {"width_m", RoundTo(d.width_m(), 1e-3)}}}}}});
     ++next;
   }
   // Undirected connections between nodes; each becomes two directed edges.
@@ -445,26 +470,25 @@ std::string FormatRouteGraphGeoJson(const plan::Plan& plan) {
   for (const auto& d : plan.doors) node_xy[door_node[d.id]] = d.center();
   for (const auto& [a, b] : ordered)
     for (const auto& [s, t] : {std::pair{a, b}, std::pair{b, a}}) {
-      features.push_back({{"type", "Feature"},
-                          {"geometry",
-                           {{"type", "MultiLineString"},
-                            {"coordinates", json::array({json::array({arr(node_xy[s]), arr(node_xy[t])})})}}},
-                          {"properties", {{"id", next}, {"startid", s}, {"endid", t}}}});
+      out.Add(json{{"type", "Feature"},
+                    {"geometry",
+                     {{"type", "MultiLineString"},
+                      {"coordinates", json::array({json::array({arr(node_xy[s]), arr(node_xy[t])})})}}},
+                    {"properties", {{"id", next}, {"startid", s}, {"endid", t}}}});
       ++next;
     }
-  json doc = {{"type", "FeatureCollection"},
-              {"name", "cogmap room graph"},
-              {"cogmap",
-               {{"coordinates", "metres in the map frame (\"frame\": \"map\"), as the Nav2 Route Server reads them"},
-                {"nodes", "rooms (at their label point) and doors (at their centre)"},
-                {"edges", "directed, both ways, room -> door -> room through each doorway"}}},
-              {"crs", {{"type", "name"}, {"properties", {{"name", MapFrameWkt()}}}}}};
-  return CollectionText(doc, features);
+  out.Close();
+}
+
+std::string FormatRouteGraphGeoJson(const plan::Plan& plan) {
+  std::ostringstream out;
+  WriteRouteGraphGeoJson(out, plan);
+  return out.str();
 }
 
 // ------------------------------------------------------------------ ARIA
 
-std::string FormatPlanAriaMap(const plan::Plan& plan) {
+void WritePlanAriaMap(std::ostream& out, const plan::Plan& plan) {
   auto mm = [](double m) { return std::llround(m * 1000.0); };
   // ARIA names may not hold '"', '#' or '%'.
   auto aria_name = [](std::string s) {
@@ -481,7 +505,6 @@ std::string FormatPlanAriaMap(const plan::Plan& plan) {
     }
   Vec2 lo, hi;
   Bounds(plan, &lo, &hi);
-  std::ostringstream out;
   out << "2D-Map\n";
   out << "LineMinPos: " << mm(lo.x()) << " " << mm(lo.y()) << "\n";
   out << "LineMaxPos: " << mm(hi.x()) << " " << mm(hi.y()) << "\n";
@@ -522,6 +545,11 @@ std::string FormatPlanAriaMap(const plan::Plan& plan) {
   out << "LINES\n";
   for (const auto& l : lines) out << l[0] << " " << l[1] << " " << l[2] << " " << l[3] << "\n";
   out << "DATA\n";
+}
+
+std::string FormatPlanAriaMap(const plan::Plan& plan) {
+  std::ostringstream out;
+  WritePlanAriaMap(out, plan);
   return out.str();
 }
 
@@ -622,17 +650,17 @@ std::vector<std::string> WritePlanFiles(const std::string& dir, const plan::Plan
   }
   if (options.geojson) {
     const std::string p = (d / "map.geojson").string();
-    WriteFileAtomically(p, FormatPlanGeoJson(plan, options.geo_anchor));
+    WriteFileAtomically(p, [&](std::ostream& out) { WritePlanGeoJson(out, plan, options.geo_anchor); });
     written.push_back(p);
   }
   if (options.route_graph) {
     const std::string p = (d / "route_graph.geojson").string();
-    WriteFileAtomically(p, FormatRouteGraphGeoJson(plan));
+    WriteFileAtomically(p, [&](std::ostream& out) { WriteRouteGraphGeoJson(out, plan); });
     written.push_back(p);
   }
   if (options.aria) {
     const std::string p = (d / "map.map").string();
-    WriteFileAtomically(p, FormatPlanAriaMap(plan));
+    WriteFileAtomically(p, [&](std::ostream& out) { WritePlanAriaMap(out, plan); });
     written.push_back(p);
   }
   if (options.map_server) {

@@ -4,6 +4,7 @@
 // room-level route graph for the Nav2 Route Server, an ARIA 2D-Map and the
 // ROS map_server pair. docs/map-files.md describes each file.
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -72,6 +73,9 @@ std::vector<GpkgLayer> PlanGpkgLayers(const plan::Plan& plan);
 // degrees). Lines have at least two distinct points; a door whose jambs
 // coincide is a Point.
 std::string FormatPlanGeoJson(const plan::Plan& plan, const std::optional<GeoAnchor>& anchor = std::nullopt);
+// The same text written to 'out' feature by feature (WritePlanFiles: no
+// whole document in memory).
+void WritePlanGeoJson(std::ostream& out, const plan::Plan& plan, const std::optional<GeoAnchor>& anchor = std::nullopt);
 
 // route_graph.geojson for the Nav2 Route Server (GeoJsonGraphFileLoader):
 // Point nodes with "id" (unsigned) and "frame": "map" at each room's label
@@ -80,6 +84,7 @@ std::string FormatPlanGeoJson(const plan::Plan& plan, const std::optional<GeoAnc
 // Map frame metres (the frame the robot navigates in), with or without an
 // anchor. Node and edge ids share one numbering, as Nav2 expects.
 std::string FormatRouteGraphGeoJson(const plan::Plan& plan);
+void WriteRouteGraphGeoJson(std::ostream& out, const plan::Plan& plan);  // the same, to a stream
 
 // map.map: an ARIA 2D-Map: RobotHome, each room as a sector cairn "Room"
 // (ARIA sectors are rectangles, rotated by theta about the map origin: the
@@ -87,6 +92,7 @@ std::string FormatRouteGraphGeoJson(const plan::Plan& plan);
 // degrees, with the room's name), each door as a boundary cairn "Doorway"
 // (jamb to jamb), every wall edge in LINES. Integer millimetres and degrees.
 std::string FormatPlanAriaMap(const plan::Plan& plan);
+void WritePlanAriaMap(std::ostream& out, const plan::Plan& plan);  // the same, to a stream
 
 // The building's main wall direction in (-pi/4, pi/4]: the length-weighted
 // mean of the wall segments' directions modulo a right angle (0 without walls).

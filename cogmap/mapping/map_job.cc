@@ -224,7 +224,8 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   // The floor plan (docs/floor-plan.md): plan.json always (cogmap eval reads
   // it), and the files made from it.
   const plan::Plan floor_plan = plan::BuildPlan(all, room_of, {}, placed_paths);
-  io::WriteFileAtomically((fs::path(staging) / "plan.json").string(), plan::PlanToJsonText(floor_plan));
+  io::WriteFileAtomically((fs::path(staging) / "plan.json").string(),
+                          [&](std::ostream& o) { plan::WritePlanJson(o, floor_plan); });
   out.written.push_back("plan.json");
   io::PlanFileOptions pf;
   pf.geo_anchor = job.geo_anchor;

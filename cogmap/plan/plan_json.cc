@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <fstream>
+#include <functional>
+#include <map>
+#include <ostream>
 #include <sstream>
 
 #include "cogmap/core/error.h"
@@ -73,7 +76,32 @@ class Reader {
 
 }  // namespace
 
-json PlanToJson(const Plan& plan) {
+namespace {
+
+json WallJson(const Wall& w) {
+  json pts = json::array();
+  for (const Vec2& p : w.points) pts.push_back(Pt(p));
+  return {{"points", pts}, {"free_on_left", w.free_on_left}, {"two_sided", w.two_sided},
+          {"weight", w.weight}, {"asr_ids", w.asr_ids}, {"squared", w.squared}};
+}
+
+json DoorJson(const Door& d) {
+  return {{"id", d.id}, {"a", Pt(d.a)}, {"b", Pt(d.b)}, {"room_a", d.room_a}, {"room_b", d.room_b},
+          {"from_asr", d.from_asr}, {"to_asr", d.to_asr}};
+}
+
+json RoomJson(const Room& r) {
+  json poly = json::array();
+  for (const Vec2& p : r.polygon) poly.push_back(Pt(p));
+  return {{"id", r.id}, {"name", r.name}, {"corridor", r.corridor}, {"polygon", poly},
+          {"area_m2", r.area_m2}, {"label", Pt(r.label)}, {"doors", r.doors}, {"asr_ids", r.asr_ids},
+          {"graph_rooms", r.graph_rooms}};
+}
+
+json EdgeJson(const Edge& e) { return {{"room_a", e.room_a}, {"room_b", e.room_b}, {"door", e.door}}; }
+
+// The plan's members but its four lists (walls, doors, rooms, edges).
+json HeadJson(const Plan& plan) {
   json j;
   j["format"] = kPlanFormat;
   j["version"] = kPlanFormatVersion;
@@ -83,35 +111,84 @@ json PlanToJson(const Plan& plan) {
   if (plan.home) j["home"] = {{"x", plan.home->x}, {"y", plan.home->y}, {"theta", plan.home->theta}};
   else j["home"] = nullptr;
   j["bounds"] = {{"min", Pt(plan.min)}, {"max", Pt(plan.max)}};
-  json walls = json::array();
-  for (const Wall& w : plan.walls) {
-    json pts = json::array();
-    for (const Vec2& p : w.points) pts.push_back(Pt(p));
-    walls.push_back({{"points", pts}, {"free_on_left", w.free_on_left}, {"two_sided", w.two_sided},
-                     {"weight", w.weight}, {"asr_ids", w.asr_ids}, {"squared", w.squared}});
+  return j;
+}
+
+// 'text' (a value as dump(2) prints it at the top level) as it stands at
+// 'depth' in an indented document: every line after the first indented by
+// two spaces per level. JSON strings hold no raw newline, so every newline
+// in the text is the layout's.
+void PutIndented(std::ostream& out, const std::string& text, int depth) {
+  const std::string pad(2 * static_cast<size_t>(depth), ' ');
+  size_t start = 0;
+  for (size_t nl; (nl = text.find('\n', start)) != std::string::npos; start = nl + 1) {
+    out.write(text.data() + start, static_cast<std::streamsize>(nl + 1 - start));
+    out << pad;
   }
+  out.write(text.data() + start, static_cast<std::streamsize>(text.size() - start));
+}
+
+// One list of the plan as dump(2) prints it at depth 1, element by element.
+template <class T, class F>
+void PutList(std::ostream& out, const std::vector<T>& items, F&& to_json) {
+  if (items.empty()) {
+    out << "[]";
+    return;
+  }
+  out << "[\n";
+  for (size_t i = 0; i < items.size(); ++i) {
+    out << "    ";
+    PutIndented(out, to_json(items[i]).dump(2), 2);
+    out << (i + 1 < items.size() ? ",\n" : "\n");
+  }
+  out << "  ]";
+}
+
+}  // namespace
+
+json PlanToJson(const Plan& plan) {
+  json j = HeadJson(plan);
+  json walls = json::array();
+  for (const Wall& w : plan.walls) walls.push_back(WallJson(w));
   j["walls"] = walls;
   json doors = json::array();
-  for (const Door& d : plan.doors)
-    doors.push_back({{"id", d.id}, {"a", Pt(d.a)}, {"b", Pt(d.b)}, {"room_a", d.room_a}, {"room_b", d.room_b},
-                     {"from_asr", d.from_asr}, {"to_asr", d.to_asr}});
+  for (const Door& d : plan.doors) doors.push_back(DoorJson(d));
   j["doors"] = doors;
   json rooms = json::array();
-  for (const Room& r : plan.rooms) {
-    json poly = json::array();
-    for (const Vec2& p : r.polygon) poly.push_back(Pt(p));
-    rooms.push_back({{"id", r.id}, {"name", r.name}, {"corridor", r.corridor}, {"polygon", poly},
-                     {"area_m2", r.area_m2}, {"label", Pt(r.label)}, {"doors", r.doors}, {"asr_ids", r.asr_ids},
-                     {"graph_rooms", r.graph_rooms}});
-  }
+  for (const Room& r : plan.rooms) rooms.push_back(RoomJson(r));
   j["rooms"] = rooms;
   json edges = json::array();
-  for (const Edge& e : plan.edges) edges.push_back({{"room_a", e.room_a}, {"room_b", e.room_b}, {"door", e.door}});
+  for (const Edge& e : plan.edges) edges.push_back(EdgeJson(e));
   j["edges"] = edges;
   return j;
 }
 
-std::string PlanToJsonText(const Plan& plan) { return PlanToJson(plan).dump(2) + "\n"; }
+void WritePlanJson(std::ostream& out, const Plan& plan) {
+  // The members in the order json's sorted object prints them, each list
+  // written one element at a time: the text of PlanToJson(plan).dump(2).
+  const json head = HeadJson(plan);
+  std::map<std::string, std::function<void()>> members;
+  for (auto it = head.begin(); it != head.end(); ++it)
+    members[it.key()] = [&out, value = &*it] { PutIndented(out, value->dump(2), 1); };
+  members["walls"] = [&] { PutList(out, plan.walls, WallJson); };
+  members["doors"] = [&] { PutList(out, plan.doors, DoorJson); };
+  members["rooms"] = [&] { PutList(out, plan.rooms, RoomJson); };
+  members["edges"] = [&] { PutList(out, plan.edges, EdgeJson); };
+  out << "{\n";
+  size_t i = 0;
+  for (const auto& [key, put] : members) {
+    out << "  " << json(key).dump() << ": ";
+    put();
+    out << (++i < members.size() ? ",\n" : "\n");
+  }
+  out << "}\n";
+}
+
+std::string PlanToJsonText(const Plan& plan) {
+  std::ostringstream out;
+  WritePlanJson(out, plan);
+  return out.str();
+}
 
 Plan PlanFromJson(const json& j, const std::string& source) {
   const Reader rd(source);

@@ -85,6 +85,21 @@ TEST(PlanJson, RoundTrip) {
   EXPECT_EQ(PlanToJsonText(b), PlanToJsonText(a));
 }
 
+// plan.json is written a list element at a time (WritePlanJson): the text
+// is the document's, as the json library indents it, to the byte.
+TEST(PlanJson, StreamedTextIsTheDocumentsDump) {
+  Plan a = Sample();
+  a.rooms[1].name = "Corridor \"1\"\n";  // escapes stay on one line
+  EXPECT_EQ(PlanToJsonText(a), PlanToJson(a).dump(2) + "\n");
+  Plan empty;  // empty lists print as [] and no home as null
+  EXPECT_EQ(PlanToJsonText(empty), PlanToJson(empty).dump(2) + "\n");
+  Plan one_each;
+  one_each.walls.push_back(a.walls[1]);
+  one_each.home = a.home;
+  one_each.edges.push_back({0, 0, 0});
+  EXPECT_EQ(PlanToJsonText(one_each), PlanToJson(one_each).dump(2) + "\n");
+}
+
 void ExpectError(const nlohmann::json& j, const std::string& fragment) {
   try {
     PlanFromJson(j, "out/plan.json");
