@@ -233,7 +233,6 @@ void MapOptimizer::TryLoopClosures(int n) {
   for (const Cand& c : cands) {
     const Node& o = nodes_[c.k];
     const std::vector<FacedPoint> o_samples = SampleFaces(o.faces, options_.registration.sample_step_m);
-    const FaceIndex o_index(o.faces, std::max(0.5, options_.loop_tolerance_m));
     LoopClosure lc;
     lc.from_asr = o.asr_id;
     lc.to_asr = cur.asr_id;
@@ -259,19 +258,21 @@ void MapOptimizer::TryLoopClosures(int n) {
     };
     std::vector<Start> starts;
     const double step = options_.search_step_m, hstep = options_.search_step_rad;
+    std::vector<double> shifts;
+    for (double d = -radius; d <= radius + 1e-9; d += step) shifts.push_back(d);
+    const Vec2 centre = guess * cur.centre_local;
     for (double dth = -hrange; dth <= hrange + 1e-9; dth += hstep) {
-      for (double dx = -radius; dx <= radius + 1e-9; dx += step) {
-        for (double dy = -radius; dy <= radius + 1e-9; dy += step) {
+      // Rotate about the new ASR's centre; every shift of the rotated samples
+      // scored at once. Matched samples (not a fraction): two long ASRs
+      // overlap only in part.
+      const Pose2 rotated = Pose2{centre.x(), centre.y(), dth} * Pose2{-centre.x(), -centre.y(), 0.0} * guess;
+      const std::vector<int> matched = AgreementOverShifts(o.faces, TransformPoints(rotated, coarse), shifts, shifts,
+                                                           options_.loop_tolerance_m, cos_max);
+      for (size_t i = 0; i < shifts.size(); ++i) {
+        for (size_t j = 0; j < shifts.size(); ++j) {
+          const double dx = shifts[i], dy = shifts[j];
           if (dx * dx + dy * dy > radius * radius + 1e-9) continue;
-          // Rotate about the new ASR's centre, then shift.
-          const Vec2 c = guess * cur.centre_local;
-          const Pose2 rot = Pose2{c.x(), c.y(), dth} * Pose2{-c.x(), -c.y(), 0.0};
-          const Pose2 start = Pose2{dx, dy, 0.0} * rot * guess;
-          // Matched samples (not a fraction): two long ASRs overlap only in part.
-          const double score =
-              o_index.Agreement(o.faces, TransformPoints(start, coarse), options_.loop_tolerance_m, cos_max) *
-              static_cast<double>(coarse.size());
-          starts.push_back({start, score});
+          starts.push_back({Pose2{dx, dy, 0.0} * rotated, static_cast<double>(matched[i * shifts.size() + j])});
         }
       }
     }

@@ -146,50 +146,43 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
   return r;
 }
 
-FaceIndex::FaceIndex(const std::vector<FacedSegment>& faces, double cell_m) : cell_m_(cell_m) {
-  if (faces.empty()) return;
-  Vec2 lo(1e18, 1e18), hi(-1e18, -1e18);
-  for (const auto& f : faces) {
-    lo = lo.cwiseMin(f.a).cwiseMin(f.b);
-    hi = hi.cwiseMax(f.a).cwiseMax(f.b);
-  }
-  origin_ = lo;
-  w_ = static_cast<int>(std::floor((hi.x() - lo.x()) / cell_m_)) + 1;
-  h_ = static_cast<int>(std::floor((hi.y() - lo.y()) / cell_m_)) + 1;
-  cells_.assign(static_cast<size_t>(w_) * h_, {});
-  for (size_t k = 0; k < faces.size(); ++k) {
-    const auto& f = faces[k];
-    const int x0 = static_cast<int>((std::min(f.a.x(), f.b.x()) - lo.x()) / cell_m_);
-    const int x1 = static_cast<int>((std::max(f.a.x(), f.b.x()) - lo.x()) / cell_m_);
-    const int y0 = static_cast<int>((std::min(f.a.y(), f.b.y()) - lo.y()) / cell_m_);
-    const int y1 = static_cast<int>((std::max(f.a.y(), f.b.y()) - lo.y()) / cell_m_);
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) cells_[static_cast<size_t>(y) * w_ + x].push_back(static_cast<int>(k));
-  }
-}
-
-double FaceIndex::Agreement(const std::vector<FacedSegment>& faces, const std::vector<FacedPoint>& points,
-                            double tolerance_m, double max_normal_angle_rad) const {
-  if (points.empty() || cells_.empty()) return 0.0;
+std::vector<int> AgreementOverShifts(const std::vector<FacedSegment>& target, const std::vector<FacedPoint>& points,
+                                     const std::vector<double>& xs, const std::vector<double>& ys, double tolerance_m,
+                                     double max_normal_angle_rad) {
+  const size_t nx = xs.size(), ny = ys.size();
+  std::vector<int> count(nx * ny, 0);
+  if (nx == 0 || ny == 0) return count;
+  std::vector<int> marked(nx * ny, -1);  // the last point that counted at each shift
   const double cos_max = std::cos(max_normal_angle_rad);
-  int ok = 0;
-  for (const FacedPoint& p : points) {
-    const int cx = static_cast<int>(std::floor((p.p.x() - origin_.x()) / cell_m_));
-    const int cy = static_cast<int>(std::floor((p.p.y() - origin_.y()) / cell_m_));
-    bool hit = false;
-    for (int y = std::max(0, cy - 1); y <= std::min(h_ - 1, cy + 1) && !hit; ++y)
-      for (int x = std::max(0, cx - 1); x <= std::min(w_ - 1, cx + 1) && !hit; ++x)
-        for (int k : cells_[static_cast<size_t>(y) * w_ + x]) {
-          const FacedSegment& f = faces[k];
-          if (f.normal.dot(p.normal) < cos_max) continue;
-          if (PointSegmentDistance(p.p, f.a, f.b) < tolerance_m) {
-            hit = true;
-            break;
+  // Indices of the axis values within [lo, hi].
+  auto span = [](const std::vector<double>& axis, double lo, double hi) {
+    const auto first = std::lower_bound(axis.begin(), axis.end(), lo);
+    const auto last = std::upper_bound(first, axis.end(), hi);
+    return std::pair<size_t, size_t>(first - axis.begin(), last - axis.begin());
+  };
+  for (size_t k = 0; k < points.size(); ++k) {
+    const FacedPoint& q = points[k];
+    for (const FacedSegment& f : target) {
+      if (f.normal.dot(q.normal) < cos_max) continue;
+      // Shifts that can bring the point within tolerance: the face's box
+      // grown by it, less the point.
+      const auto [i0, i1] = span(xs, std::min(f.a.x(), f.b.x()) - tolerance_m - q.p.x(),
+                                 std::max(f.a.x(), f.b.x()) + tolerance_m - q.p.x());
+      if (i0 >= i1) continue;
+      const auto [j0, j1] = span(ys, std::min(f.a.y(), f.b.y()) - tolerance_m - q.p.y(),
+                                 std::max(f.a.y(), f.b.y()) + tolerance_m - q.p.y());
+      for (size_t i = i0; i < i1; ++i)
+        for (size_t j = j0; j < j1; ++j) {
+          const size_t c = i * ny + j;
+          if (marked[c] == static_cast<int>(k)) continue;
+          if (PointSegmentDistance(Vec2(q.p.x() + xs[i], q.p.y() + ys[j]), f.a, f.b) < tolerance_m) {
+            marked[c] = static_cast<int>(k);
+            ++count[c];
           }
         }
-    ok += hit ? 1 : 0;
+    }
   }
-  return static_cast<double>(ok) / points.size();
+  return count;
 }
 
 double AgreementFraction(const std::vector<FacedSegment>& target, const std::vector<FacedPoint>& points,

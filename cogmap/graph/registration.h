@@ -70,22 +70,15 @@ std::vector<FacedPoint> SampleFaces(const std::vector<FacedSegment>& faces, doub
 double AgreementFraction(const std::vector<FacedSegment>& target, const std::vector<FacedPoint>& points,
                          double tolerance_m, double max_normal_angle_rad);
 
-// A uniform grid over faced segments (each segment listed in every cell its
-// box touches), for nearest-face queries within a small distance.
-class FaceIndex {
- public:
-  FaceIndex() = default;
-  FaceIndex(const std::vector<FacedSegment>& faces, double cell_m);
-  // The same as AgreementFraction on the indexed faces, for tolerance_m <= cell_m.
-  double Agreement(const std::vector<FacedSegment>& faces, const std::vector<FacedPoint>& points, double tolerance_m,
-                   double max_normal_angle_rad) const;
-
- private:
-  double cell_m_ = 1.0;
-  Vec2 origin_{0, 0};
-  int w_ = 0, h_ = 0;
-  std::vector<std::vector<int>> cells_;
-};
+// The agreement of 'points' (target frame) with 'target' at every shift of a
+// grid at once: count[i * ys.size() + j] is the number of points that lie
+// within tolerance_m of a face with agreeing normal once moved by (xs[i],
+// ys[j]) (the test of AgreementFraction). Each point marks the shifts that put
+// it on a face, so the cost is that of the faces near each point, not of every
+// point at every shift. xs and ys ascend.
+std::vector<int> AgreementOverShifts(const std::vector<FacedSegment>& target, const std::vector<FacedPoint>& points,
+                                     const std::vector<double>& xs, const std::vector<double>& ys, double tolerance_m,
+                                     double max_normal_angle_rad);
 
 // Number of crossings of the path polyline 'path' (target frame) by target
 // walls: a path that runs through a wall means the placement is wrong (the

@@ -67,15 +67,29 @@ TEST(Registration, PathThroughWallIsCounted) {
 
 namespace cogmap::graph {
 namespace {
-TEST(Registration, FaceIndexAgreesWithTheBruteForce) {
+TEST(Registration, AgreementOverShiftsCountsWhatTheBruteForceCountsAtEveryShift) {
   const auto faces = FaceWalls(Room(), Inside());
-  const FaceIndex index(faces, 0.5);
   std::vector<FacedPoint> pts = SampleFaces(faces, 0.1);
   for (auto& p : pts) p.p += Vec2(0.13, -0.07);  // some within 0.25 m, none exact
   pts.push_back({Vec2(10, 10), Vec2(0, 1)});
   pts.push_back({Vec2(-3, 1), Vec2(1, 0)});
-  for (double tol : {0.05, 0.15, 0.25})
-    EXPECT_DOUBLE_EQ(index.Agreement(faces, pts, tol, 0.5), AgreementFraction(faces, pts, tol, 0.5)) << tol;
+  std::vector<double> xs, ys;
+  for (double d = -1.0; d <= 1.0 + 1e-9; d += 0.25) xs.push_back(d);
+  for (double d = -0.6; d <= 0.6 + 1e-9; d += 0.2) ys.push_back(d);
+  for (double tol : {0.05, 0.15, 0.25}) {
+    const std::vector<int> counts = AgreementOverShifts(faces, pts, xs, ys, tol, 0.5);
+    ASSERT_EQ(counts.size(), xs.size() * ys.size());
+    int nonzero = 0;
+    for (size_t i = 0; i < xs.size(); ++i)
+      for (size_t j = 0; j < ys.size(); ++j) {
+        std::vector<FacedPoint> moved = pts;
+        for (auto& p : moved) p.p += Vec2(xs[i], ys[j]);
+        const double expected = AgreementFraction(faces, moved, tol, 0.5) * static_cast<double>(pts.size());
+        EXPECT_EQ(counts[i * ys.size() + j], static_cast<int>(std::lround(expected))) << tol << " " << i << " " << j;
+        nonzero += counts[i * ys.size() + j] > 0 ? 1 : 0;
+      }
+    if (tol > 0.1) EXPECT_GT(nonzero, 0) << tol;  // 0.05: no shift of the grid comes that close
+  }
 }
 }  // namespace
 }  // namespace cogmap::graph
