@@ -88,7 +88,9 @@ TEST(Registration, AgreementOverShiftsCountsWhatTheBruteForceCountsAtEveryShift)
         EXPECT_EQ(counts[i * ys.size() + j], static_cast<int>(std::lround(expected))) << tol << " " << i << " " << j;
         nonzero += counts[i * ys.size() + j] > 0 ? 1 : 0;
       }
-    if (tol > 0.1) EXPECT_GT(nonzero, 0) << tol;  // 0.05: no shift of the grid comes that close
+    if (tol > 0.1) {  // 0.05: no shift of the grid comes that close
+      EXPECT_GT(nonzero, 0) << tol;
+    }
   }
 }
 }  // namespace
