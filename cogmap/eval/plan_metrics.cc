@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <unordered_map>
 
 #include <boost/geometry.hpp>
@@ -197,6 +198,123 @@ double OverlapArea(const std::vector<BPoly>& polys) {
   return total;
 }
 
+// The floor of a true room: the cells of its box (cell_m) that the robot
+// could reach from its true path inside the box without crossing a world
+// wall, with the wall cells bordering them. A room cairn is a box; a ring
+// corridor's box also holds the block it runs around, which no plan covers.
+// Empty (the box is the room) when no wall runs through the box's inside
+// (farther than margin_m from its sides) or the robot never entered it.
+struct RoomFloor {
+  Vec2 origin{0, 0};
+  double cell_m = 0.1;
+  int w = 0, h = 0;
+  std::vector<uint8_t> cells;  // 1: floor
+  int64_t count = 0;
+};
+
+std::optional<RoomFloor> ReachableFloor(const NamedBox& t, const std::vector<Segment2>& walls,
+                                        const std::vector<Vec2>& path, double cell_m, double margin_m) {
+  const Vec2 lo = t.min, hi = t.max;
+  // Does a wall cross the box shrunk by the margin? (Liang-Barsky clipping.)
+  const Vec2 in_lo = lo + Vec2(margin_m, margin_m), in_hi = hi - Vec2(margin_m, margin_m);
+  auto crosses = [&](const Segment2& s) {
+    double t0 = 0.0, t1 = 1.0;
+    const Vec2 d = s.b - s.a;
+    for (int k = 0; k < 2; ++k) {
+      const double p[2] = {-d[k], d[k]}, q[2] = {s.a[k] - in_lo[k], in_hi[k] - s.a[k]};
+      for (int e = 0; e < 2; ++e) {
+        if (p[e] == 0.0) {
+          if (q[e] <= 0.0) return false;
+        } else if (p[e] < 0.0) {
+          t0 = std::max(t0, q[e] / p[e]);
+        } else {
+          t1 = std::min(t1, q[e] / p[e]);
+        }
+      }
+    }
+    return t0 < t1;
+  };
+  if (in_lo.x() >= in_hi.x() || in_lo.y() >= in_hi.y() || std::none_of(walls.begin(), walls.end(), crosses))
+    return std::nullopt;
+  RoomFloor f;
+  f.origin = lo;
+  f.cell_m = cell_m;
+  f.w = static_cast<int>(std::ceil((hi.x() - lo.x()) / cell_m));
+  f.h = static_cast<int>(std::ceil((hi.y() - lo.y()) / cell_m));
+  if (f.w <= 0 || f.h <= 0) return std::nullopt;
+  auto index = [&](const Vec2& p, int* x, int* y) {
+    *x = static_cast<int>(std::floor((p.x() - lo.x()) / cell_m));
+    *y = static_cast<int>(std::floor((p.y() - lo.y()) / cell_m));
+    return *x >= 0 && *y >= 0 && *x < f.w && *y < f.h;
+  };
+  // 0 unknown, 1 floor, 2 wall. Walls drawn every half cell: a 4-connected
+  // flood cannot pass a line drawn that densely.
+  f.cells.assign(static_cast<size_t>(f.w) * f.h, 0);
+  for (const Segment2& s : walls) {
+    if (std::max(s.a.x(), s.b.x()) < lo.x() || std::min(s.a.x(), s.b.x()) > hi.x() ||
+        std::max(s.a.y(), s.b.y()) < lo.y() || std::min(s.a.y(), s.b.y()) > hi.y())
+      continue;
+    const int n = std::max(1, static_cast<int>(std::ceil(2.0 * s.length() / cell_m)));
+    for (int i = 0; i <= n; ++i) {
+      int x, y;
+      if (index(s.a + (s.b - s.a) * (static_cast<double>(i) / n), &x, &y))
+        f.cells[static_cast<size_t>(y) * f.w + x] = 2;
+    }
+  }
+  std::vector<int> stack;
+  for (const Vec2& p : path) {
+    int x, y;
+    if (!index(p, &x, &y)) continue;
+    const int c = y * f.w + x;
+    if (f.cells[c] == 0) {
+      f.cells[c] = 1;
+      stack.push_back(c);
+    }
+  }
+  if (stack.empty()) return std::nullopt;
+  std::vector<uint8_t> border(f.cells.size(), 0);
+  while (!stack.empty()) {
+    const int c = stack.back();
+    stack.pop_back();
+    const int x = c % f.w, y = c / f.w;
+    const int nb[4][2] = {{x + 1, y}, {x - 1, y}, {x, y + 1}, {x, y - 1}};
+    for (const auto& q : nb) {
+      if (q[0] < 0 || q[1] < 0 || q[0] >= f.w || q[1] >= f.h) continue;
+      const int k = q[1] * f.w + q[0];
+      if (f.cells[k] == 0) {
+        f.cells[k] = 1;
+        stack.push_back(k);
+      } else if (f.cells[k] == 2) {
+        border[k] = 1;
+      }
+    }
+  }
+  for (size_t c = 0; c < f.cells.size(); ++c) {
+    f.cells[c] = f.cells[c] == 1 || border[c] ? 1 : 0;
+    f.count += f.cells[c];
+  }
+  return f;
+}
+
+// IoU of a room floor (cells) with a plan room polygon: the cells whose
+// centre lies inside it count as the intersection.
+double FloorIou(const RoomFloor& f, const BPoly& poly, const bg::model::box<BPoint>& box) {
+  const double a = f.cell_m * f.cell_m;
+  int64_t inter = 0;
+  const int x0 = std::max(0, static_cast<int>(std::floor((box.min_corner().x() - f.origin.x()) / f.cell_m)));
+  const int x1 = std::min(f.w - 1, static_cast<int>(std::floor((box.max_corner().x() - f.origin.x()) / f.cell_m)));
+  const int y0 = std::max(0, static_cast<int>(std::floor((box.min_corner().y() - f.origin.y()) / f.cell_m)));
+  const int y1 = std::min(f.h - 1, static_cast<int>(std::floor((box.max_corner().y() - f.origin.y()) / f.cell_m)));
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      if (!f.cells[static_cast<size_t>(y) * f.w + x]) continue;
+      const BPoint p(f.origin.x() + (x + 0.5) * f.cell_m, f.origin.y() + (y + 0.5) * f.cell_m);
+      if (bg::within(p, poly)) ++inter;
+    }
+  const double uni = f.count * a + bg::area(poly) - inter * a;
+  return uni > 0 ? inter * a / uni : 0.0;
+}
+
 }  // namespace
 
 PlanMetrics DescribePlan(const plan::Plan& plan) {
@@ -297,8 +415,13 @@ PlanMetrics EvaluatePlan(const plan::Plan& plan, const FloorPlan& truth, const s
         }
       std::sort(cand.begin(), cand.end());
       cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+      const std::optional<RoomFloor> floor = ReachableFloor(t, truth.walls, true_path, o.room_cell_m, o.room_margin_m);
       double best = 0.0;
       for (int j : cand) {
+        if (floor) {
+          best = std::max(best, FloorIou(*floor, polys[j], boxes[j]));
+          continue;
+        }
         const double inter = IntersectionArea(tp, polys[j]);
         const double uni = ta + bg::area(polys[j]) - inter;
         if (uni > 0) best = std::max(best, inter / uni);

@@ -18,6 +18,11 @@ struct PlanMetricsOptions {
   double match_angle_deg = 20.0;   // ... running within this of its direction (duplication)
   double recall_within_m = 0.2;    // recall: a seeable true-wall point with a plan wall this close
   double sensor_range_m = 5.0;     // recall: seeable within this of the true path (eval::WallRecall)
+  // Rooms: a true room whose box has world walls inside it (farther than
+  // room_margin_m from its sides: a ring corridor's block, furniture) is the
+  // part of the box reachable from the true path, in cells of room_cell_m.
+  double room_cell_m = 0.1;
+  double room_margin_m = 0.3;
 };
 
 struct PlanMetrics {
@@ -32,7 +37,7 @@ struct PlanMetrics {
   double matched_plan_length_m = 0.0;     // plan wall length lying on (matching) true walls
   double covered_true_length_m = 0.0;     // true wall length with a matching plan wall on it
   std::optional<double> duplication;      // matched_plan_length_m / covered_true_length_m
-  std::vector<double> room_iou;           // per true room: IoU with its best plan room (0: none)
+  std::vector<double> room_iou;           // per true room (its reachable floor): IoU with its best plan room (0: none)
   std::optional<double> room_iou_median;
   double room_overlap_m2 = 0.0;           // total area where two plan rooms overlap
 };

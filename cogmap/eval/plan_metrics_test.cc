@@ -32,6 +32,31 @@ struct Case {
   }
 };
 
+// A ring corridor 2 m wide around a walled 6 x 6 m block: its room cairn is
+// the 10 x 10 m box, the block included. The true room is the floor the robot
+// could reach: 100 x 100 cells of 0.1 m less the block's 59 x 59 inside ones
+// (its wall cells border the corridor) and the outer corner cell (0, 0), a
+// wall cell with no floor beside it: 65.18 m2.
+TEST(PlanMetrics, RingCorridorIsItsReachableFloorNotItsBox) {
+  FloorPlan truth;
+  truth.walls = {{{0, 0}, {10, 0}}, {{10, 0}, {10, 10}}, {{10, 10}, {0, 10}}, {{0, 10}, {0, 0}},
+                 {{2, 2}, {8, 2}},  {{8, 2}, {8, 8}},    {{8, 8}, {2, 8}},    {{2, 8}, {2, 2}}};
+  truth.rooms = {{"corridor", {0, 0}, {10, 10}}};
+  const std::vector<Vec2> path = {{1, 1}, {9, 1}, {9, 9}, {1, 9}};
+  plan::Plan arm, square;
+  arm.rooms = {R(0, {{0, 0}, {10, 0}, {10, 2}, {0, 2}})};
+  square.rooms = {R(0, {{0, 0}, {10, 0}, {10, 10}, {0, 10}})};
+  const double floor = 65.18;
+  const PlanMetrics a = EvaluatePlan(arm, truth, path);
+  ASSERT_EQ(a.room_iou.size(), 1u);
+  EXPECT_NEAR(a.room_iou[0], 19.99 / (floor + 20.0 - 19.99), 1e-9);  // the box would give 0.2
+  const PlanMetrics b = EvaluatePlan(square, truth, path);
+  EXPECT_NEAR(b.room_iou[0], floor / 100.0, 1e-9);  // the box would give 1
+  // Never entered: the box is all that is known of the room.
+  const PlanMetrics c = EvaluatePlan(arm, truth, {{20, 20}});
+  EXPECT_NEAR(c.room_iou[0], 0.2, 1e-12);
+}
+
 TEST(PlanMetrics, HandBuiltPlanAgainstTruth) {
   Case c;
   const PlanMetrics m = EvaluatePlan(c.plan, c.truth, {{2, 2}});
