@@ -322,15 +322,22 @@ struct RoomGrid {
   }
 };
 
+// Where a room may flood: the convex hull of the walls and path of each of its
+// units (a room with its revisits and absorbed slivers), not of them all: the
+// pieces of a corridor turning a corner would span the block it runs around.
+using RoomHulls = std::vector<std::vector<Vec2>>;
+
 // Multi-source breadth-first flood: each seed cell's label spreads through free
 // cells its region allows, first come first served (a geodesic Voronoi split).
 Labels Flood(const RoomGrid& g, const Mask& blocked, const std::vector<std::vector<size_t>>& seeds,
-             const std::vector<std::vector<Vec2>>& hulls_frame) {
+             const std::vector<RoomHulls>& hulls_frame) {
   Labels label(g.w, g.h, -1);
   std::deque<size_t> q;
   auto allowed = [&](int r, int cx, int cy) {
     const Vec2 p(g.lo.x() + (cx + 0.5) * g.cell, g.lo.y() + (cy + 0.5) * g.cell);
-    return InConvex(hulls_frame[r], p);
+    for (const auto& hull : hulls_frame[r])
+      if (InConvex(hull, p)) return true;
+    return false;
   };
   for (size_t r = 0; r < seeds.size(); ++r)
     for (size_t idx : seeds[r]) {
@@ -1293,10 +1300,10 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
 
   // Seeds and allowed regions per working room.
   auto build_regions = [&](const std::vector<int>& room_of_unit, int n_rooms, std::vector<std::vector<size_t>>* seeds,
-                           std::vector<std::vector<Vec2>>* hulls) {
+                           std::vector<RoomHulls>* hulls) {
     seeds->assign(n_rooms, {});
     hulls->assign(n_rooms, {});
-    std::vector<std::vector<Vec2>> hull_pts(n_rooms);
+    std::vector<std::vector<Vec2>> hull_pts(n_units);
     std::vector<std::vector<size_t>> all_path(n_rooms);
     std::map<int, std::vector<const DoorCand*>> doors_of_asr;
     for (const auto& d : door_cands) {
@@ -1305,11 +1312,12 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
     }
     for (size_t i = 0; i < asrs.size(); ++i) {
       const auto& own_doors = doors_of_asr[asrs[i].id];
-      const int r = room_of_unit[unit_root(unit_of[i])];
+      const int u = unit_root(unit_of[i]);
+      const int r = room_of_unit[u];
       for (const auto& l : walls[i])
-        for (const auto& p : l) hull_pts[r].push_back(g.ToFrame(p));
+        for (const auto& p : l) hull_pts[u].push_back(g.ToFrame(p));
       for (const auto& p : path[i]) {
-        hull_pts[r].push_back(g.ToFrame(p));
+        hull_pts[u].push_back(g.ToFrame(p));
         int cx, cy;
         if (!g.Cell(p, &cx, &cy)) continue;
         // A cell repeated next in one room's list would flood nothing more: once.
@@ -1321,10 +1329,10 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
         if (!near_door && ((*seeds)[r].empty() || (*seeds)[r].back() != idx)) (*seeds)[r].push_back(idx);
       }
     }
-    for (int r = 0; r < n_rooms; ++r) {
+    for (int u = 0; u < n_units; ++u)
+      if (!hull_pts[u].empty()) (*hulls)[room_of_unit[u]].push_back(ConvexHull(hull_pts[u]));
+    for (int r = 0; r < n_rooms; ++r)
       if ((*seeds)[r].empty()) (*seeds)[r] = all_path[r];
-      (*hulls)[r] = ConvexHull(hull_pts[r]);
-    }
   };
   auto door_mask = [&](const std::vector<int>& room_of_unit) {
     Mask m = wall_mask;
@@ -1344,7 +1352,7 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
   for (int u = 0; u < n_units; ++u)
     if (unit_root(u) == u) unit_room[u] = n1++;
   std::vector<std::vector<size_t>> seeds;
-  std::vector<std::vector<Vec2>> hulls;
+  std::vector<RoomHulls> hulls;
   build_regions(unit_room, n1, &seeds, &hulls);
   std::vector<Shape> shapes;
   {  // pass 1's labels go before pass 2 floods
@@ -1395,7 +1403,7 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
   std::vector<std::vector<Polyline>>().swap(walls);
   Labels label = Flood(g, door_mask(plan_of_unit), seeds, hulls);
   std::vector<std::vector<size_t>>().swap(seeds);
-  std::vector<std::vector<Vec2>>().swap(hulls);
+  std::vector<RoomHulls>().swap(hulls);
 
   // ---------------------------------------------------------------- room polygons
   std::vector<Room> rooms(n_plan);
