@@ -354,6 +354,22 @@ TEST(BuildPlan, CorridorInThreePiecesIsOneCorridorRoom) {
   EXPECT_EQ(long_walls, 2);
 }
 
+// An L-shaped corridor in two pieces, 2 m wide: along x (y 0..2, x 0..10),
+// then along y (x 8..10, y 2..12); the inner walls have a 2 m gap each (walls
+// the sonar missed). The hull of both pieces spans the open corner beyond the
+// gaps; the corridor is its two arms, 40 m2.
+TEST(BuildPlan, CorridorTurningACornerDoesNotFillTheCorner) {
+  asr::Asr a = MakeAsr(0, {{{0, 2}, {0, 0}, {10, 0}}, {{0, 2}, {3, 2}}, {{5, 2}, {8, 2}}}, Line({0.5, 1}, {9, 1}));
+  asr::Asr b = MakeAsr(1, {{{10, 0}, {10, 12}, {8, 12}}, {{8, 2}, {8, 6}}, {{8, 8}, {8, 12}}},
+                       Line({9, 2.2}, {9, 11.5}), 10.0);
+  b.exits.push_back({{9, 2}, 2.0, 0, 1});
+  const Plan plan = BuildPlan({a, b}, {});
+  ASSERT_EQ(plan.rooms.size(), 1u);
+  EXPECT_TRUE(plan.rooms[0].corridor);
+  EXPECT_NEAR(plan.rooms[0].area_m2, 40.0, 2.0);
+  EXPECT_FALSE(Inside({4, 6}, plan.rooms[0].polygon));  // the open corner
+}
+
 TEST(BuildPlan, SliverIsAbsorbedByItsNeighbour) {
   asr::Asr a = MakeAsr(0, {Box(0, 0, 4, 4)}, Line({1, 2}, {3.6, 2}));
   asr::Asr s = MakeAsr(1, {{{4, 0}, {4, 4}}}, Line({3.7, 2}, {3.9, 2}), 5.0);  // 0.2 m of path
