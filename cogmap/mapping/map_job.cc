@@ -189,12 +189,37 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   io::MasterMap master = io::BuildMasterMap(all, !job.raw);
   MapJobSummary out;
   out.written = {"map.sqlite"};
+
+  // What the pictures below no longer need goes before they are encoded: the
+  // raw paths (the master map holds them as drawn; the floor plan reads the
+  // placed paths, an ASR without one keeps its raw path), and, once the map
+  // is drawn, the master map's paths (the drawing holds what it shows): a
+  // 1000-room map.svg is some 16 MB, which cairo's SVG surface holds until
+  // the end of the page. The comparison (drawn after the map: cairo numbers
+  // its surfaces in order, and the files stay as they were) reads both.
+  auto drop_raw_paths = [&] {
+    for (auto& x : all)
+      if (auto it = placed_paths.find(x.id); it != placed_paths.end() && !it->second.empty())
+        std::vector<Pose2>().swap(x.path);
+  };
+  auto drop_master_paths = [&] {
+    for (auto& r : master.rooms) std::vector<Vec2>().swap(r.path);
+  };
+  if (!job.outputs.compare) drop_raw_paths();
   // The master map's pictures (every ASR's walls); its files come from the
   // floor plan below.
-  draw::MapPictureOptions map_picture;
-  map_picture.picture.px_per_m = job.px_per_m;
-  for (const auto& f : draw::WriteMasterMapPictures(staging, master, job.outputs.svg, job.outputs.png, false, map_picture))
-    out.written.push_back(fs::path(f).filename().string());
+  if (job.outputs.svg || job.outputs.png) {
+    draw::MapPictureOptions map_picture;
+    map_picture.picture.px_per_m = job.px_per_m;
+    const draw::Drawing picture = draw::DrawMasterMap(master, map_picture).drawing;
+    if (!job.outputs.compare) drop_master_paths();
+    const std::string base = (fs::path(staging) / "map").string();
+    for (const auto& [want, ext] : {std::pair{job.outputs.svg, ".svg"}, std::pair{job.outputs.png, ".png"}})
+      if (want) {
+        picture.Write(base + ext);
+        out.written.push_back(std::string("map") + ext);
+      }
+  }
 
   // Before / after correction side by side (drawn before the floor plan,
   // listed after it).
@@ -214,12 +239,9 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
     compare.Write((fs::path(staging) / "map_compare.png").string());
     compare_written = {"map_compare.svg", "map_compare.png"};
   }
-  // What is drawn is drawn: the paths go before the floor plan is built (it
-  // reads the placed paths; an ASR without one keeps its raw path).
-  for (auto& r : master.rooms) std::vector<Vec2>().swap(r.path);
-  for (auto& x : all)
-    if (auto it = placed_paths.find(x.id); it != placed_paths.end() && !it->second.empty())
-      std::vector<Pose2>().swap(x.path);
+  // What is drawn is drawn: the paths go before the floor plan is built.
+  drop_raw_paths();
+  drop_master_paths();
 
   // The floor plan (docs/floor-plan.md): plan.json always (cogmap eval reads
   // it), and the files made from it.

@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <unordered_map>
 
@@ -284,7 +285,37 @@ class TiledLattice {
   std::vector<std::unique_ptr<T[]>> tiles_;
 };
 using Mask = TiledLattice<uint8_t>;    // 1: blocked (a wall or a door line)
-using Labels = TiledLattice<int>;      // room per cell, -1: none
+
+// Room per cell, -1: none, on tiles: 16-bit labels while the rooms number
+// fewer than 32768 (half the memory of int labels: at 1000 rooms the labels
+// are the plan's largest structure), 32-bit beyond.
+class Labels {
+ public:
+  Labels(int w, int h, int n_labels) : wide_(n_labels > std::numeric_limits<int16_t>::max()) {
+    if (wide_) wide_cells_.emplace(w, h, -1);
+    else narrow_cells_.emplace(w, h, int16_t{-1});
+  }
+  int Get(int x, int y) const { return wide_ ? wide_cells_->Get(x, y) : narrow_cells_->Get(x, y); }
+  void Set(int x, int y, int v) {
+    if (wide_) wide_cells_->Set(x, y, v);
+    else narrow_cells_->Set(x, y, static_cast<int16_t>(v));  // v < n_labels
+  }
+  template <class F>
+  void ForEachStored(F&& f) const {  // f(x, y, label)
+    if (wide_) wide_cells_->ForEachStored([&](int x, int y, int v) { f(x, y, v); });
+    else narrow_cells_->ForEachStored([&](int x, int y, int16_t v) { f(x, y, static_cast<int>(v)); });
+  }
+  template <class F>
+  void ForEachNearStored(F&& f) const {
+    if (wide_) wide_cells_->ForEachNearStored(f);
+    else narrow_cells_->ForEachNearStored(f);
+  }
+
+ private:
+  bool wide_;
+  std::optional<TiledLattice<int>> wide_cells_;
+  std::optional<TiledLattice<int16_t>> narrow_cells_;
+};
 
 // ------------------------------------------------------------------ room grid
 // A grid in the building frame (rotated by -phi so walls run along the axes).
@@ -331,7 +362,7 @@ using RoomHulls = std::vector<std::vector<Vec2>>;
 // cells its region allows, first come first served (a geodesic Voronoi split).
 Labels Flood(const RoomGrid& g, const Mask& blocked, const std::vector<std::vector<size_t>>& seeds,
              const std::vector<RoomHulls>& hulls_frame) {
-  Labels label(g.w, g.h, -1);
+  Labels label(g.w, g.h, static_cast<int>(seeds.size()));
   std::deque<size_t> q;
   auto allowed = [&](int r, int cx, int cy) {
     const Vec2 p(g.lo.x() + (cx + 0.5) * g.cell, g.lo.y() + (cy + 0.5) * g.cell);
@@ -1401,9 +1432,6 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
   // needs), then the seeds and hulls: freed before the polygons are traced.
   std::vector<std::vector<Vec2>>().swap(path);
   std::vector<std::vector<Polyline>>().swap(walls);
-  Labels label = Flood(g, door_mask(plan_of_unit), seeds, hulls);
-  std::vector<std::vector<size_t>>().swap(seeds);
-  std::vector<RoomHulls>().swap(hulls);
 
   // ---------------------------------------------------------------- room polygons
   std::vector<Room> rooms(n_plan);
@@ -1415,70 +1443,76 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
     room.asr_ids.push_back(asrs[i].id);
     room.graph_rooms.push_back(graph_of[i]);
   }
-  // Each room is a set of sites of the half-cell lattice (HalfCells: disjoint
-  // by construction). First every room, in order, becomes one piece without
-  // holes: its largest 4-connected piece is kept (its other pieces are left
-  // to no room) and whatever it encloses becomes its own (walls inside it,
-  // and a room wholly inside it, which then disappears). A room is never
-  // partly enclosed: it is one connected piece, so all of it lies in one
-  // hole or none. Rooms smaller than min_room_area_m2 are left out. Then each
-  // room's outline is traced along the lattice: the outlines of disjoint
-  // sets, so no two rooms overlap, exactly (they share edges where they
-  // meet). docs/floor-plan.md, "Polygons".
-  const std::vector<CellBox> boxes = LabelBoxes(label, n_plan);
-  for (int r = 0; r < n_plan; ++r) {  // one piece of cells per room, before it grows onto the walls
-    const CellBox& b = boxes[r];
-    if (b.x1 < 0) continue;
-    const Region reg = FillRegion(b.x0, b.y0, b.x1, b.y1, [&](int x, int y) { return label.Get(x, y) == r; }, false);
-    for (int y = b.y0; y <= b.y1; ++y)
-      for (int x = b.x0; x <= b.x1; ++x)
-        if (label.Get(x, y) == r && !reg.at(x - b.x0 + 1, y - b.y0 + 1)) label.Set(x, y, -1);
-  }
-  HalfCells half(g, &label);
-  auto half_box = [&](int r, int* x0, int* y0, int* x1, int* y1) {
-    *x0 = std::max(0, 2 * boxes[r].x0 - 1), *y0 = std::max(0, 2 * boxes[r].y0 - 1);
-    *x1 = std::min(half.w() - 1, 2 * boxes[r].x1 + 2), *y1 = std::min(half.h() - 1, 2 * boxes[r].y1 + 2);
-  };
-  const double site_m2 = 0.25 * g.cell * g.cell;
-  for (int r = 0; r < n_plan; ++r) {
-    if (boxes[r].x1 < 0) continue;
-    int x0, y0, x1, y1;
-    half_box(r, &x0, &y0, &x1, &y1);
-    const Region reg = FillRegion(x0, y0, x1, y1, [&](int i, int j) { return half.Get(i, j) == r; });
-    const bool keep = reg.count * site_m2 >= o.min_room_area_m2;
-    for (int y = 1; y < reg.H - 1; ++y)
-      for (int x = 1; x < reg.W - 1; ++x) {
-        const int i = x0 - 1 + x, j = y0 - 1 + y;
-        const int cur = half.Get(i, j);
-        const bool mine = keep && reg.at(x, y);
-        if (mine && cur != r) half.Set(i, j, r);
-        if (!mine && cur == r) half.Set(i, j, -1);
-      }
-  }
+  // The outlines, traced on the labels; the labels go once they are traced.
   std::vector<BPoly> polys(n_plan);
   std::vector<Vec2> inner(n_plan, Vec2(0, 0));
-  for (int r = 0; r < n_plan; ++r) {
-    if (boxes[r].x1 < 0) continue;
-    int x0, y0, x1, y1;
-    half_box(r, &x0, &y0, &x1, &y1);
-    const Region reg = FillRegion(x0, y0, x1, y1, [&](int i, int j) { return half.Get(i, j) == r; });
-    Vec2 in_frame(0, 0);
-    // A corner of the lattice where three or more labels (rooms, or none) meet.
-    auto junction = [&](int i, int j) {
-      const int l[4] = {half.Get(i - 1, j - 1), half.Get(i, j - 1), half.Get(i - 1, j), half.Get(i, j)};
-      int distinct = 0;
-      for (int k = 0; k < 4; ++k) {
-        bool seen = false;
-        for (int m = 0; m < k; ++m) seen = seen || l[m] == l[k];
-        distinct += seen ? 0 : 1;
-      }
-      return distinct >= 3;
+  {
+    Labels label = Flood(g, door_mask(plan_of_unit), seeds, hulls);
+    std::vector<std::vector<size_t>>().swap(seeds);
+    std::vector<RoomHulls>().swap(hulls);
+    // Each room is a set of sites of the half-cell lattice (HalfCells: disjoint
+    // by construction). First every room, in order, becomes one piece without
+    // holes: its largest 4-connected piece is kept (its other pieces are left
+    // to no room) and whatever it encloses becomes its own (walls inside it,
+    // and a room wholly inside it, which then disappears). A room is never
+    // partly enclosed: it is one connected piece, so all of it lies in one
+    // hole or none. Rooms smaller than min_room_area_m2 are left out. Then each
+    // room's outline is traced along the lattice: the outlines of disjoint
+    // sets, so no two rooms overlap, exactly (they share edges where they
+    // meet). docs/floor-plan.md, "Polygons".
+    const std::vector<CellBox> boxes = LabelBoxes(label, n_plan);
+    for (int r = 0; r < n_plan; ++r) {  // one piece of cells per room, before it grows onto the walls
+      const CellBox& b = boxes[r];
+      if (b.x1 < 0) continue;
+      const Region reg = FillRegion(b.x0, b.y0, b.x1, b.y1, [&](int x, int y) { return label.Get(x, y) == r; }, false);
+      for (int y = b.y0; y <= b.y1; ++y)
+        for (int x = b.x0; x <= b.x1; ++x)
+          if (label.Get(x, y) == r && !reg.at(x - b.x0 + 1, y - b.y0 + 1)) label.Set(x, y, -1);
+    }
+    HalfCells half(g, &label);
+    auto half_box = [&](int r, int* x0, int* y0, int* x1, int* y1) {
+      *x0 = std::max(0, 2 * boxes[r].x0 - 1), *y0 = std::max(0, 2 * boxes[r].y0 - 1);
+      *x1 = std::min(half.w() - 1, 2 * boxes[r].x1 + 2), *y1 = std::min(half.h() - 1, 2 * boxes[r].y1 + 2);
     };
-    std::vector<Vec2> ring = TraceRegion(reg, g.lo, 0.5 * g.cell, &in_frame, junction);
-    if (ring.size() < 3) continue;
-    for (auto& v : ring) v = g.FromFrame(v);
-    polys[r] = ToBoost(ring);
-    inner[r] = g.FromFrame(in_frame);
+    const double site_m2 = 0.25 * g.cell * g.cell;
+    for (int r = 0; r < n_plan; ++r) {
+      if (boxes[r].x1 < 0) continue;
+      int x0, y0, x1, y1;
+      half_box(r, &x0, &y0, &x1, &y1);
+      const Region reg = FillRegion(x0, y0, x1, y1, [&](int i, int j) { return half.Get(i, j) == r; });
+      const bool keep = reg.count * site_m2 >= o.min_room_area_m2;
+      for (int y = 1; y < reg.H - 1; ++y)
+        for (int x = 1; x < reg.W - 1; ++x) {
+          const int i = x0 - 1 + x, j = y0 - 1 + y;
+          const int cur = half.Get(i, j);
+          const bool mine = keep && reg.at(x, y);
+          if (mine && cur != r) half.Set(i, j, r);
+          if (!mine && cur == r) half.Set(i, j, -1);
+        }
+    }
+    for (int r = 0; r < n_plan; ++r) {
+      if (boxes[r].x1 < 0) continue;
+      int x0, y0, x1, y1;
+      half_box(r, &x0, &y0, &x1, &y1);
+      const Region reg = FillRegion(x0, y0, x1, y1, [&](int i, int j) { return half.Get(i, j) == r; });
+      Vec2 in_frame(0, 0);
+      // A corner of the lattice where three or more labels (rooms, or none) meet.
+      auto junction = [&](int i, int j) {
+        const int l[4] = {half.Get(i - 1, j - 1), half.Get(i, j - 1), half.Get(i - 1, j), half.Get(i, j)};
+        int distinct = 0;
+        for (int k = 0; k < 4; ++k) {
+          bool seen = false;
+          for (int m = 0; m < k; ++m) seen = seen || l[m] == l[k];
+          distinct += seen ? 0 : 1;
+        }
+        return distinct >= 3;
+      };
+      std::vector<Vec2> ring = TraceRegion(reg, g.lo, 0.5 * g.cell, &in_frame, junction);
+      if (ring.size() < 3) continue;
+      for (auto& v : ring) v = g.FromFrame(v);
+      polys[r] = ToBoost(ring);
+      inner[r] = g.FromFrame(in_frame);
+    }
   }
 
   // ---------------------------------------------------------------- assemble rooms
@@ -1507,6 +1541,7 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
         room.label = 0.5 * (e0 + e1) + 1e-3 * Perp((e1 - e0).normalized());
       }
     }
+    polys[r] = BPoly();  // the room holds its polygon now
     room_index[r] = room.id;
     plan.rooms.push_back(std::move(room));
   }
