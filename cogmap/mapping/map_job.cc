@@ -7,6 +7,7 @@
 #include <cmath>
 #include <exception>
 #include <filesystem>
+#include <iomanip>
 #include <map>
 #include <set>
 #include <sstream>
@@ -246,6 +247,15 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   // The floor plan (docs/floor-plan.md): plan.json always (cogmap eval reads
   // it), and the files made from it.
   const plan::Plan floor_plan = plan::BuildPlan(all, room_of, {}, placed_paths);
+  // Nothing below reads the placed paths, nor the ASRs' walls, exits and
+  // paths (walls.json and report.json take their counts and times): they go
+  // before the plan's files and picture are written.
+  std::map<int, std::vector<Pose2>>().swap(placed_paths);
+  for (auto& x : all) {
+    std::vector<Polyline>().swap(x.walls_local);
+    std::vector<asr::Exit>().swap(x.exits);
+    std::vector<Pose2>().swap(x.path);
+  }
   io::WriteFileAtomically((fs::path(staging) / "plan.json").string(),
                           [&](std::ostream& o) { plan::WritePlanJson(o, floor_plan); });
   out.written.push_back("plan.json");
@@ -342,7 +352,8 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   out.times_real_time = out.seconds > 0 ? run.duration_s() / out.seconds : 0.0;
   ctx.total_seconds = out.seconds;
   out.report = MakeReport(ctx);
-  io::WriteFileAtomically((fs::path(staging) / "report.json").string(), out.report.dump(2) + "\n");
+  io::WriteFileAtomically((fs::path(staging) / "report.json").string(),
+                          [&](std::ostream& o) { o << std::setw(2) << out.report << "\n"; });  // dump(2)'s text
   out.run = run;
   out.warnings = run.graph.warnings;
   return out;

@@ -295,6 +295,7 @@ class Labels {
     if (wide_) wide_cells_.emplace(w, h, -1);
     else narrow_cells_.emplace(w, h, int16_t{-1});
   }
+  bool wide() const { return wide_; }
   int Get(int x, int y) const { return wide_ ? wide_cells_->Get(x, y) : narrow_cells_->Get(x, y); }
   void Set(int x, int y, int v) {
     if (wide_) wide_cells_->Set(x, y, v);
@@ -412,33 +413,42 @@ std::vector<CellBox> LabelBoxes(const Labels& label, int n) {
 
 // The quarters (HalfCells) of the unlabelled cells beside a room, by tile of
 // 16 x 16 cells: per tile, a list of (cell in the tile, its four quarters)
-// sorted by cell. About 20 bytes a cell, where a hash map took some 56.
-class QuarterTable {
+// sorted by cell. About 10 bytes a cell with 16-bit labels (20 with 32-bit),
+// where a hash map took some 56.
+template <class T>
+class QuarterTableOf {
   struct Entry {
     uint8_t at;  // (y & 15) * 16 + (x & 15)
-    std::array<int, 4> q;
+    std::array<T, 4> q;
   };
   template <class V>
   static auto Lower(V& t, uint8_t at) {
     return std::lower_bound(t.begin(), t.end(), at, [](const Entry& e, uint8_t a) { return e.at < a; });
   }
-
- public:
-  QuarterTable(int w, int h) : tw_((w + 15) >> 4), tiles_(static_cast<size_t>(tw_) * ((h + 15) >> 4)) {}
-  // The cell's quarters, or nullptr when it has none.
-  const std::array<int, 4>* Find(int cx, int cy) const {
-    const std::vector<Entry>& t = tiles_[Tile(cx, cy)];
-    const auto it = Lower(t, At(cx, cy));
-    return it != t.end() && it->at == At(cx, cy) ? &it->q : nullptr;
-  }
-  // The cell's quarters, added as four -1 when it has none.
-  std::array<int, 4>& Get(int cx, int cy) {
+  // The cell's entry, added with four -1 when it has none.
+  std::array<T, 4>& Get(int cx, int cy) {
     std::vector<Entry>& t = tiles_[Tile(cx, cy)];
     const uint8_t at = At(cx, cy);
     auto it = Lower(t, at);
-    if (it == t.end() || it->at != at) it = t.insert(it, Entry{at, {-1, -1, -1, -1}});
+    if (it == t.end() || it->at != at) it = t.insert(it, Entry{at, {T(-1), T(-1), T(-1), T(-1)}});
     return it->q;
   }
+
+ public:
+  QuarterTableOf(int w, int h) : tw_((w + 15) >> 4), tiles_(static_cast<size_t>(tw_) * ((h + 15) >> 4)) {}
+  // The cell's quarters into 'q'; false when it has none.
+  bool Find(int cx, int cy, std::array<int, 4>* q) const {
+    const std::vector<Entry>& t = tiles_[Tile(cx, cy)];
+    const auto it = Lower(t, At(cx, cy));
+    if (it == t.end() || it->at != At(cx, cy)) return false;
+    for (int k = 0; k < 4; ++k) (*q)[k] = it->q[k];
+    return true;
+  }
+  void Set(int cx, int cy, const std::array<int, 4>& q) {
+    std::array<T, 4>& e = Get(cx, cy);
+    for (int k = 0; k < 4; ++k) e[k] = static_cast<T>(q[k]);
+  }
+  void SetQuarter(int cx, int cy, int k, int r) { Get(cx, cy)[k] = static_cast<T>(r); }
   void ShrinkToFit() {
     for (auto& t : tiles_) t.shrink_to_fit();
   }
@@ -448,6 +458,27 @@ class QuarterTable {
   static uint8_t At(int cx, int cy) { return static_cast<uint8_t>(((cy & 15) << 4) | (cx & 15)); }
   int tw_;
   std::vector<std::vector<Entry>> tiles_;
+};
+
+// The quarter table in the labels' width (Labels).
+class QuarterTable {
+ public:
+  QuarterTable(int w, int h, bool wide) {
+    if (wide) wide_.emplace(w, h);
+    else narrow_.emplace(w, h);
+  }
+  bool Find(int cx, int cy, std::array<int, 4>* q) const {
+    return wide_ ? wide_->Find(cx, cy, q) : narrow_->Find(cx, cy, q);
+  }
+  void Set(int cx, int cy, const std::array<int, 4>& q) { wide_ ? wide_->Set(cx, cy, q) : narrow_->Set(cx, cy, q); }
+  void SetQuarter(int cx, int cy, int k, int r) {
+    wide_ ? wide_->SetQuarter(cx, cy, k, r) : narrow_->SetQuarter(cx, cy, k, r);
+  }
+  void ShrinkToFit() { wide_ ? wide_->ShrinkToFit() : narrow_->ShrinkToFit(); }
+
+ private:
+  std::optional<QuarterTableOf<int>> wide_;
+  std::optional<QuarterTableOf<int16_t>> narrow_;
 };
 
 // The rooms on a lattice of half cells (site (i, j) is quarter (i & 1, j & 1)
@@ -462,7 +493,7 @@ class QuarterTable {
 class HalfCells {
  public:
   HalfCells(const RoomGrid& g, Labels* label)
-      : g_(g), label_(*label), w_(2 * g.w), h_(2 * g.h), quarters_(g.w, g.h) {
+      : g_(g), label_(*label), w_(2 * g.w), h_(2 * g.h), quarters_(g.w, g.h, label->wide()) {
     auto cell = [&](int x, int y) { return x < 0 || y < 0 || x >= g.w || y >= g.h ? -1 : label_.Get(x, y); };
     // Only cells within a tile of a labelled one can border a room.
     label_.ForEachNearStored([&](int cx, int cy) {
@@ -475,7 +506,7 @@ class HalfCells {
         q[k] = h >= 0 && v >= 0 ? std::min(h, v) : h >= 0 ? h : v;
         any = any || q[k] >= 0;
       }
-      if (any) quarters_.Get(cx, cy) = q;
+      if (any) quarters_.Set(cx, cy, q);
     });
     // A quarter at a room's outer corner: both its outer neighbours took the
     // same room (so the room grows by a square, as a mitred buffer would).
@@ -494,7 +525,7 @@ class HalfCells {
         if (h >= 0 && h == v) corner.push_back({cx, cy, k, h});
       }
     });
-    for (const Corner& c : corner) quarters_.Get(c.cx, c.cy)[c.k] = c.r;
+    for (const Corner& c : corner) quarters_.SetQuarter(c.cx, c.cy, c.k, c.r);
     quarters_.ShrinkToFit();
   }
   int w() const { return w_; }
@@ -510,7 +541,7 @@ class HalfCells {
       label_.Set(i >> 1, j >> 1, r);
       return;
     }
-    quarters_.Get(i >> 1, j >> 1)[(j & 1) * 2 + (i & 1)] = r;
+    quarters_.SetQuarter(i >> 1, j >> 1, (j & 1) * 2 + (i & 1), r);
   }
 
  private:
@@ -518,8 +549,8 @@ class HalfCells {
     if (cx < 0 || cy < 0 || cx >= g_.w || cy >= g_.h) return -1;
     const int l = label_.Get(cx, cy);
     if (l >= 0) return l;
-    const std::array<int, 4>* q = quarters_.Find(cx, cy);
-    return q ? (*q)[k] : -1;
+    std::array<int, 4> q;
+    return quarters_.Find(cx, cy, &q) ? q[k] : -1;
   }
   const RoomGrid& g_;
   Labels& label_;
@@ -966,6 +997,11 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
     p.weight = seen;
     pieces.push_back(std::move(p));
   }
+  // The pieces carry the faces on: the evidence and the faces go.
+  std::vector<Evidence>().swap(ev);
+  std::vector<Face>().swap(faces);
+  std::vector<std::map<int, double>>().swap(face_quality);
+  face_hash = CellHash(2.0);
 
   // ---------------------------------------------------------------- thin walls: opposite faces that coincide
   {
