@@ -270,9 +270,27 @@ void Drawing::EncodeTo(Format format, std::ostream& out) const {
   cairo_destroy(cr);
   if (format == Format::kPng && drawn == CAIRO_STATUS_SUCCESS) {
     cairo_surface_flush(surface);
-    const cairo_status_t written = cairo_surface_write_to_png_stream(surface, AppendBytes, bytes);
+    const unsigned char* data = cairo_image_surface_get_data(surface);
+    const int stride = cairo_image_surface_get_stride(surface);
+    const int w = cairo_image_surface_get_width(surface), h = cairo_image_surface_get_height(surface);
+    try {
+      io::EncodeRgbPngRows(
+          w, h,
+          [&](int y, uint8_t* rgb) {
+            const auto* px = reinterpret_cast<const uint32_t*>(data + static_cast<size_t>(y) * stride);
+            for (int x = 0; x < w; ++x) {
+              rgb[3 * x] = static_cast<uint8_t>(px[x] >> 16);
+              rgb[3 * x + 1] = static_cast<uint8_t>(px[x] >> 8);
+              rgb[3 * x + 2] = static_cast<uint8_t>(px[x]);
+            }
+          },
+          out);
+    } catch (...) {
+      cairo_surface_destroy(surface);
+      throw;
+    }
     cairo_surface_destroy(surface);
-    CheckStatus(written, "PNG");
+    if (!out) CheckStatus(CAIRO_STATUS_WRITE_ERROR, "PNG");
     return;
   }
   cairo_surface_finish(surface);

@@ -45,6 +45,41 @@ std::string EncodeGreyPng(int width, int height, const std::vector<uint8_t>& gre
   return Encode(width, height, PNG_FORMAT_GRAY, grey.data(), width);
 }
 
+void EncodeRgbPngRows(int width, int height, const std::function<void(int y, uint8_t* rgb)>& row,
+                      std::ostream& out) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!info) {
+    png_destroy_write_struct(&png, nullptr);
+    throw std::runtime_error("PNG encoding failed: out of memory");
+  }
+  std::vector<uint8_t> buffer(static_cast<size_t>(width) * 3);
+  // libpng reports errors by longjmp: nothing with a destructor is created
+  // between here and the end of the writing.
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw std::runtime_error("PNG encoding failed");
+  }
+  png_set_write_fn(
+      png, &out,
+      [](png_structp p, png_bytep data, png_size_t n) {
+        static_cast<std::ostream*>(png_get_io_ptr(p))->write(reinterpret_cast<const char*>(data),
+                                                             static_cast<std::streamsize>(n));
+      },
+      [](png_structp p) { static_cast<std::ostream*>(png_get_io_ptr(p))->flush(); });
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8, PNG_COLOR_TYPE_RGB,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
+  png_set_compression_level(png, 1);
+  png_write_info(png, info);
+  for (int y = 0; y < height; ++y) {
+    row(y, buffer.data());
+    png_write_row(png, buffer.data());
+  }
+  png_write_end(png, info);
+  png_destroy_write_struct(&png, &info);
+}
+
 void WritePng(const std::string& path, const RgbImage& image) {
   WriteFileAtomically(path, EncodePng(image));
 }

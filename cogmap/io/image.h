@@ -1,5 +1,7 @@
 #pragma once
 #include <cstdint>
+#include <functional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -39,6 +41,13 @@ class RgbImage {
 void WritePng(const std::string& path, const RgbImage& image);
 // Encodes to PNG bytes in memory.
 std::string EncodePng(const RgbImage& image);
+// Encodes an 8-bit RGB image row by row into 'out' (row(y, rgb) fills row y,
+// 3 x width bytes), without holding the image: drawings, whose large flat
+// areas compress well with the fastest settings (no row filter, zlib level 1).
+// nine_rooms' 2000 x 1731 px plan.png: `--outputs plan` 0.229 -> 0.173 s for
+// the whole command, the file 186 -> 248 KB (cairo's writer: libpng's
+// adaptive row filters and zlib level 6).
+void EncodeRgbPngRows(int width, int height, const std::function<void(int y, uint8_t* rgb)>& row, std::ostream& out);
 // Encodes an 8-bit grey image (row 0 on top) to PNG bytes.
 std::string EncodeGreyPng(int width, int height, const std::vector<uint8_t>& grey);
 
