@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "cogmap/core/error.h"
 #include "cogmap/io/atomic_file.h"
@@ -22,6 +23,30 @@ TEST(Png, RoundTripsPixels) {
   ASSERT_EQ(back.height(), 5);
   EXPECT_EQ(back.at(3, 2), (Rgb{255, 0, 0}));
   EXPECT_EQ(back.at(0, 0), (Rgb{10, 20, 30}));
+}
+
+TEST(Png, RowsEncoderRoundTripsEveryPixel) {
+  const int w = 37, h = 23;
+  auto colour = [](int x, int y) {
+    return Rgb{static_cast<uint8_t>(7 * x), static_cast<uint8_t>(11 * y), static_cast<uint8_t>(x * y)};
+  };
+  std::ostringstream bytes;
+  EncodeRgbPngRows(
+      w, h,
+      [&](int y, uint8_t* rgb) {
+        for (int x = 0; x < w; ++x) {
+          const Rgb c = colour(x, y);
+          rgb[3 * x] = c.r, rgb[3 * x + 1] = c.g, rgb[3 * x + 2] = c.b;
+        }
+      },
+      bytes);
+  const std::string path = ::cogmap::testing_util::TestTempPath("rows.png");
+  WriteFileAtomically(path, bytes.str());
+  const RgbImage back = ReadRgbPng(path);
+  ASSERT_EQ(back.width(), w);
+  ASSERT_EQ(back.height(), h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) ASSERT_EQ(back.at(x, y), colour(x, y)) << x << "," << y;
 }
 
 TEST(Png, CorruptFileIsAnInputError) {
