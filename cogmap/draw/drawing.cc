@@ -236,20 +236,29 @@ void Drawing::Place(const Drawing& other, double x, double y, double scale) {
   });
 }
 
-void Drawing::Replay(cairo_t* cr) const {
+void Drawing::Replay(cairo_t* cr) const { Replay(cr, false); }
+
+void Drawing::Replay(cairo_t* cr, bool release) const {
   cairo_save(cr);
   SetColour(cr, background_);
   cairo_rectangle(cr, 0, 0, width_, height_);
   cairo_fill(cr);
   cairo_restore(cr);
-  for (const auto& s : *steps_) {
+  // Released steps go as cairo takes them, unless a copy of this drawing
+  // shares them.
+  release = release && steps_.use_count() == 1;
+  for (auto& s : *steps_) {
     cairo_save(cr);
     s(cr);
     cairo_restore(cr);
+    if (release) s = Step();
   }
+  if (release) std::vector<Step>().swap(*steps_);
 }
 
-void Drawing::EncodeTo(Format format, std::ostream& out) const {
+void Drawing::EncodeTo(Format format, std::ostream& out) const { EncodeTo(format, out, false); }
+
+void Drawing::EncodeTo(Format format, std::ostream& out, bool release) const {
   std::ostream* bytes = &out;  // cairo writes through AppendBytes as it goes
   cairo_surface_t* surface = nullptr;
   if (format == Format::kSvg) {
@@ -265,7 +274,7 @@ void Drawing::EncodeTo(Format format, std::ostream& out) const {
   }
   CheckStatus(cairo_surface_status(surface), "surface");
   cairo_t* cr = cairo_create(surface);
-  Replay(cr);
+  Replay(cr, release);
   const cairo_status_t drawn = cairo_status(cr);
   cairo_destroy(cr);
   if (format == Format::kPng && drawn == CAIRO_STATUS_SUCCESS) {
@@ -328,13 +337,17 @@ io::RgbImage Drawing::Rasterize() const {
   return out;
 }
 
-void Drawing::Write(const std::string& path) const {
+void Drawing::Write(const std::string& path) const& { Write(path, false); }
+
+void Drawing::Write(const std::string& path) && { Write(path, true); }
+
+void Drawing::Write(const std::string& path, bool release) const {
   const Format format = FormatOfPath(path);
   // Streamed into the file as cairo writes it: a 1000-room map.svg is some
-  // 16 MB, which a string would hold (and double while growing).
+  // 8 MB, which a string would hold (and double while growing).
   io::WriteFileAtomically(path, [&](std::ostream& out) {
     try {
-      EncodeTo(format, out);
+      EncodeTo(format, out, release);
     } catch (const std::runtime_error&) {
       if (!out) throw InputError(path, 0, "write failed (disk full?)");  // cairo's stream error, said as the file's
       throw;

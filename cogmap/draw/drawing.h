@@ -97,13 +97,22 @@ class Drawing {
   // Rasterised as the PNG would be.
   io::RgbImage Rasterize() const;
   // Writes the format the extension names, atomically (io::WriteFileAtomically).
-  void Write(const std::string& path) const;
+  void Write(const std::string& path) const&;
+  // The same for a drawing's last use (std::move(drawing).Write(path)): each
+  // step goes as soon as cairo has taken it. Cairo's SVG and PDF surfaces
+  // record the whole page before they write it, so a big picture is not
+  // held twice. The drawing is blank afterwards.
+  void Write(const std::string& path) &&;
 
   // Replays every step onto a cairo context (in the drawing's pixel units).
   void Replay(cairo_t* cr) const;
 
  private:
   using Step = std::function<void(cairo_t*)>;
+  // 'release': each step goes once replayed (unless a copy shares them).
+  void Replay(cairo_t* cr, bool release) const;
+  void EncodeTo(Format format, std::ostream& out, bool release) const;
+  void Write(const std::string& path, bool release) const;
   double width_, height_;
   Colour background_;
   std::shared_ptr<std::vector<Step>> steps_;

@@ -212,14 +212,18 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   if (job.outputs.svg || job.outputs.png) {
     draw::MapPictureOptions map_picture;
     map_picture.picture.px_per_m = job.px_per_m;
-    const draw::Drawing picture = draw::DrawMasterMap(master, map_picture).drawing;
+    draw::Drawing picture = draw::DrawMasterMap(master, map_picture).drawing;
     if (!job.outputs.compare) drop_master_paths();
-    const std::string base = (fs::path(staging) / "map").string();
-    for (const auto& [want, ext] : {std::pair{job.outputs.svg, ".svg"}, std::pair{job.outputs.png, ".png"}})
-      if (want) {
-        picture.Write(base + ext);
-        out.written.push_back(std::string("map") + ext);
-      }
+    // The last file lets the drawing go as cairo takes it.
+    if (job.outputs.svg) {
+      const std::string svg = (fs::path(staging) / "map.svg").string();
+      job.outputs.png ? picture.Write(svg) : std::move(picture).Write(svg);
+      out.written.push_back("map.svg");
+    }
+    if (job.outputs.png) {
+      std::move(picture).Write((fs::path(staging) / "map.png").string());
+      out.written.push_back("map.png");
+    }
   }
 
   // Before / after correction side by side (drawn before the floor plan,
@@ -235,9 +239,9 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
     const std::string rt = run.correction == Correction::kNone        ? "After: not corrected (--no-correct)"
                            : run.correction == Correction::kPoseGraph ? std::string("After: pose graph (default)")
                            : "After: heading correction (" + std::string(job.mapping.paper ? "paper" : "default") + ")";
-    const draw::Drawing compare = draw::DrawSideBySide(raw_map, lt, cor_map, rt);
+    draw::Drawing compare = draw::DrawSideBySide(raw_map, lt, cor_map, rt);
     compare.Write((fs::path(staging) / "map_compare.svg").string());
-    compare.Write((fs::path(staging) / "map_compare.png").string());
+    std::move(compare).Write((fs::path(staging) / "map_compare.png").string());
     compare_written = {"map_compare.svg", "map_compare.png"};
   }
   // What is drawn is drawn: the paths go before the floor plan is built.
@@ -270,11 +274,10 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   if (job.outputs.plan) {
     draw::PlanPictureOptions pp;
     pp.picture.px_per_m = job.px_per_m;
-    const draw::MapPicture picture = draw::DrawPlan(floor_plan, pp);
-    for (const char* name : {"plan.svg", "plan.png"}) {
-      picture.drawing.Write((fs::path(staging) / name).string());
-      out.written.push_back(name);
-    }
+    draw::Drawing picture = draw::DrawPlan(floor_plan, pp).drawing;
+    picture.Write((fs::path(staging) / "plan.svg").string());
+    std::move(picture).Write((fs::path(staging) / "plan.png").string());
+    out.written.insert(out.written.end(), {"plan.svg", "plan.png"});
   }
   out.plan_rooms = static_cast<int>(floor_plan.rooms.size());
   out.plan_walls = static_cast<int>(floor_plan.walls.size());
