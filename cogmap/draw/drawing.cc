@@ -110,9 +110,30 @@ void Drawing::Line(const Vec2& a, const Vec2& b, const Stroke& stroke) {
   });
 }
 
-void Drawing::Polyline(const std::vector<Vec2>& points, const Stroke& stroke, bool closed) {
-  if (points.size() < 2) return;
-  steps_->push_back([points, stroke, closed](cairo_t* cr) {
+namespace {
+
+// The points of a polyline that draw something: a point within a quarter of a
+// drawing pixel of the last one kept is dropped (the line passes within a
+// quarter pixel of it anyway). A robot path logged every few centimetres and
+// drawn at metres a pixel keeps a point per pixel, not thousands: cairo's SVG
+// surface records every point of the page before writing it.
+std::vector<Vec2> Thinned(const std::vector<Vec2>& points) {
+  if (points.size() < 3) return points;
+  std::vector<Vec2> out;
+  out.reserve(points.size());
+  out.push_back(points.front());
+  for (size_t i = 1; i + 1 < points.size(); ++i)
+    if ((points[i] - out.back()).squaredNorm() >= 0.0625) out.push_back(points[i]);
+  out.push_back(points.back());
+  return out;
+}
+
+}  // namespace
+
+void Drawing::Polyline(const std::vector<Vec2>& input, const Stroke& stroke, bool closed) {
+  if (input.size() < 2) return;
+  std::vector<Vec2> points = Thinned(input);
+  steps_->push_back([points = std::move(points), stroke, closed](cairo_t* cr) {
     ApplyStroke(cr, stroke);
     cairo_move_to(cr, points[0].x(), points[0].y());
     for (size_t i = 1; i < points.size(); ++i) cairo_line_to(cr, points[i].x(), points[i].y());
