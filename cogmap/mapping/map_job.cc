@@ -197,6 +197,38 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   io::MasterMap master = io::BuildMasterMap(all, !job.raw);
   MapJobSummary out;
   out.written = {"map.sqlite"};
+  // walls.json for `cogmap eval` (the master map's walls; map frame = the raw
+  // odometry frame of the first run, placed in the truth's world when known),
+  // written first: the master map's walls can go once they are drawn.
+  if (!job.resume && run.world_from_map) {
+    const Pose2 w = *run.world_from_map;
+    store->SetMeta("world_from_map", std::to_string(w.x) + " " + std::to_string(w.y) + " " + std::to_string(w.theta));
+  }
+  io::WallsFile wf;
+  for (const auto& r : master.rooms) wf.polylines.insert(wf.polylines.end(), r.walls.begin(), r.walls.end());
+  if (auto w = ParsePose(store->GetMeta("world_from_map"))) {
+    wf.world_from_map = *w;
+    wf.has_truth = true;
+  }
+  wf.log_path = job.log_path == "-" ? "-" : fs::absolute(job.log_path).string();
+  wf.log_format = job.log_format;
+  wf.robot = job.robot_spec.empty() ? robot.name : job.robot_spec;
+  wf.mode = job.mapping.paper ? "paper" : "default";
+  wf.cell_m = job.mapping.cell_m;
+  // The range within which walls get mapped (as cogmap vectorize records it):
+  // min(max range, window), so that recall counts only walls the grid could hold.
+  for (const auto& s : robot.sensors)
+    wf.sensor_range_m = std::max(wf.sensor_range_m, std::min(s.max_range_m, job.mapping.window_m));
+  for (const auto& l : wf.polylines) wf.vertex_count += static_cast<int64_t>(l.size());
+  for (const auto& x : all) {
+    wf.bytes_grid += x.bytes.grid;
+    wf.bytes_vertices += x.bytes.vertices;
+    wf.bytes_polylines += x.bytes.polylines;
+  }
+  io::WriteWallsJson((fs::path(staging) / "walls.json").string(), wf);
+  const int exit_count = static_cast<int>(master.exits.size());
+  const int64_t bytes_grid = wf.bytes_grid, bytes_polylines = wf.bytes_polylines;
+  wf = {};
 
   // What the pictures below no longer need goes before they are encoded: the
   // raw paths (the master map holds them as drawn; the floor plan reads the
@@ -209,9 +241,6 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
     for (auto& x : all)
       if (placed_ids.count(x.id)) std::vector<Pose2>().swap(x.path);
   };
-  auto drop_master_paths = [&] {
-    for (auto& r : master.rooms) std::vector<Vec2>().swap(r.path);
-  };
   if (!job.outputs.compare) drop_raw_paths();
   // The master map's pictures (every ASR's walls); its files come from the
   // floor plan below.
@@ -219,7 +248,7 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
     draw::MapPictureOptions map_picture;
     map_picture.picture.px_per_m = job.px_per_m;
     draw::Drawing picture = draw::DrawMasterMap(master, map_picture).drawing;
-    if (!job.outputs.compare) drop_master_paths();
+    if (!job.outputs.compare) master = {};  // the drawing holds what it shows
     // The last file lets the drawing go as cairo takes it.
     if (job.outputs.svg) {
       const std::string svg = (fs::path(staging) / "map.svg").string();
@@ -250,9 +279,10 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
     std::move(compare).Write((fs::path(staging) / "map_compare.png").string());
     compare_written = {"map_compare.svg", "map_compare.png"};
   }
-  // What is drawn is drawn: the paths go before the floor plan is built.
+  // What is drawn is drawn: the paths go before the floor plan is built, and
+  // the master map (walls.json has its walls).
   drop_raw_paths();
-  drop_master_paths();
+  master = {};
 
   // The floor plan (docs/floor-plan.md): plan.json always (cogmap eval reads
   // it), and the files made from it.
@@ -299,42 +329,14 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
     out.written.push_back("heading_error.png");
   }
 
-  // walls.json for `cogmap eval` (the master map's walls; map frame = the raw
-  // odometry frame of the first run, placed in the truth's world when known).
-  if (!job.resume && run.world_from_map) {
-    const Pose2 w = *run.world_from_map;
-    store->SetMeta("world_from_map", std::to_string(w.x) + " " + std::to_string(w.y) + " " + std::to_string(w.theta));
-  }
-  io::WallsFile wf;
-  for (const auto& r : master.rooms) wf.polylines.insert(wf.polylines.end(), r.walls.begin(), r.walls.end());
-  if (auto w = ParsePose(store->GetMeta("world_from_map"))) {
-    wf.world_from_map = *w;
-    wf.has_truth = true;
-  }
-  wf.log_path = job.log_path == "-" ? "-" : fs::absolute(job.log_path).string();
-  wf.log_format = job.log_format;
-  wf.robot = job.robot_spec.empty() ? robot.name : job.robot_spec;
-  wf.mode = job.mapping.paper ? "paper" : "default";
-  wf.cell_m = job.mapping.cell_m;
-  // The range within which walls get mapped (as cogmap vectorize records it):
-  // min(max range, window), so that recall counts only walls the grid could hold.
-  for (const auto& s : robot.sensors)
-    wf.sensor_range_m = std::max(wf.sensor_range_m, std::min(s.max_range_m, job.mapping.window_m));
-  for (const auto& l : wf.polylines) wf.vertex_count += static_cast<int64_t>(l.size());
-  for (const auto& x : all) {
-    wf.bytes_grid += x.bytes.grid;
-    wf.bytes_vertices += x.bytes.vertices;
-    wf.bytes_polylines += x.bytes.polylines;
-  }
-  io::WriteWallsJson((fs::path(staging) / "walls.json").string(), wf);
 
   // The summary and report.json.
   out.records = run.records;
   out.asrs = static_cast<int>(all.size());
   out.asrs_this_run = static_cast<int>(run.asrs.size());
-  out.exits = static_cast<int>(master.exits.size());
-  out.bytes_grid = wf.bytes_grid;
-  out.bytes_polylines = wf.bytes_polylines;
+  out.exits = exit_count;
+  out.bytes_grid = bytes_grid;
+  out.bytes_polylines = bytes_polylines;
   std::set<int> rooms;
   for (const auto& [id, room] : room_of) rooms.insert(room);
   out.rooms = static_cast<int>(rooms.size());
