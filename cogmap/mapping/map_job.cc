@@ -233,9 +233,9 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   // What the pictures below no longer need goes before they are encoded: the
   // raw paths (the master map holds them as drawn; the floor plan reads the
   // placed paths, an ASR without one keeps its raw path), and, once the map
-  // is drawn, the master map's paths (the drawing holds what it shows): a
-  // 1000-room map.svg is some 16 MB, which cairo's SVG surface holds until
-  // the end of the page. The comparison (drawn after the map: cairo numbers
+  // is drawn, the master map itself (the drawing holds what it shows,
+  // walls.json its walls): a 1000-room map.svg is some 5 MB, which cairo's
+  // SVG surface records whole before writing it. The comparison (drawn after the map: cairo numbers
   // its surfaces in order, and the files stay as they were) reads both.
   auto drop_raw_paths = [&] {
     for (auto& x : all)
