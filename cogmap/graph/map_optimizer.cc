@@ -287,20 +287,29 @@ void MapOptimizer::TryLoopClosures(int n) {
       }
       if (distinct) chosen.push_back(st.pose);
     }
+    int best_matches = 0, best_overlap = 0;  // why nothing came of them, if nothing did
     for (const Pose2& start : chosen) {
       Registration reg = RegisterWalls(o.faces, cur.faces, start, options_.registration);
+      best_matches = std::max(best_matches, reg.matches);
       if (!reg.converged || reg.matches < options_.min_matches) continue;
       // Agreement where the two overlap: the samples of each that fall in the
       // other's box (walls the other could have seen).
       const auto pts_in_o = InBox(TransformPoints(reg.target_from_source, cur_samples), o);
       const auto o_in_cur = InBox(TransformPoints(reg.target_from_source.inverse(), o_samples), cur);
-      if (static_cast<int>(std::min(pts_in_o.size(), o_in_cur.size())) < options_.min_matches) continue;
+      const int overlap = static_cast<int>(std::min(pts_in_o.size(), o_in_cur.size()));
+      best_overlap = std::max(best_overlap, overlap);
+      if (overlap < options_.min_matches) continue;
       const double a1 = AgreementFraction(o.faces, pts_in_o, options_.loop_tolerance_m, cos_max);
       const double a2 = AgreementFraction(cur.faces, o_in_cur, options_.loop_tolerance_m, cos_max);
       sols.push_back({reg, std::min(a1, a2)});
     }
     if (sols.empty()) {
-      lc.reason = "registration did not converge";
+      const std::string need = " (at least " + std::to_string(options_.min_matches) + ")";
+      lc.reason = chosen.empty() ? "no placement within the search range puts a wall sample on a matching face"
+                  : best_matches < options_.min_matches
+                      ? "too few wall samples matched after ICP: " + std::to_string(best_matches) + need
+                      : "too little overlap: " + std::to_string(best_overlap) + " wall samples in each other's box" +
+                            need;
       closures_.push_back(lc);
       continue;
     }
