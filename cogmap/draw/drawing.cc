@@ -70,6 +70,19 @@ cairo_status_t AppendBytes(void* closure, const unsigned char* data, unsigned in
   return out ? CAIRO_STATUS_SUCCESS : CAIRO_STATUS_WRITE_ERROR;
 }
 
+// Row y of a CAIRO_FORMAT_RGB24 image surface's pixels as 8-bit RGB triples.
+void SurfaceRowToRgb(cairo_surface_t* surface, int y, uint8_t* rgb) {
+  const unsigned char* data = cairo_image_surface_get_data(surface);
+  const int stride = cairo_image_surface_get_stride(surface);
+  const int w = cairo_image_surface_get_width(surface);
+  const auto* px = reinterpret_cast<const uint32_t*>(data + static_cast<size_t>(y) * stride);
+  for (int x = 0; x < w; ++x) {
+    rgb[3 * x] = static_cast<uint8_t>(px[x] >> 16);
+    rgb[3 * x + 1] = static_cast<uint8_t>(px[x] >> 8);
+    rgb[3 * x + 2] = static_cast<uint8_t>(px[x]);
+  }
+}
+
 void CheckStatus(cairo_status_t status, const char* what) {
   if (status != CAIRO_STATUS_SUCCESS)
     throw std::runtime_error(std::string("cairo: ") + what + ": " + cairo_status_to_string(status));
@@ -300,21 +313,10 @@ void Drawing::EncodeTo(Format format, std::ostream& out, bool release) const {
   cairo_destroy(cr);
   if (format == Format::kPng && drawn == CAIRO_STATUS_SUCCESS) {
     cairo_surface_flush(surface);
-    const unsigned char* data = cairo_image_surface_get_data(surface);
-    const int stride = cairo_image_surface_get_stride(surface);
-    const int w = cairo_image_surface_get_width(surface), h = cairo_image_surface_get_height(surface);
     try {
       io::EncodeRgbPngRows(
-          w, h,
-          [&](int y, uint8_t* rgb) {
-            const auto* px = reinterpret_cast<const uint32_t*>(data + static_cast<size_t>(y) * stride);
-            for (int x = 0; x < w; ++x) {
-              rgb[3 * x] = static_cast<uint8_t>(px[x] >> 16);
-              rgb[3 * x + 1] = static_cast<uint8_t>(px[x] >> 8);
-              rgb[3 * x + 2] = static_cast<uint8_t>(px[x]);
-            }
-          },
-          out);
+          cairo_image_surface_get_width(surface), cairo_image_surface_get_height(surface),
+          [&](int y, uint8_t* rgb) { SurfaceRowToRgb(surface, y, rgb); }, out);
     } catch (...) {
       cairo_surface_destroy(surface);
       throw;
@@ -346,14 +348,8 @@ io::RgbImage Drawing::Rasterize() const {
   cairo_destroy(cr);
   cairo_surface_flush(surface);
   io::RgbImage out(w, h);
-  const unsigned char* data = cairo_image_surface_get_data(surface);
-  const int stride = cairo_image_surface_get_stride(surface);
-  for (int j = 0; j < h; ++j) {
-    const auto* row = reinterpret_cast<const uint32_t*>(data + static_cast<size_t>(j) * stride);
-    for (int i = 0; i < w; ++i)
-      out.at(i, j) = io::Rgb{static_cast<uint8_t>(row[i] >> 16), static_cast<uint8_t>(row[i] >> 8),
-                             static_cast<uint8_t>(row[i])};
-  }
+  static_assert(sizeof(io::Rgb) == 3, "RgbImage rows are packed RGB triples");
+  for (int j = 0; j < h; ++j) SurfaceRowToRgb(surface, j, reinterpret_cast<uint8_t*>(&out.at(0, j)));
   cairo_surface_destroy(surface);
   return out;
 }

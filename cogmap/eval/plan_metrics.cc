@@ -415,7 +415,9 @@ PlanMetrics EvaluatePlan(const plan::Plan& plan, const FloorPlan& truth, const s
         }
       std::sort(cand.begin(), cand.end());
       cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
-      const std::optional<RoomFloor> floor = ReachableFloor(t, truth.walls, true_path, o.room_cell_m, o.room_margin_m);
+      // Its floor only when some plan room may overlap it (else the IoU is 0).
+      const std::optional<RoomFloor> floor =
+          cand.empty() ? std::nullopt : ReachableFloor(t, truth.walls, true_path, o.room_cell_m, o.room_margin_m);
       double best = 0.0;
       for (int j : cand) {
         if (floor) {
