@@ -121,9 +121,9 @@ std::function<int()> SetupMap(CLI::App& sub) {
                  "Files to write beside map.sqlite, plan.json, walls.json and report.json, comma-separated: svg, "
                  "png (the master map: every ASR's walls, path, room graph), pgm (map_server PGM + YAML of the "
                  "floor plan), geojson, aria (map.map), gpkg (GeoPackage), route (route_graph.geojson for Nav2), "
-                 "plan (plan.svg/.png: the floor plan drawn), compare (map_compare.svg/.png), heading "
-                 "(heading_error.png); default = svg,geojson,aria,gpkg,route,plan; all = every one "
-                 "(docs/map-files.md, docs/pictures.md)")
+                 "plan-svg, plan-png (the floor plan drawn; plan = both), compare (map_compare.svg/.png), "
+                 "heading (heading_error.png); default = plan-svg,geojson,aria,gpkg,route (the fast set: the "
+                 "diagnostic pictures and rasters on request); all = every one (docs/map-files.md, docs/pictures.md)")
       ->capture_default_str();
   sub.add_option("--topics", a->topics,
                  "Bags: the topics to read, comma separated (range, odometry); default: found by type "

@@ -53,7 +53,7 @@ import time
 
 # Files whose bytes do not depend on the run (report.json has timings, the
 # store and map.gpkg the run id / times).
-DETERMINISTIC = ["map.svg", "map.geojson", "map.map", "walls.json", "plan.json", "route_graph.geojson"]
+DETERMINISTIC = ["plan.svg", "map.geojson", "map.map", "walls.json", "plan.json", "route_graph.geojson"]
 
 
 def sha(path):

@@ -70,24 +70,26 @@ std::unique_ptr<asr::SqliteAsrStore> OpenStore(io::OutputFolder& folder, bool re
 
 OutputChoice OutputChoice::All() {
   OutputChoice c;
-  c.svg = c.png = c.pgm = c.geojson = c.aria = c.gpkg = c.route = c.plan = c.compare = c.heading = true;
+  c.svg = c.png = c.pgm = c.geojson = c.aria = c.gpkg = c.route = c.plan = c.plan_png = c.compare = c.heading = true;
   return c;
 }
 
 std::string OutputChoice::Names() {
-  return "default, all, svg, png, pgm, geojson, aria, gpkg, route, plan, compare, heading";
+  return "default, all, svg, png, pgm, geojson, aria, gpkg, route, plan, plan-svg, plan-png, compare, heading";
 }
 
 OutputChoice OutputChoice::Parse(const std::string& text) {
   OutputChoice c;
-  c.svg = c.png = c.pgm = c.geojson = c.aria = c.gpkg = c.route = c.plan = c.compare = c.heading = false;
+  c.svg = c.png = c.pgm = c.geojson = c.aria = c.gpkg = c.route = c.plan = c.plan_png = c.compare = c.heading = false;
   std::stringstream in(text);
   std::string item;
   bool any = false;
   while (std::getline(in, item, ',')) {
     any = true;
     if (item == "all") c = All();
-    else if (item == "default") c.svg = c.geojson = c.aria = c.gpkg = c.route = c.plan = true;
+    // The fast set (issue 14): the floor plan as SVG and the vector files;
+    // the diagnostic pictures and the rasters on request.
+    else if (item == "default") c.geojson = c.aria = c.gpkg = c.route = c.plan = true;
     else if (item == "svg") c.svg = true;
     else if (item == "png") c.png = true;
     else if (item == "pgm") c.pgm = true;
@@ -95,7 +97,9 @@ OutputChoice OutputChoice::Parse(const std::string& text) {
     else if (item == "aria") c.aria = true;
     else if (item == "gpkg") c.gpkg = true;
     else if (item == "route") c.route = true;
-    else if (item == "plan") c.plan = true;
+    else if (item == "plan") c.plan = c.plan_png = true;
+    else if (item == "plan-svg") c.plan = true;
+    else if (item == "plan-png") c.plan_png = true;
     else if (item == "compare") c.compare = true;
     else if (item == "heading") c.heading = true;
     else throw InputError("--outputs " + text + ": unknown output '" + item + "' (expected " + Names() + ")");
@@ -310,13 +314,20 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   pf.aria = job.outputs.aria;
   pf.map_server = job.outputs.pgm;
   for (const auto& f : io::WritePlanFiles(staging, floor_plan, pf)) out.written.push_back(fs::path(f).filename().string());
-  if (job.outputs.plan) {
+  if (job.outputs.plan || job.outputs.plan_png) {
     draw::PlanPictureOptions pp;
     pp.picture.px_per_m = job.px_per_m;
     draw::Drawing picture = draw::DrawPlan(floor_plan, pp).drawing;
-    picture.Write((fs::path(staging) / "plan.svg").string());
-    std::move(picture).Write((fs::path(staging) / "plan.png").string());
-    out.written.insert(out.written.end(), {"plan.svg", "plan.png"});
+    // The last file lets the drawing go as cairo takes it.
+    if (job.outputs.plan) {
+      const std::string svg = (fs::path(staging) / "plan.svg").string();
+      job.outputs.plan_png ? picture.Write(svg) : std::move(picture).Write(svg);
+      out.written.push_back("plan.svg");
+    }
+    if (job.outputs.plan_png) {
+      std::move(picture).Write((fs::path(staging) / "plan.png").string());
+      out.written.push_back("plan.png");
+    }
   }
   out.plan_rooms = static_cast<int>(floor_plan.rooms.size());
   out.plan_walls = static_cast<int>(floor_plan.walls.size());

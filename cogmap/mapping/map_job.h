@@ -21,14 +21,15 @@ namespace cogmap::mapping {
 // report.json. The floor plan's files (docs/map-files.md) are made from the
 // floor plan (docs/floor-plan.md); the master map pictures from the ASRs.
 struct OutputChoice {
-  bool svg = true;       // map.svg (every ASR's walls, the path, the room graph)
+  bool svg = false;      // map.svg (every ASR's walls, the path, the room graph)
   bool png = false;      // map.png
   bool pgm = false;      // map.pgm + map.yaml (ROS map_server: the floor plan's free space)
   bool geojson = true;   // map.geojson (floor plan: local metres, or WGS 84 with a geo anchor)
   bool aria = true;      // map.map (ARIA 2D-Map: walls, RobotHome, rooms, doors)
   bool gpkg = true;      // map.gpkg (GeoPackage: rooms, walls, doors, room graph)
   bool route = true;     // route_graph.geojson (Nav2 Route Server)
-  bool plan = true;      // plan.svg + plan.png: the floor plan drawn
+  bool plan = true;      // plan.svg: the floor plan drawn
+  bool plan_png = false; // plan.png: the same drawing as a raster
   bool compare = false;  // map_compare.svg/.png
   bool heading = false;  // heading_error.png
   static OutputChoice All();

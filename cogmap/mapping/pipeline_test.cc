@@ -93,10 +93,14 @@ TEST(MapperOptionsFor, WallLinesFollowTheModeAndTheRobot) {
 
 TEST(OutputChoice, ParsesListsAndNamesAnUnknownOutput) {
   const OutputChoice d = OutputChoice::Parse("default");
-  EXPECT_TRUE(d.svg && d.geojson && d.aria);
-  EXPECT_FALSE(d.png || d.pgm || d.compare || d.heading);
+  EXPECT_TRUE(d.plan && d.geojson && d.aria && d.gpkg && d.route);  // the fast set
+  EXPECT_FALSE(d.svg || d.png || d.plan_png || d.pgm || d.compare || d.heading);
   const OutputChoice a = OutputChoice::Parse("all");
-  EXPECT_TRUE(a.png && a.pgm && a.compare && a.heading);
+  EXPECT_TRUE(a.svg && a.png && a.plan && a.plan_png && a.pgm && a.compare && a.heading);
+  const OutputChoice both = OutputChoice::Parse("plan");
+  EXPECT_TRUE(both.plan && both.plan_png);
+  const OutputChoice raster = OutputChoice::Parse("plan-png");
+  EXPECT_TRUE(raster.plan_png && !raster.plan);
   const OutputChoice p = OutputChoice::Parse("png,heading");
   EXPECT_TRUE(p.png && p.heading);
   EXPECT_FALSE(p.svg);
@@ -148,8 +152,12 @@ TEST(MappingPipeline, StreamingEqualsTheJobOnTheSameLog) {
   const MapJobSummary s = RunMapJob(*log, job);
   EXPECT_EQ(s.asrs, static_cast<int>(closed.size()));
   EXPECT_EQ(s.report["asr_count"].get<int>(), s.asrs);
-  for (const char* f : {"map.sqlite", "map.svg", "map.geojson", "map.map", "walls.json", "report.json"})
+  // The default outputs (issue 14's fast set).
+  for (const char* f : {"map.sqlite", "plan.svg", "map.geojson", "map.map", "map.gpkg", "route_graph.geojson",
+                        "plan.json", "walls.json", "report.json"})
     EXPECT_TRUE(std::filesystem::exists(job.output_dir + "/" + f)) << f;
+  for (const char* f : {"map.svg", "map.png", "plan.png"})  // on request
+    EXPECT_FALSE(std::filesystem::exists(job.output_dir + "/" + f)) << f;
 
   auto a = asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kReadOnly);
   auto b = asr::SqliteAsrStore::Open(job.output_dir + "/map.sqlite", asr::SqliteAsrStore::OpenMode::kReadOnly);
