@@ -20,10 +20,10 @@ bool SegmentsIntersect(const Vec2& p1, const Vec2& p2, const Vec2& q1, const Vec
   return t > 0.0 && t < 1.0 && u > 0.0 && u < 1.0;
 }
 
-// Nearest target face to p (normal n) within max_d whose normal agrees;
-// returns its index or -1, and the signed point-to-line residual.
-int NearestFace(const std::vector<FacedSegment>& target, const Vec2& p, const Vec2& n, double max_d, double cos_max,
-                double* residual) {
+}  // namespace
+
+int NearestFaceByScan(const std::vector<FacedSegment>& target, const Vec2& p, const Vec2& n, double max_d,
+                      double cos_max, double* residual) {
   int best = -1;
   double best_d = max_d;
   for (size_t k = 0; k < target.size(); ++k) {
@@ -39,7 +39,81 @@ int NearestFace(const std::vector<FacedSegment>& target, const Vec2& p, const Ve
   return best;
 }
 
-}  // namespace
+FaceIndex::FaceIndex(const std::vector<FacedSegment>& faces, double cell_m) : faces_(&faces) {
+  if (faces.empty()) return;
+  Vec2 lo = faces[0].a, hi = faces[0].a;
+  for (const FacedSegment& f : faces) {
+    lo = lo.cwiseMin(f.a).cwiseMin(f.b);
+    hi = hi.cwiseMax(f.a).cwiseMax(f.b);
+  }
+  // Cells no finer than the faces' extent allows: at most some 16 cells a face
+  // (and 4096 in all for a handful of faces), whatever the coordinates.
+  const double wx = hi.x() - lo.x(), wy = hi.y() - lo.y();
+  const double max_cells = std::max(4096.0, 16.0 * static_cast<double>(faces.size()));
+  cell_m_ = std::max({cell_m, std::sqrt(wx * wy / max_cells), std::max(wx, wy) / max_cells, 1e-9});
+  lo_ = lo;
+  nx_ = static_cast<int>(std::floor((hi.x() - lo.x()) / cell_m_)) + 1;
+  ny_ = static_cast<int>(std::floor((hi.y() - lo.y()) / cell_m_)) + 1;
+  // The cells a face's box covers: counted, then filled (one flat array).
+  auto cells_of = [&](const FacedSegment& f, int* i0, int* i1, int* j0, int* j1) {
+    *i0 = std::clamp(static_cast<int>(std::floor((std::min(f.a.x(), f.b.x()) - lo_.x()) / cell_m_)), 0, nx_ - 1);
+    *i1 = std::clamp(static_cast<int>(std::floor((std::max(f.a.x(), f.b.x()) - lo_.x()) / cell_m_)), 0, nx_ - 1);
+    *j0 = std::clamp(static_cast<int>(std::floor((std::min(f.a.y(), f.b.y()) - lo_.y()) / cell_m_)), 0, ny_ - 1);
+    *j1 = std::clamp(static_cast<int>(std::floor((std::max(f.a.y(), f.b.y()) - lo_.y()) / cell_m_)), 0, ny_ - 1);
+  };
+  start_.assign(static_cast<size_t>(nx_) * ny_ + 1, 0);
+  for (const FacedSegment& f : faces) {
+    int i0, i1, j0, j1;
+    cells_of(f, &i0, &i1, &j0, &j1);
+    for (int i = i0; i <= i1; ++i)
+      for (int j = j0; j <= j1; ++j) ++start_[static_cast<size_t>(i) * ny_ + j + 1];
+  }
+  for (size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+  items_.resize(start_.back());
+  std::vector<int> fill(start_.begin(), start_.end() - 1);
+  for (size_t k = 0; k < faces.size(); ++k) {
+    int i0, i1, j0, j1;
+    cells_of(faces[k], &i0, &i1, &j0, &j1);
+    for (int i = i0; i <= i1; ++i)
+      for (int j = j0; j <= j1; ++j) items_[fill[static_cast<size_t>(i) * ny_ + j]++] = static_cast<int>(k);
+  }
+}
+
+int FaceIndex::Nearest(const Vec2& p, const Vec2& n, double max_d, double cos_max, double* residual) const {
+  if (nx_ == 0) return -1;
+  // A face closer than max_d has its nearest point, and so part of its box, in
+  // the square of half-side max_d around p; the margin covers rounding, and
+  // the faces it adds are measured like the others.
+  const double r = max_d + 1e-6;
+  const double fx0 = (p.x() - r - lo_.x()) / cell_m_, fx1 = (p.x() + r - lo_.x()) / cell_m_;
+  const double fy0 = (p.y() - r - lo_.y()) / cell_m_, fy1 = (p.y() + r - lo_.y()) / cell_m_;
+  if (!(fx1 >= 0.0 && fy1 >= 0.0 && fx0 < nx_ && fy0 < ny_)) return -1;  // also NaN
+  const int i0 = static_cast<int>(std::max(0.0, std::floor(fx0)));
+  const int i1 = static_cast<int>(std::min(nx_ - 1.0, std::floor(fx1)));
+  const int j0 = static_cast<int>(std::max(0.0, std::floor(fy0)));
+  const int j1 = static_cast<int>(std::min(ny_ - 1.0, std::floor(fy1)));
+  const std::vector<FacedSegment>& faces = *faces_;
+  int best = -1;
+  double best_d = max_d;
+  for (int i = i0; i <= i1; ++i) {
+    const int* it = items_.data() + start_[static_cast<size_t>(i) * ny_ + j0];
+    const int* end = items_.data() + start_[static_cast<size_t>(i) * ny_ + j1 + 1];
+    for (; it != end; ++it) {
+      // A face listed in several cells is measured again: same distance, no change.
+      const int k = *it;
+      const FacedSegment& f = faces[k];
+      if (f.normal.dot(n) < cos_max) continue;
+      const double d = PointSegmentDistance(p, f.a, f.b);
+      // The scan's answer: the smallest distance, the lowest index among equals.
+      if (d < best_d || (d == best_d && k < best)) {
+        best_d = d;
+        best = k;
+      }
+    }
+  }
+  if (best >= 0) *residual = faces[best].normal.dot(p - faces[best].a);
+  return best;
+}
 
 std::vector<FacedSegment> FaceWalls(const std::vector<Polyline>& walls, const std::vector<Vec2>& free_points,
                                     double min_length_m) {
@@ -89,6 +163,7 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
   r.samples = static_cast<int>(samples.size());
   if (target.empty() || samples.size() < static_cast<size_t>(o.min_matches)) return r;
   const double cos_max = std::cos(o.max_normal_angle_rad);
+  const FaceIndex index(target, std::max(o.max_correspondence_m, o.final_correspondence_m));
   Pose2 T = initial;
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
   double sum_w_e2 = 0.0, sum_w = 0.0;
@@ -105,7 +180,7 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
       const Vec2 q = T * fp.p;
       const Vec2 n(c * fp.normal.x() - s * fp.normal.y(), s * fp.normal.x() + c * fp.normal.y());
       double e = 0.0;
-      const int k = NearestFace(target, q, n, max_d, cos_max, &e);
+      const int k = index.Nearest(q, n, max_d, cos_max, &e);
       if (k < 0) continue;
       const Vec2& nt = target[k].normal;
       const Vec2 dq(-(q.y() - T.y), q.x() - T.x);  // d(T p)/d theta
@@ -189,10 +264,11 @@ double AgreementFraction(const std::vector<FacedSegment>& target, const std::vec
                          double tolerance_m, double max_normal_angle_rad) {
   if (points.empty()) return 0.0;
   const double cos_max = std::cos(max_normal_angle_rad);
+  const FaceIndex index(target, std::max(tolerance_m, 0.25));
   int ok = 0;
   for (const FacedPoint& p : points) {
     double e = 0.0;
-    if (NearestFace(target, p.p, p.normal, tolerance_m, cos_max, &e) >= 0) ++ok;
+    if (index.Nearest(p.p, p.normal, tolerance_m, cos_max, &e) >= 0) ++ok;
   }
   return static_cast<double>(ok) / points.size();
 }

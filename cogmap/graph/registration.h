@@ -23,6 +23,33 @@ struct FacedSegment {
 std::vector<FacedSegment> FaceWalls(const std::vector<Polyline>& walls, const std::vector<Vec2>& free_points,
                                     double min_length_m = 0.05);
 
+// The faces near a point without looking at every face: a uniform grid over
+// the faces' bounding boxes, each cell listing the faces whose box meets it.
+// Nearest() gives exactly what the scan of every face gives (same face, same
+// residual, ties to the lowest index). Holds a pointer to 'faces': they must
+// outlive the index and not change.
+class FaceIndex {
+ public:
+  explicit FaceIndex(const std::vector<FacedSegment>& faces, double cell_m = 0.5);
+
+  // The nearest face to p within max_d (strictly) whose normal agrees with n
+  // (normal . n >= cos_max): its index, or -1; *residual is then the signed
+  // distance of p from the face's line along its normal.
+  int Nearest(const Vec2& p, const Vec2& n, double max_d, double cos_max, double* residual) const;
+
+ private:
+  const std::vector<FacedSegment>* faces_;
+  Vec2 lo_{0, 0};
+  double cell_m_ = 1.0;
+  int nx_ = 0, ny_ = 0;
+  std::vector<int> start_;  // cell c's faces: items_[start_[c] .. start_[c + 1])
+  std::vector<int> items_;
+};
+
+// The same answer by scanning every face (the reference of FaceIndex).
+int NearestFaceByScan(const std::vector<FacedSegment>& faces, const Vec2& p, const Vec2& n, double max_d,
+                      double cos_max, double* residual);
+
 struct RegistrationOptions {
   double sample_step_m = 0.1;          // source walls sampled every this far
   double max_correspondence_m = 0.6;   // first iterations

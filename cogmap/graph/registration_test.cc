@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
+#include <random>
+
 namespace cogmap::graph {
 namespace {
 
@@ -90,6 +94,71 @@ TEST(Registration, AgreementOverShiftsCountsWhatTheBruteForceCountsAtEveryShift)
       }
     if (tol > 0.1) {  // 0.05: no shift of the grid comes that close
       EXPECT_GT(nonzero, 0) << tol;
+    }
+  }
+}
+}  // namespace
+}  // namespace cogmap::graph
+
+namespace cogmap::graph {
+namespace {
+TEST(FaceIndex, FindsTheNearestAgreeingFace) {
+  const std::vector<FacedSegment> faces = {
+      {Vec2(0, 0), Vec2(4, 0), Vec2(0, 1)},   // floor, seen from above
+      {Vec2(0, 1), Vec2(4, 1), Vec2(0, -1)},  // ceiling, seen from below
+      {Vec2(0, 0), Vec2(4, 0), Vec2(0, 1)},   // the floor again: the lower index wins
+  };
+  const FaceIndex index(faces);
+  const double cos_max = std::cos(0.5);
+  double e = -1.0;
+  EXPECT_EQ(index.Nearest(Vec2(1, 0.25), Vec2(0, 1), 0.6, cos_max, &e), 0);
+  EXPECT_EQ(e, 0.25);
+  EXPECT_EQ(index.Nearest(Vec2(1, 0.25), Vec2(0, -1), 0.8, cos_max, &e), 1);
+  EXPECT_EQ(e, 0.75);
+  // Only faces strictly closer than max_d; no face whose normal disagrees.
+  EXPECT_EQ(index.Nearest(Vec2(1, 0.25), Vec2(0, -1), 0.75, cos_max, &e), -1);
+  EXPECT_EQ(index.Nearest(Vec2(1, 0.25), Vec2(1, 0), 5.0, cos_max, &e), -1);
+  // Beyond the end of the floor: the distance to its end point.
+  EXPECT_EQ(index.Nearest(Vec2(4.5, 0.0), Vec2(0, 1), 0.6, cos_max, &e), 0);
+  EXPECT_EQ(index.Nearest(Vec2(4.5, 0.0), Vec2(0, 1), 0.5, cos_max, &e), -1);
+  // Far outside the grid.
+  EXPECT_EQ(index.Nearest(Vec2(1e6, -1e6), Vec2(0, 1), 0.6, cos_max, &e), -1);
+  EXPECT_EQ(FaceIndex({}).Nearest(Vec2(0, 0), Vec2(0, 1), 1.0, cos_max, &e), -1);
+}
+
+TEST(FaceIndex, GivesWhatTheScanGivesOnRandomFaces) {
+  std::mt19937 rng(14);
+  std::uniform_real_distribution<double> ux(-3.0, 23.0), uy(-2.0, 12.0), ua(-M_PI, M_PI), ul(0.0, 5.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<FacedSegment> faces;
+    const int n_faces = 1 + trial * 10;
+    for (int k = 0; k < n_faces; ++k) {
+      const Vec2 a(ux(rng), uy(rng));
+      const double t = ua(rng), len = trial % 4 == 0 ? 0.0 : ul(rng);  // some points as faces
+      const double nt = ua(rng);
+      faces.push_back({a, a + len * Vec2(std::cos(t), std::sin(t)), Vec2(std::cos(nt), std::sin(nt))});
+    }
+    // Exact ties: copies of faces (and their normals) later in the list.
+    for (int k = 0; k < n_faces / 5; ++k) faces.push_back(faces[rng() % n_faces]);
+    for (double cell : {0.1, 0.5, 3.0}) {
+      const FaceIndex index(faces, cell);
+      int found = 0;
+      for (int q = 0; q < 2000; ++q) {
+        const Vec2 p(ux(rng), uy(rng));
+        const double nt = ua(rng);
+        const Vec2 n(std::cos(nt), std::sin(nt));
+        const double max_d = std::array<double, 4>{0.1, 0.3, 0.6, 2.5}[q % 4];
+        const double cos_max = q % 3 == 0 ? -2.0 : std::cos(0.5);
+        double e_scan = 0.0, e_index = 0.0;
+        const int k_scan = NearestFaceByScan(faces, p, n, max_d, cos_max, &e_scan);
+        const int k_index = index.Nearest(p, n, max_d, cos_max, &e_index);
+        ASSERT_EQ(k_index, k_scan) << trial << " " << cell << " " << q;
+        if (k_scan >= 0) {
+          ASSERT_EQ(e_index, e_scan);
+          ++found;
+        }
+      }
+      if (trial > 2) EXPECT_GT(found, 100) << trial;
     }
   }
 }
