@@ -492,14 +492,31 @@ double GammaP(double a, double x) {
 }  // namespace
 
 double ChiSquareQuantile(double p, int dof) {
-  // Bisection on the chi-square CDF P(k/2, x/2).
+  // A run asks for a few (p, dof) pairs thousands of times: each thread keeps
+  // the ones it computed.
+  struct Known {
+    double p;
+    int dof;
+    double quantile;
+  };
+  thread_local std::vector<Known> known;
+  for (const Known& q : known)
+    if (q.p == p && q.dof == dof) return q.quantile;
+  // Bisection on the chi-square CDF P(k/2, x/2), 200 halvings at most; once
+  // a halving leaves (lo, hi) as they were, every later one does too (the
+  // same midpoint, the same test), so stopping there gives the same value.
   const double k = std::max(1, dof);
   double lo = 0.0, hi = k + 50.0 * std::sqrt(2.0 * k) + 50.0;
   for (int it = 0; it < 200; ++it) {
     const double mid = 0.5 * (lo + hi);
-    (GammaP(0.5 * k, 0.5 * mid) < p ? lo : hi) = mid;
+    double& side = GammaP(0.5 * k, 0.5 * mid) < p ? lo : hi;
+    if (side == mid) break;
+    side = mid;
   }
-  return 0.5 * (lo + hi);
+  const double quantile = 0.5 * (lo + hi);
+  if (known.size() >= 256) known.erase(known.begin());  // p and dof from outside: bounded
+  known.push_back({p, dof, quantile});
+  return quantile;
 }
 
 }  // namespace cogmap::graph

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <thread>
+#include <vector>
+
 
 namespace cogmap::graph {
 namespace {
@@ -65,6 +68,22 @@ TEST(PoseGraph, ChiSquareQuantileMatchesTables) {
   EXPECT_NEAR(ChiSquareQuantile(0.999, 3), 16.27, 0.15);
   EXPECT_NEAR(ChiSquareQuantile(0.95, 1), 3.84, 0.15);
   EXPECT_NEAR(ChiSquareQuantile(0.999, 100), 149.4, 0.5);
+  // Five-digit tables: 16.266, 3.8415, 0.45494 (the median of one dof).
+  EXPECT_NEAR(ChiSquareQuantile(0.999, 3), 16.266, 1e-3);
+  EXPECT_NEAR(ChiSquareQuantile(0.95, 1), 3.8415, 1e-4);
+  EXPECT_NEAR(ChiSquareQuantile(0.5, 1), 0.45494, 1e-5);
+}
+
+TEST(PoseGraph, ChiSquareQuantileIsTheSameAskedAgainOrFromAnotherThread) {
+  std::vector<double> first;
+  for (int dof = 1; dof < 400; ++dof) first.push_back(ChiSquareQuantile(0.999, dof));
+  for (int dof = 399; dof >= 1; --dof) EXPECT_EQ(ChiSquareQuantile(0.999, dof), first[dof - 1]) << dof;
+  std::vector<double> other;
+  std::thread([&] {
+    for (int dof = 1; dof < 400; ++dof) other.push_back(ChiSquareQuantile(0.999, dof));
+  }).join();
+  EXPECT_EQ(other, first);
+  EXPECT_LT(first[0], first[1]);
 }
 
 }  // namespace
