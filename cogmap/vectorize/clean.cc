@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <functional>
 #include <vector>
 
 #include "cogmap/core/bresenham.h"
@@ -100,13 +101,20 @@ grid::Grid2D<float> CleanMap(const grid::Grid2D<float>& grid, const CleanOptions
               const int ddx = p.first - x, ddy = p.second - y;
               candidates.push_back({ddx * ddx + ddy * ddy, p});
             }
-      std::sort(candidates.begin(), candidates.end());
-      for (const auto& c : candidates)
-        if (attempt(c.second)) {
+      // In ascending (d2, x, y) order, taken from a heap as needed: the order
+      // of a full sort (the path cells are distinct, so no two candidates
+      // tie), without sorting the many that a cell seen early never needs.
+      const auto after = std::greater<>();
+      std::make_heap(candidates.begin(), candidates.end(), after);
+      for (auto end = candidates.end(); end != candidates.begin(); --end) {
+        std::pop_heap(candidates.begin(), end, after);
+        const std::pair<int, int> p = (end - 1)->second;
+        if (attempt(p)) {
           found = true;
-          witness = c.second;
+          witness = p;
           break;
         }
+      }
       if (found) survivors.push_back({grid::CellIndex(x, y), witness});
     }
   }
