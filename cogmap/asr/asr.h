@@ -56,6 +56,12 @@ struct Asr {
   std::vector<Polyline> walls_local;      // in the local frame
   std::vector<Exit> exits;                // exits through which it was left/entered
   std::vector<Pose2> path;                // robot poses through it (world, raw)
+  // The floor the sensors saw: the convex hull (local frame, counter-
+  // clockwise) of the grid's explored-empty cells connected to the robot's
+  // path. The floor plan lets the room reach this far even where no wall
+  // bounds it (a room the robot only looked into). Empty: not known (a store
+  // older than schema 4).
+  std::vector<Vec2> free_hull_local;
   std::vector<Pose2> true_path;           // ground-truth poses, when the log has them
   double start_time_s = 0.0;
   double end_time_s = 0.0;

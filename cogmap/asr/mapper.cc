@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "cogmap/vectorize/orientation.h"
 
@@ -38,6 +39,87 @@ Pose2 BestRigidFit(const std::vector<Pose2>& from, const std::vector<Pose2>& to)
   ct /= double(n);
   const Vec2 t = ct - RotateAbout(cf, Vec2(0.0, 0.0), theta);
   return {t.x(), t.y(), theta};
+}
+
+std::vector<Vec2> FreeSpaceHull(const grid::Grid2D<float>& values, const vectorize::CellClasses& classes,
+                                double opening_m) {
+  const grid::MapLimits& lim = values.limits();
+  const int w = lim.width(), h = lim.height();
+  const size_t n = static_cast<size_t>(w) * h;
+  auto free = [&](int x, int y) { return values.at(x, y) < 0.0f; };  // explored empty or path
+  // City-block distance (cells) of every free cell to the nearest cell that
+  // is not free (or the grid's edge): a breadth-first pass from those cells.
+  const int r = std::max(0, static_cast<int>(std::lround(opening_m / lim.cell_m())));
+  std::vector<int> dist(n, std::numeric_limits<int>::max());
+  std::vector<int> queue;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (!free(x, y) || x == 0 || y == 0 || x == w - 1 || y == h - 1) {
+        dist[static_cast<size_t>(y) * w + x] = free(x, y) ? 1 : 0;
+        queue.push_back(y * w + x);
+      }
+  const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+  for (size_t k = 0; k < queue.size(); ++k) {
+    const int x = queue[k] % w, y = queue[k] / w, d = dist[queue[k]];
+    for (int i = 0; i < 4; ++i) {
+      const int nx = x + dx[i], ny = y + dy[i];
+      if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+      const size_t idx = static_cast<size_t>(ny) * w + nx;
+      if (dist[idx] <= d + 1) continue;
+      dist[idx] = d + 1;
+      queue.push_back(static_cast<int>(idx));
+    }
+  }
+  // The core: free cells farther than r from anything else, 4-connected to a
+  // path cell of the core. An opening narrower than 2 r (a door, a gap in a
+  // wall) does not connect the core to the floor seen through it.
+  std::vector<uint8_t> core(n, 0);
+  queue.clear();
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t idx = static_cast<size_t>(y) * w + x;
+      if (classes.IsPath(values.at(x, y)) && dist[idx] > r) core[idx] = 1, queue.push_back(static_cast<int>(idx));
+    }
+  for (size_t k = 0; k < queue.size(); ++k) {
+    const int x = queue[k] % w, y = queue[k] / w;
+    for (int i = 0; i < 4; ++i) {
+      const int nx = x + dx[i], ny = y + dy[i];
+      if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+      const size_t idx = static_cast<size_t>(ny) * w + nx;
+      if (core[idx] || dist[idx] <= r) continue;
+      core[idx] = 1;
+      queue.push_back(static_cast<int>(idx));
+    }
+  }
+  // The floor: the core grown back by r through free cells, and the path.
+  std::vector<int> grown(n, -1);
+  queue.clear();
+  for (size_t idx = 0; idx < n; ++idx)
+    if (core[idx] || classes.IsPath(values.at(static_cast<int>(idx % w), static_cast<int>(idx / w))))
+      grown[idx] = 0, queue.push_back(static_cast<int>(idx));
+  std::vector<int> row_lo(h, w), row_hi(h, -1);
+  for (size_t k = 0; k < queue.size(); ++k) {
+    const int x = queue[k] % w, y = queue[k] / w, d = grown[queue[k]];
+    row_lo[y] = std::min(row_lo[y], x);
+    row_hi[y] = std::max(row_hi[y], x);
+    if (d >= r) continue;
+    for (int i = 0; i < 4; ++i) {
+      const int nx = x + dx[i], ny = y + dy[i];
+      if (nx < 0 || ny < 0 || nx >= w || ny >= h || !free(nx, ny)) continue;
+      const size_t idx = static_cast<size_t>(ny) * w + nx;
+      if (grown[idx] >= 0) continue;
+      grown[idx] = d + 1;
+      queue.push_back(static_cast<int>(idx));
+    }
+  }
+  // Per row, the extreme cells: their outer corners carry the hull.
+  std::vector<Vec2> corners;
+  for (int y = 0; y < h; ++y) {
+    if (row_hi[y] < 0) continue;
+    for (const int x : {row_lo[y], row_hi[y] + 1})
+      for (const int d : {0, 1}) corners.push_back(lim.FromCellCoords(Vec2(x, y + d)));
+  }
+  return ConvexHull(std::move(corners));
 }
 
 CognitiveMapper::CognitiveMapper(const sensors::RobotDescription& robot, const MapperOptions& options,
@@ -141,6 +223,7 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
     const vectorize::Orientation o = vectorize::DominantOrientation(cells);
     a.grid_orientation = {o.valid, o.angle_rad, o.contrast, o.points};
   }
+  a.free_hull_local = FreeSpaceHull(c.grid->values(), options_.vectorize.clean.classes, options_.free_opening_m);
   c.grid.reset();  // the room's grid is gone from here on
 
   Asr out = corrector_ ? corrector_(std::move(a)) : std::move(a);

@@ -28,6 +28,10 @@ struct MapperOptions {
   // used by the heading correction's grid refinement (sonar robots only):
   // off, it is not computed.
   bool grid_orientation = true;
+  // The floor each ASR saw (FreeSpaceHull) is taken through openings wider
+  // than twice this: 0.5 m parts the floor at a door (0.8-1 m) and keeps a
+  // 2 m corridor whole.
+  double free_opening_m = 0.5;
 };
 
 // Continuing a run into an existing store (cogmap map --resume).
@@ -47,6 +51,15 @@ struct MapperResume {
 // with pose i): rotation = circular mean of the heading differences,
 // translation matching the centroids. Identity for empty paths.
 Pose2 BestRigidFit(const std::vector<Pose2>& from, const std::vector<Pose2>& to);
+
+// The floor a room's grid saw (Asr::free_hull_local): the convex hull, in the
+// grid's frame (metres), of the explored-empty cells (value below 0, the robot
+// path included) reachable from the robot's path through openings wider than
+// 2 x opening_m (a morphological opening of radius opening_m, city-block, seeded
+// from the path): the floor seen through a door or a gap in a wall belongs to
+// the space behind it. Empty when the grid has no path cell.
+std::vector<Vec2> FreeSpaceHull(const grid::Grid2D<float>& values, const vectorize::CellClasses& classes,
+                                double opening_m);
 
 // Run-state keys written with every ASR (so --resume can continue).
 constexpr const char* kMetaLastRawPose = "last_raw_pose";  // "x y theta"

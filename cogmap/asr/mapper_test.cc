@@ -83,6 +83,59 @@ void Drive(CognitiveMapper* m, const std::vector<Pose2>& poses, double t0 = 0.0)
   }
 }
 
+// A 4 m x 4 m room of explored floor (walls 0.1 m thick all round) with a
+// 0.8 m door in its right wall; beyond the door a 3 m x 6 m stretch of floor
+// seen through it. The robot's path runs across the room.
+grid::Grid2D<float> RoomSeenWithADoor() {
+  grid::Grid2D<float> g(grid::MapLimits(0.1, Vec2(0, 0), 80, 60), 0.0f);  // 8 m x 6 m, unknown
+  const vectorize::CellClasses cls;
+  auto fill = [&](double x0, double y0, double x1, double y1, float v) {
+    for (int y = static_cast<int>(std::lround(y0 * 10)); y < std::lround(y1 * 10); ++y)
+      for (int x = static_cast<int>(std::lround(x0 * 10)); x < std::lround(x1 * 10); ++x) g.at(x, y) = v;
+  };
+  fill(1.0, 1.0, 5.2, 5.2, 20.0f);  // wall cells
+  fill(1.1, 1.1, 5.1, 5.1, -5.0f);  // the room's floor: 4 m x 4 m
+  fill(5.1, 2.7, 5.2, 3.5, -5.0f);  // the door (0.8 m) in the right wall
+  fill(5.2, 0.0, 8.0, 6.0, -5.0f);  // the floor seen through it
+  for (int x = 15; x < 45; ++x) g.at(x, 30) = cls.robot_path;
+  return g;
+}
+
+double Area(const std::vector<Vec2>& poly) {
+  double a = 0;
+  for (size_t i = 0; i < poly.size(); ++i) {
+    const Vec2& p = poly[i];
+    const Vec2& q = poly[(i + 1) % poly.size()];
+    a += p.x() * q.y() - q.x() * p.y();
+  }
+  return 0.5 * a;
+}
+
+TEST(FreeSpaceHull, IsTheRoomNotTheFloorSeenThroughItsDoor) {
+  const auto hull = FreeSpaceHull(RoomSeenWithADoor(), vectorize::CellClasses{}, 0.5);
+  // The room's floor: the door (0.8 m < 2 x 0.5 m) parts it from the floor
+  // behind. Growing the core back by 0.5 m reaches the room's walls, and at
+  // the door at most 0.5 m past it: the room (16 m2) and less than a 0.5 m
+  // band beside it, not the 3 m of floor behind the door.
+  EXPECT_GE(Area(hull), 16.0 - 1e-9);
+  EXPECT_LT(Area(hull), 16.0 + 0.5 * 4.0);
+  for (const Vec2& p : hull) {
+    EXPECT_GE(p.x(), 1.1 - 1e-9);
+    EXPECT_LE(p.x(), 5.2 + 0.5 + 1e-9);
+    EXPECT_GE(p.y(), 1.1 - 1e-9);
+    EXPECT_LE(p.y(), 5.1 + 1e-9);
+  }
+  // With no opening the floor seen through the door joins: the hull reaches
+  // the far side (x = 8 m).
+  const auto all = FreeSpaceHull(RoomSeenWithADoor(), vectorize::CellClasses{}, 0.0);
+  double max_x = 0;
+  for (const Vec2& p : all) max_x = std::max(max_x, p.x());
+  EXPECT_NEAR(max_x, 8.0, 1e-9);
+  // No path, no floor.
+  grid::Grid2D<float> empty(grid::MapLimits(0.1, Vec2(0, 0), 10, 10), -5.0f);
+  EXPECT_TRUE(FreeSpaceHull(empty, vectorize::CellClasses{}, 0.5).empty());
+}
+
 TEST(MapperOptions, DefaultsAreThePapers) {
   const MapperOptions o;
   EXPECT_DOUBLE_EQ(o.cell_m, 0.1);

@@ -283,6 +283,14 @@ CREATE TABLE IF NOT EXISTS orientation(
   contrast REAL NOT NULL, cells INTEGER NOT NULL);
 )sql";
 
+// Schema version 4 (issue 11): the floor each ASR's grid saw
+// (Asr::free_hull_local), a walls-format blob holding one closed-less
+// polygon. Older stores are migrated by creating the table (their ASRs have no
+// row: the floor plan bounds them by their walls and path as before).
+const char* kSchemaV4 = R"sql(
+CREATE TABLE IF NOT EXISTS free_space(asr_id INTEGER PRIMARY KEY, hull BLOB NOT NULL);
+)sql";
+
 bool HasSqliteHeader(const std::string& path, bool* empty) {
   std::ifstream in(path, std::ios::binary);
   char header[16] = {};
@@ -363,6 +371,7 @@ std::string SchemaOfVersion(int version) {
   sqlite3_exec(db, kSchema, nullptr, nullptr, nullptr);
   if (version >= 2) sqlite3_exec(db, kSchemaV2, nullptr, nullptr, nullptr);
   if (version >= 3) sqlite3_exec(db, kSchemaV3, nullptr, nullptr, nullptr);
+  if (version >= 4) sqlite3_exec(db, kSchemaV4, nullptr, nullptr, nullptr);
   bool readable = true;
   std::string s = SchemaOf(db, &readable);
   sqlite3_close(db);
@@ -381,8 +390,8 @@ bool HasTable(sqlite3* db, const char* name) {
 // An older version this cogmap migrates (and reads as it is when read-only):
 // its tables must be exactly that version's.
 bool MigratableVersion(int version, const std::string& schema) {
-  static const std::string v1 = SchemaOfVersion(1), v2 = SchemaOfVersion(2);
-  return (version == 1 && schema == v1) || (version == 2 && schema == v2);
+  static const std::string v1 = SchemaOfVersion(1), v2 = SchemaOfVersion(2), v3 = SchemaOfVersion(3);
+  return (version == 1 && schema == v1) || (version == 2 && schema == v2) || (version == 3 && schema == v3);
 }
 
 }  // namespace
@@ -455,8 +464,8 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     if (version > kStoreSchemaVersion)
       throw InputError(path, 0, "schema version " + std::to_string(version) +
                                     " is newer than this cogmap (" + std::to_string(kStoreSchemaVersion) + ")");
-    // Versions 1 and 2 are migrated (read-only: read as they are, without
-    // placements or orientations).
+    // Versions 1 to 3 are migrated (read-only: read as they are, without
+    // placements, orientations or free space).
     const bool older = tables > 0 && version < kStoreSchemaVersion && MigratableVersion(version, schema);
     if (tables > 0 && version < kStoreSchemaVersion && !older)
       throw InputError(path, 0, "schema version " + std::to_string(version) +
@@ -474,6 +483,7 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     if (!db) throw InputError(path, 0, "cannot open store: " + error);
     std::unique_ptr<SqliteAsrStore> store(new SqliteAsrStore(path, db, /*read_only=*/true));
     store->has_orientation_ = HasTable(db, "orientation");
+    store->has_free_space_ = HasTable(db, "free_space");
     return store;
   }
   sqlite3* db = nullptr;
@@ -498,7 +508,9 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     store->Exec(kSchema);
     store->Exec(kSchemaV2);
     store->Exec(kSchemaV3);
+    store->Exec(kSchemaV4);
     store->has_orientation_ = true;
+    store->has_free_space_ = true;
     store->Exec("PRAGMA application_id=" + std::to_string(kStoreApplicationId));
     store->Exec("PRAGMA user_version=" + std::to_string(kStoreSchemaVersion));
     store->Exec("INSERT OR IGNORE INTO meta(key, value) VALUES('application', 'cogmap')");
@@ -575,6 +587,13 @@ void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string
     s.BindInt(5, g.cells);
     if (s.Step() != SQLITE_DONE) fail("insert orientation");
   }
+  if (!asr.free_hull_local.empty()) {
+    Stmt s(db, "INSERT OR REPLACE INTO free_space VALUES(?,?)");
+    if (!s.ok()) fail("prepare");
+    s.BindInt(1, asr.id);
+    s.BindBlob(2, EncodeWalls({asr.free_hull_local}));
+    if (s.Step() != SQLITE_DONE) fail("insert free space");
+  }
   for (const auto& e : asr.exits) {
     if (e.from_asr < 0 || e.to_asr < 0) continue;
     Stmt s(db, "INSERT OR REPLACE INTO edge VALUES(?,?,?,?,?)");
@@ -646,6 +665,22 @@ std::optional<Asr> SqliteAsrStore::Get(int id) const {
       a.grid_orientation.cells = static_cast<int>(o.Int(3));
     } else if (o.failed()) {
       Fail("orientation of ASR " + std::to_string(id) + ": " + sqlite3_errmsg(Db(db_)));
+    }
+  }
+  if (has_free_space_) {
+    Stmt f(Db(db_), "SELECT hull FROM free_space WHERE asr_id=?");
+    if (!f.ok()) Fail(sqlite3_errmsg(Db(db_)));
+    f.BindInt(1, id);
+    if (f.Step() == SQLITE_ROW) {
+      try {
+        auto hull = DecodeWalls(f.Blob(0));
+        if (hull.size() != 1) throw std::runtime_error("free space: " + std::to_string(hull.size()) + " polygons");
+        a.free_hull_local = std::move(hull[0]);
+      } catch (const std::runtime_error& e) {
+        throw InputError(path_, 0, "ASR " + std::to_string(id) + ": " + e.what());
+      }
+    } else if (f.failed()) {
+      Fail("free space of ASR " + std::to_string(id) + ": " + sqlite3_errmsg(Db(db_)));
     }
   }
   return a;

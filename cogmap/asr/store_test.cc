@@ -202,7 +202,7 @@ TEST(SqliteAsrStore, VersionOneStoreIsMigrated) {
     for (int i = 0; i < 2; ++i) s->Put(MakeAsr(i));
   }
   // Back to what version 1 wrote: no placement / closure tables.
-  DowngradeStore(path, "DROP TABLE placement; DROP TABLE closure; DROP TABLE orientation", 1);
+  DowngradeStore(path, "DROP TABLE placement; DROP TABLE closure; DROP TABLE orientation; DROP TABLE free_space", 1);
   {
     // Read-only: read as it is.
     auto r = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
@@ -236,7 +236,7 @@ TEST(SqliteAsrStore, VersionTwoStoreIsMigratedAndOrientationsRoundTrip) {
     EXPECT_EQ(back.grid_orientation.contrast, 3.5);
     EXPECT_EQ(back.grid_orientation.cells, 812);
   }
-  DowngradeStore(path, "DROP TABLE orientation", 2);
+  DowngradeStore(path, "DROP TABLE orientation; DROP TABLE free_space", 2);
   {
     auto r = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
     const Asr back = *r->Get(0);
@@ -248,6 +248,32 @@ TEST(SqliteAsrStore, VersionTwoStoreIsMigratedAndOrientationsRoundTrip) {
   EXPECT_FALSE(s->Get(0)->grid_orientation.valid);
   s->Put(a);
   EXPECT_EQ(s->Get(0)->grid_orientation.cells, 812);
+}
+
+// Version 3 had no free_space table: read as it is (no floor), then migrated
+// by creating it; the floor each ASR saw round-trips from version 4 on.
+TEST(SqliteAsrStore, VersionThreeStoreIsMigratedAndFreeHullsRoundTrip) {
+  const std::string path = TempDir("v3") + "/map.sqlite";
+  Asr a = MakeAsr(0);
+  a.free_hull_local = {{0, 0}, {4, 0}, {4, 3.5}, {0.25, 3}};
+  {
+    auto s = SqliteAsrStore::Open(path);
+    s->Put(a);
+    s->Put(MakeAsr(1));  // no floor known: no row
+    EXPECT_EQ(s->Get(0)->free_hull_local, a.free_hull_local);
+    EXPECT_TRUE(s->Get(1)->free_hull_local.empty());
+  }
+  DowngradeStore(path, "DROP TABLE free_space", 3);
+  {
+    auto r = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
+    EXPECT_TRUE(r->Get(0)->free_hull_local.empty());
+    ExpectSame(*r->Get(1), MakeAsr(1));
+  }
+  auto s = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kOpenExisting);
+  EXPECT_EQ(*s->GetMeta("schema_version"), std::to_string(kStoreSchemaVersion));
+  EXPECT_TRUE(s->Get(0)->free_hull_local.empty());
+  s->Put(a);
+  EXPECT_EQ(s->Get(0)->free_hull_local, a.free_hull_local);
 }
 
 TEST(SqliteAsrStore, ReplaceStartsEmpty) {

@@ -52,6 +52,15 @@ TEST(Geometry, PointSegmentDistanceClampsToEnds) {
   EXPECT_NEAR(PointSegmentDistance({0.5, 1}, {0, 0}, {1, 0}), 1.0, 1e-12);
 }
 
+TEST(Geometry, ConvexHullOfASquareWithInnerAndEdgePoints) {
+  // The inner point, the midpoint of an edge and a repeated corner go.
+  const auto h = ConvexHull({{1, 1}, {0, 0}, {2, 0}, {1, 0}, {2, 2}, {0, 2}, {0, 0}});
+  ASSERT_EQ(h.size(), 4u);
+  const std::vector<Vec2> expected{{0, 0}, {2, 0}, {2, 2}, {0, 2}};  // counter-clockwise from the lowest x
+  for (size_t i = 0; i < 4; ++i) EXPECT_EQ(h[i], expected[i]) << i;
+  EXPECT_EQ(ConvexHull({{1, 1}, {1, 1}}).size(), 1u);
+}
+
 TEST(InputError, NamesFileAndLine) {
   EXPECT_STREQ(InputError("a.log", 12, "bad").what(), "a.log:12: bad");
   EXPECT_STREQ(InputError("a.log", 0, "empty").what(), "a.log: empty");

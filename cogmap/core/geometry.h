@@ -42,6 +42,11 @@ inline double PolylineLength(const Polyline& line) {
 // Segments of all polylines, in order.
 std::vector<Segment2> ToSegments(const std::vector<Polyline>& lines);
 
+// The convex hull of points: counter-clockwise, no repeated vertex, collinear
+// points dropped (Andrew's monotone chain). Fewer than three distinct points
+// come back as they are (sorted, unique).
+std::vector<Vec2> ConvexHull(std::vector<Vec2> points);
+
 // Applies 'pose' to every vertex.
 Polyline Transform(const Pose2& pose, const Polyline& line);
 std::vector<Polyline> Transform(const Pose2& pose, const std::vector<Polyline>& lines);

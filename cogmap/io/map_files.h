@@ -76,7 +76,4 @@ std::vector<std::string> WriteMasterMapFiles(const std::string& dir, const Maste
                                              const MasterMapStyle& style = {},
                                              double raster_cell_m = 0.05, const MasterMapOutputs& outputs = {});
 
-// The convex hull (counter-clockwise, no repeat) of points.
-std::vector<Vec2> ConvexHull(std::vector<Vec2> points);
-
 }  // namespace cogmap::io

@@ -170,10 +170,5 @@ TEST(MapFiles, WritesTheFilesItIsAskedFor) {
   EXPECT_EQ(WriteMasterMapFiles(dir2, BuildMasterMap(TwoAsrs()), {}, 0.05, only_geojson).size(), 1u);
 }
 
-TEST(ConvexHull, SquareWithInnerPoint) {
-  const auto h = ConvexHull({{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.5, 0.5}});
-  EXPECT_EQ(h.size(), 4u);
-}
-
 }  // namespace
 }  // namespace cogmap::io

@@ -150,27 +150,6 @@ void SubtractSpan(std::vector<std::pair<double, double>>* spans, double lo, doub
 }
 
 // ------------------------------------------------------------------ geometry helpers
-std::vector<Vec2> ConvexHull(std::vector<Vec2> pts) {
-  std::sort(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
-  if (pts.size() < 3) return pts;
-  std::vector<Vec2> h(2 * pts.size());
-  size_t k = 0;
-  for (size_t i = 0; i < pts.size(); ++i) {
-    while (k >= 2 && Cross(h[k - 1] - h[k - 2], pts[i] - h[k - 2]) <= 0) --k;
-    h[k++] = pts[i];
-  }
-  for (size_t i = pts.size() - 1, t = k + 1; i-- > 0;) {
-    while (k >= t && Cross(h[k - 1] - h[k - 2], pts[i] - h[k - 2]) <= 0) --k;
-    h[k++] = pts[i];
-  }
-  h.resize(k - 1);
-  h.shrink_to_fit();  // kept per room while the rooms flood
-  return h;  // counter-clockwise
-}
-
 bool InConvex(const std::vector<Vec2>& hull, const Vec2& p) {
   if (hull.size() < 3) return false;
   for (size_t i = 0; i < hull.size(); ++i)
@@ -354,8 +333,9 @@ struct RoomGrid {
   }
 };
 
-// Where a room may flood: the convex hull of the walls and path of each of its
-// units (a room with its revisits and absorbed slivers), not of them all: the
+// Where a room may flood: the convex hull of the walls, the path and the floor
+// the grid saw (Asr::free_hull_local) of each of its units (a room with its
+// revisits and absorbed slivers), not of them all: the
 // pieces of a corridor turning a corner would span the block it runs around.
 using RoomHulls = std::vector<std::vector<Vec2>>;
 
@@ -783,6 +763,7 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
   for (size_t i = 0; i < asrs.size(); ++i) index_of[asrs[i].id] = i;
   std::vector<std::vector<Vec2>> path(asrs.size());
   std::vector<std::vector<Polyline>> walls(asrs.size());
+  std::vector<std::vector<Vec2>> free_hull(asrs.size());  // the floor each ASR saw, placed
   std::vector<double> path_len(asrs.size(), 0.0);
   std::optional<Pose2> home;
   double first_time = std::numeric_limits<double>::infinity();
@@ -799,6 +780,7 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
     for (const Pose2& p : poses) path[i].push_back(p.translation());
     for (size_t k = 1; k < path[i].size(); ++k) path_len[i] += (path[i][k] - path[i][k - 1]).norm();
     walls[i] = x.WallsWorldCorrected();
+    free_hull[i] = Transform(x.world_from_local_corrected, x.free_hull_local);
     if (!poses.empty() && (x.start_time_s < first_time || (!home && x.start_time_s == first_time))) {
       first_time = x.start_time_s;
       home = poses.front();
@@ -1366,8 +1348,10 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
   auto unit_root = [&](int u) { return absorb.Find(u); };
 
   // Seeds and allowed regions per working room.
-  auto build_regions = [&](const std::vector<int>& room_of_unit, int n_rooms, std::vector<std::vector<size_t>>* seeds,
-                           std::vector<RoomHulls>* hulls) {
+  // 'free_floor' (per room; empty: none) lets a room reach the floor its
+  // ASRs' grids saw, not only the hull of its walls and path.
+  auto build_regions = [&](const std::vector<int>& room_of_unit, int n_rooms, const std::vector<char>& free_floor,
+                           std::vector<std::vector<size_t>>* seeds, std::vector<RoomHulls>* hulls) {
     seeds->assign(n_rooms, {});
     hulls->assign(n_rooms, {});
     std::vector<std::vector<Vec2>> hull_pts(n_units);
@@ -1383,6 +1367,8 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
       const int r = room_of_unit[u];
       for (const auto& l : walls[i])
         for (const auto& p : l) hull_pts[u].push_back(g.ToFrame(p));
+      if (!free_floor.empty() && free_floor[r])
+        for (const auto& p : free_hull[i]) hull_pts[u].push_back(g.ToFrame(p));
       for (const auto& p : path[i]) {
         hull_pts[u].push_back(g.ToFrame(p));
         int cx, cy;
@@ -1420,7 +1406,10 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
     if (unit_root(u) == u) unit_room[u] = n1++;
   std::vector<std::vector<size_t>> seeds;
   std::vector<RoomHulls> hulls;
-  build_regions(unit_room, n1, &seeds, &hulls);
+  // Pass 1 bounds every unit by its walls and path: a corridor's grid sees
+  // through doors and wall gaps into the rooms beside it, and the shapes
+  // below tell corridors from rooms.
+  build_regions(unit_room, n1, {}, &seeds, &hulls);
   std::vector<Shape> shapes;
   {  // pass 1's labels go before pass 2 floods
     const Labels label1 = Flood(g, door_mask(unit_room), seeds, hulls);
@@ -1462,18 +1451,24 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
   std::vector<int> plan_of_unit(n_units, -1);
   for (int u = 0; u < n_units; ++u) plan_of_unit[u] = plan_of_r1[unit_room[unit_root(u)]];
 
-  // Pass 2: the plan rooms.
-  build_regions(plan_of_unit, n_plan, &seeds, &hulls);
+  // Pass 2: the plan rooms; the rooms (not the corridors) reach the floor
+  // their grids saw. A room the robot only looked into has few walls: the
+  // hull of walls and path is a thin fan from the door, the floor seen is
+  // most of the room (docs/floor-plan.md, "Rooms").
+  std::vector<char> is_corridor(n_plan, 0);
+  for (int r = 0; r < n1; ++r)
+    if (in_corridor[r]) is_corridor[plan_of_r1[r]] = 1;
+  std::vector<char> free_floor(n_plan, 0);
+  for (int r = 0; r < n_plan; ++r) free_floor[r] = !is_corridor[r];
+  build_regions(plan_of_unit, n_plan, free_floor, &seeds, &hulls);
   // The paths and walls have served (the seeds and hulls carry what the flood
   // needs), then the seeds and hulls: freed before the polygons are traced.
   std::vector<std::vector<Vec2>>().swap(path);
   std::vector<std::vector<Polyline>>().swap(walls);
+  std::vector<std::vector<Vec2>>().swap(free_hull);
 
   // ---------------------------------------------------------------- room polygons
   std::vector<Room> rooms(n_plan);
-  std::vector<char> is_corridor(n_plan, 0);
-  for (int r = 0; r < n1; ++r)
-    if (in_corridor[r]) is_corridor[plan_of_r1[r]] = 1;
   for (size_t i = 0; i < asrs.size(); ++i) {
     Room& room = rooms[plan_of_unit[unit_of[i]]];
     room.asr_ids.push_back(asrs[i].id);

@@ -184,6 +184,26 @@ TEST(BuildPlan, SquareRoomSeenTwiceGivesFourWalls) {
   EXPECT_NEAR(plan.home->y, 1.0, 1e-9);
 }
 
+// The robot looked into a 5 x 4 m room from its door: it saw the back wall
+// and the floor, not the side walls. Walls and path alone bound a thin fan
+// from the door; the floor the grid saw (Asr::free_hull_local) is the room.
+TEST(BuildPlan, RoomLookedIntoReachesTheFloorItsGridSaw) {
+  auto room = [](bool with_floor) {
+    asr::Asr a = MakeAsr(0, {{{0.5, 4}, {4.5, 4}}}, Line({2.5, 0.2}, {2.5, 1.5}));
+    if (with_floor) a.free_hull_local = {{0.2, 0.1}, {4.8, 0.1}, {4.8, 3.9}, {0.2, 3.9}};
+    return BuildPlan({a}, {{0, 0}});
+  };
+  const Plan fan = room(false), seen = room(true);
+  ASSERT_EQ(fan.rooms.size(), 1u);
+  ASSERT_EQ(seen.rooms.size(), 1u);
+  // The fan: the hull of the back wall and the path, a trapezoid of about
+  // (4 + 0) / 2 x 3.8 m.
+  EXPECT_LT(fan.rooms[0].area_m2, 9.0);
+  // The floor seen (4.6 x 3.8 m) and the back wall 0.1 m above it (a
+  // trapezoid of 4.6 and 4 m across): 17.91 m2, within the tracing's cells.
+  EXPECT_NEAR(seen.rooms[0].area_m2, 4.6 * 3.8 + 0.5 * (4.6 + 4.0) * 0.1, 0.6);
+}
+
 TEST(BuildPlan, EachWallFacesItsFreeSide) {
   std::vector<asr::Asr> asrs = {MakeAsr(0, {Box(0, 0, 4, 4)}, Line({1, 2}, {3, 2}))};
   const Plan plan = BuildPlan(asrs, {});
