@@ -45,26 +45,29 @@ FaceIndex::FaceIndex(const std::vector<FacedSegment>& faces, double cell_m) : fa
   for (const FacedSegment& f : faces) {
     lo = lo.cwiseMin(f.a).cwiseMin(f.b);
     hi = hi.cwiseMax(f.a).cwiseMax(f.b);
+    boxes_.push_back({std::min(f.a.x(), f.b.x()), std::min(f.a.y(), f.b.y()), std::max(f.a.x(), f.b.x()),
+                      std::max(f.a.y(), f.b.y())});
   }
   // Cells no finer than the faces' extent allows: at most some 16 cells a face
   // (and 4096 in all for a handful of faces), whatever the coordinates.
   const double wx = hi.x() - lo.x(), wy = hi.y() - lo.y();
   const double max_cells = std::max(4096.0, 16.0 * static_cast<double>(faces.size()));
-  cell_m_ = std::max({cell_m, std::sqrt(wx * wy / max_cells), std::max(wx, wy) / max_cells, 1e-9});
+  const double cell = std::max({cell_m, std::sqrt(wx * wy / max_cells), std::max(wx, wy) / max_cells, 1e-9});
   lo_ = lo;
-  nx_ = static_cast<int>(std::floor((hi.x() - lo.x()) / cell_m_)) + 1;
-  ny_ = static_cast<int>(std::floor((hi.y() - lo.y()) / cell_m_)) + 1;
+  inv_cell_ = 1.0 / cell;
+  nx_ = static_cast<int>(wx * inv_cell_) + 1;
+  ny_ = static_cast<int>(wy * inv_cell_) + 1;
   // The cells a face's box covers: counted, then filled (one flat array).
-  auto cells_of = [&](const FacedSegment& f, int* i0, int* i1, int* j0, int* j1) {
-    *i0 = std::clamp(static_cast<int>(std::floor((std::min(f.a.x(), f.b.x()) - lo_.x()) / cell_m_)), 0, nx_ - 1);
-    *i1 = std::clamp(static_cast<int>(std::floor((std::max(f.a.x(), f.b.x()) - lo_.x()) / cell_m_)), 0, nx_ - 1);
-    *j0 = std::clamp(static_cast<int>(std::floor((std::min(f.a.y(), f.b.y()) - lo_.y()) / cell_m_)), 0, ny_ - 1);
-    *j1 = std::clamp(static_cast<int>(std::floor((std::max(f.a.y(), f.b.y()) - lo_.y()) / cell_m_)), 0, ny_ - 1);
+  auto cells_of = [&](const Box& box, int* i0, int* i1, int* j0, int* j1) {
+    *i0 = CellOf((box.x0 - lo_.x()) * inv_cell_, nx_);
+    *i1 = CellOf((box.x1 - lo_.x()) * inv_cell_, nx_);
+    *j0 = CellOf((box.y0 - lo_.y()) * inv_cell_, ny_);
+    *j1 = CellOf((box.y1 - lo_.y()) * inv_cell_, ny_);
   };
   start_.assign(static_cast<size_t>(nx_) * ny_ + 1, 0);
-  for (const FacedSegment& f : faces) {
+  for (const Box& box : boxes_) {
     int i0, i1, j0, j1;
-    cells_of(f, &i0, &i1, &j0, &j1);
+    cells_of(box, &i0, &i1, &j0, &j1);
     for (int i = i0; i <= i1; ++i)
       for (int j = j0; j <= j1; ++j) ++start_[static_cast<size_t>(i) * ny_ + j + 1];
   }
@@ -73,7 +76,7 @@ FaceIndex::FaceIndex(const std::vector<FacedSegment>& faces, double cell_m) : fa
   std::vector<int> fill(start_.begin(), start_.end() - 1);
   for (size_t k = 0; k < faces.size(); ++k) {
     int i0, i1, j0, j1;
-    cells_of(faces[k], &i0, &i1, &j0, &j1);
+    cells_of(boxes_[k], &i0, &i1, &j0, &j1);
     for (int i = i0; i <= i1; ++i)
       for (int j = j0; j <= j1; ++j) items_[fill[static_cast<size_t>(i) * ny_ + j]++] = static_cast<int>(k);
   }
@@ -82,16 +85,14 @@ FaceIndex::FaceIndex(const std::vector<FacedSegment>& faces, double cell_m) : fa
 int FaceIndex::Nearest(const Vec2& p, const Vec2& n, double max_d, double cos_max, double* residual) const {
   if (nx_ == 0) return -1;
   // A face closer than max_d has its nearest point, and so part of its box, in
-  // the square of half-side max_d around p; the margin covers rounding, and
-  // the faces it adds are measured like the others.
+  // the square of half-side max_d around p. CellOf never decreases as its
+  // argument grows, so the cells of that point lie in the square's cell range.
+  // The margin covers rounding; the faces it adds are measured like the others.
   const double r = max_d + 1e-6;
-  const double fx0 = (p.x() - r - lo_.x()) / cell_m_, fx1 = (p.x() + r - lo_.x()) / cell_m_;
-  const double fy0 = (p.y() - r - lo_.y()) / cell_m_, fy1 = (p.y() + r - lo_.y()) / cell_m_;
-  if (!(fx1 >= 0.0 && fy1 >= 0.0 && fx0 < nx_ && fy0 < ny_)) return -1;  // also NaN
-  const int i0 = static_cast<int>(std::max(0.0, std::floor(fx0)));
-  const int i1 = static_cast<int>(std::min(nx_ - 1.0, std::floor(fx1)));
-  const int j0 = static_cast<int>(std::max(0.0, std::floor(fy0)));
-  const int j1 = static_cast<int>(std::min(ny_ - 1.0, std::floor(fy1)));
+  const double ux0 = (p.x() - r - lo_.x()) * inv_cell_, ux1 = (p.x() + r - lo_.x()) * inv_cell_;
+  const double uy0 = (p.y() - r - lo_.y()) * inv_cell_, uy1 = (p.y() + r - lo_.y()) * inv_cell_;
+  if (!(ux1 >= 0.0 && uy1 >= 0.0 && ux0 < nx_ && uy0 < ny_)) return -1;  // also NaN
+  const int i0 = CellOf(ux0, nx_), i1 = CellOf(ux1, nx_), j0 = CellOf(uy0, ny_), j1 = CellOf(uy1, ny_);
   const std::vector<FacedSegment>& faces = *faces_;
   int best = -1;
   double best_d = max_d;
@@ -99,8 +100,14 @@ int FaceIndex::Nearest(const Vec2& p, const Vec2& n, double max_d, double cos_ma
     const int* it = items_.data() + start_[static_cast<size_t>(i) * ny_ + j0];
     const int* end = items_.data() + start_[static_cast<size_t>(i) * ny_ + j1 + 1];
     for (; it != end; ++it) {
-      // A face listed in several cells is measured again: same distance, no change.
+      // A face listed in several cells is met again: same distance, no change.
       const int k = *it;
+      // A face whose box lies farther than the best so far along x or y is
+      // farther (the margin covers rounding); then the normal; then the distance.
+      const Box& box = boxes_[k];
+      const double reach = best_d + 1e-6;
+      if (p.x() < box.x0 - reach || p.x() > box.x1 + reach || p.y() < box.y0 - reach || p.y() > box.y1 + reach)
+        continue;
       const FacedSegment& f = faces[k];
       if (f.normal.dot(n) < cos_max) continue;
       const double d = PointSegmentDistance(p, f.a, f.b);

@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <algorithm>
 #include <vector>
 
 #include "cogmap/core/geometry.h"
@@ -38,12 +39,20 @@ class FaceIndex {
   int Nearest(const Vec2& p, const Vec2& n, double max_d, double cos_max, double* residual) const;
 
  private:
+  // Cell of a coordinate already scaled to cells: clamped, then truncated
+  // (no libm floor call; never decreasing, which is all the query needs).
+  static int CellOf(double u, int n) { return static_cast<int>(std::clamp(u, 0.0, n - 1.0)); }
+
   const std::vector<FacedSegment>* faces_;
   Vec2 lo_{0, 0};
-  double cell_m_ = 1.0;
+  double inv_cell_ = 1.0;  // cells per metre
   int nx_ = 0, ny_ = 0;
   std::vector<int> start_;  // cell c's faces: items_[start_[c] .. start_[c + 1])
   std::vector<int> items_;
+  struct Box {
+    double x0, y0, x1, y1;
+  };
+  std::vector<Box> boxes_;  // each face's bounding box
 };
 
 // The same answer by scanning every face (the reference of FaceIndex).

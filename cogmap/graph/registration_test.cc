@@ -158,7 +158,9 @@ TEST(FaceIndex, GivesWhatTheScanGivesOnRandomFaces) {
           ++found;
         }
       }
-      if (trial > 2) EXPECT_GT(found, 100) << trial;
+      if (trial > 2) {
+        EXPECT_GT(found, 100) << trial;
+      }
     }
   }
 }
