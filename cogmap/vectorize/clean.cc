@@ -1,8 +1,8 @@
 #include "cogmap/vectorize/clean.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdlib>
-#include <functional>
 #include <vector>
 
 #include "cogmap/core/bresenham.h"
@@ -59,7 +59,11 @@ grid::Grid2D<float> CleanMap(const grid::Grid2D<float>& grid, const CleanOptions
       }
   auto get = [&](int x, int y) { return grid.get(x, y); };
 
-  std::vector<std::pair<int, std::pair<int, int>>> candidates;  // (d2, path cell)
+  // (d2, x, y) of the path cells in range, as one 128-bit key per cell: sorted
+  // as the triples are (all three are non-negative), without the triples'
+  // branchy lexicographic comparison.
+  using Key = unsigned __int128;
+  std::vector<Key> candidates;
   std::pair<int, int> witness(-1, -1);
   // Survivors with the path cell that sees them.
   std::vector<std::pair<grid::CellIndex, std::pair<int, int>>> survivors;
@@ -99,16 +103,13 @@ grid::Grid2D<float> CleanMap(const grid::Grid2D<float>& grid, const CleanOptions
           for (const auto& p : buckets[static_cast<size_t>(by) * bw + bx])
             if (in_range(p)) {
               const int ddx = p.first - x, ddy = p.second - y;
-              candidates.push_back({ddx * ddx + ddy * ddy, p});
+              candidates.push_back(static_cast<Key>(static_cast<uint64_t>(ddx * ddx + ddy * ddy)) << 64 |
+                                   static_cast<uint64_t>(p.first) << 32 | static_cast<uint32_t>(p.second));
             }
-      // In ascending (d2, x, y) order, taken from a heap as needed: the order
-      // of a full sort (the path cells are distinct, so no two candidates
-      // tie), without sorting the many that a cell seen early never needs.
-      const auto after = std::greater<>();
-      std::make_heap(candidates.begin(), candidates.end(), after);
-      for (auto end = candidates.end(); end != candidates.begin(); --end) {
-        std::pop_heap(candidates.begin(), end, after);
-        const std::pair<int, int> p = (end - 1)->second;
+      std::sort(candidates.begin(), candidates.end());
+      for (const Key c : candidates) {
+        const std::pair<int, int> p(static_cast<int>(static_cast<uint64_t>(c) >> 32),
+                                    static_cast<int>(static_cast<uint32_t>(c)));
         if (attempt(p)) {
           found = true;
           witness = p;
