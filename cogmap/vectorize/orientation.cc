@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <unordered_map>
 
 namespace cogmap::vectorize {
@@ -54,21 +55,41 @@ double ProfileScore(const std::vector<Vec2>& points, const Vec2& normal, double 
   // The smoothed density everywhere (its tails reach 'pad' bins beyond the
   // extreme points; clipping them would favour spread-out extremes):
   // v[b] = sum over i = -pad..pad, in that order, of kernel[i] h[b + i], h
-  // being 0 outside [0, n). Tap by tap over every bin at once (each bin's sum
-  // still taken in tap order, so the compiler can use vector lanes without
-  // changing a rounding); the zero terms outside h add +0 to a sum that
-  // starts at +0 and never goes negative, which changes nothing.
-  std::vector<double> hp(n + 2 * pad, 0.0);
+  // being 0 outside [0, n). Eight bins at a time, each in its own lane of four
+  // two-double vectors, every bin's sum still taken in tap order: the same
+  // roundings as one bin after another, without one long chain of dependent
+  // additions. The zero terms outside h add +0 to a sum that starts at +0 and
+  // never goes negative, which changes nothing.
+  std::vector<double> hp(n + 2 * pad + 8, 0.0);
   std::copy(h.begin(), h.end(), hp.begin() + pad);
-  std::vector<double> v(n, 0.0);
-  for (int i = 0; i <= 2 * pad; ++i) {
-    const double k = kernel[i];
-    const double* src = hp.data() + i;
-    double* dst = v.data();
-    for (size_t b = 0; b < n; ++b) dst[b] += k * src[b];
-  }
+  typedef double Pair __attribute__((vector_size(16)));
+  auto load = [](const double* p) {
+    Pair v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  };
   double s = 0.0;
-  for (double x : v) s += x * x;
+  size_t b = 0;
+  for (; b + 8 <= n; b += 8) {
+    Pair a0 = {0.0, 0.0}, a1 = a0, a2 = a0, a3 = a0;  // bins b..b+1, b+2..b+3, ...
+    for (int i = 0; i <= 2 * pad; ++i) {
+      const Pair k = {kernel[i], kernel[i]};
+      const double* src = hp.data() + b + i;
+      a0 += k * load(src);
+      a1 += k * load(src + 2);
+      a2 += k * load(src + 4);
+      a3 += k * load(src + 6);
+    }
+    for (const Pair& a : {a0, a1, a2, a3}) {
+      s += a[0] * a[0];
+      s += a[1] * a[1];
+    }
+  }
+  for (; b < n; ++b) {
+    double v = 0.0;
+    for (int i = 0; i <= 2 * pad; ++i) v += kernel[i] * hp[b + i];
+    s += v * v;
+  }
   return s;
 }
 
