@@ -706,6 +706,28 @@ struct Shape {
   Vec2 axis{1, 0};
 };
 
+// The width of a convex polygon measured as RegionShapes measures a region's:
+// sqrt(12 x the smaller principal variance of its area (exact polygon moments).
+double PolygonWidth(const std::vector<Vec2>& poly) {
+  double a = 0, cx = 0, cy = 0, ixx = 0, iyy = 0, ixy = 0;
+  for (size_t i = 0; i < poly.size(); ++i) {
+    const Vec2& p = poly[i];
+    const Vec2& q = poly[(i + 1) % poly.size()];
+    const double c = p.x() * q.y() - q.x() * p.y();
+    a += c / 2;
+    cx += c * (p.x() + q.x()) / 6;
+    cy += c * (p.y() + q.y()) / 6;
+    ixx += c * (p.x() * p.x() + p.x() * q.x() + q.x() * q.x()) / 12;
+    iyy += c * (p.y() * p.y() + p.y() * q.y() + q.y() * q.y()) / 12;
+    ixy += c * (p.x() * q.y() + 2 * p.x() * p.y() + 2 * q.x() * q.y() + q.x() * p.y()) / 24;
+  }
+  if (std::abs(a) < 1e-12) return 0.0;
+  cx /= a, cy /= a;
+  const double sxx = ixx / a - cx * cx, syy = iyy / a - cy * cy, sxy = ixy / a - cx * cy;
+  const double mean = (sxx + syy) / 2, d = std::sqrt(std::max(0.0, (sxx - syy) * (sxx - syy) / 4 + sxy * sxy));
+  return std::sqrt(12.0 * std::max(0.0, mean - d));
+}
+
 std::vector<Shape> RegionShapes(const RoomGrid& g, const Labels& label, int n) {
   std::vector<Moments> m(n);
   std::vector<double> cells(n, 0.0);
@@ -1411,19 +1433,50 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
   // below tell corridors from rooms.
   build_regions(unit_room, n1, {}, &seeds, &hulls);
   std::vector<Shape> shapes;
+  std::map<std::pair<int, int>, int> touching;  // pairs of units -> cell edges their regions share
   {  // pass 1's labels go before pass 2 floods
-    const Labels label1 = Flood(g, door_mask(unit_room), seeds, hulls);
+    const Mask blocked1 = door_mask(unit_room);
+    const Labels label1 = Flood(g, blocked1, seeds, hulls);
     shapes = RegionShapes(g, label1, n1);
+    // Two regions meet where a row or column of cells goes from one to the
+    // other, directly or across unclaimed floor no wider than
+    // corridor_touch_m (the hulls of two corridor pieces leave a wedge
+    // between them where the robot turned into a room), never across a wall
+    // or a door line.
+    const int reach = std::max(1, static_cast<int>(std::lround(o.corridor_touch_m / g.cell)));
+    label1.ForEachStored([&](int x, int y, int r) {
+      if (r < 0) return;
+      for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}})
+        for (int k = 1; k <= reach; ++k) {
+          const int nx = x + k * dx, ny = y + k * dy;
+          if (nx >= g.w || ny >= g.h || blocked1.Get(nx, ny)) break;
+          const int q = label1.Get(nx, ny);
+          if (q < 0) continue;
+          if (q != r) ++touching[{std::min(r, q), std::max(r, q)}];
+          break;
+        }
+    });
   }
 
   // Corridor pieces joined through exits are one corridor (a loop stays cut at one door).
   // A piece is narrow when at most corridor_max_width_m wide, elongated when
   // also corridor_min_aspect times longer; two narrow pieces joined through an
-  // exit, one of them elongated, are one corridor.
+  // exit or meeting along corridor_touch_m of border, one of them elongated,
+  // are one corridor.
+  // A narrow piece that is not elongated and whose grids saw a floor wider
+  // than a corridor is a room the robot only looked into (its walls and path
+  // are a thin fan from the door), not a piece of the corridor it came from.
+  std::vector<std::vector<Vec2>> floor_pts(n1);
+  for (size_t i = 0; i < asrs.size(); ++i) {
+    const int r = unit_room[unit_root(unit_of[i])];
+    floor_pts[r].insert(floor_pts[r].end(), free_hull[i].begin(), free_hull[i].end());
+  }
   std::vector<char> narrow(n1, 0), elongated(n1, 0);
   for (int r = 0; r < n1; ++r) {
     narrow[r] = shapes[r].area_m2 > 0 && shapes[r].width_m <= o.corridor_max_width_m;
     elongated[r] = narrow[r] && shapes[r].length_m >= o.corridor_min_aspect * shapes[r].width_m;
+    if (narrow[r] && !elongated[r] && PolygonWidth(ConvexHull(floor_pts[r])) > o.corridor_max_width_m)
+      narrow[r] = 0;
   }
   UnionFind corr(n1);
   std::vector<char> in_corridor(n1, 0);
@@ -1434,6 +1487,12 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
       if (ru == rv || !narrow[ru] || !narrow[rv] || !(elongated[ru] || elongated[rv])) continue;
       if (corr.Unite(ru, rv)) in_corridor[ru] = in_corridor[rv] = 1;
     }
+  }
+  for (const auto& [pair, edges] : touching) {
+    const auto [ru, rv] = pair;
+    if (edges * g.cell < o.corridor_touch_m || !narrow[ru] || !narrow[rv] || !(elongated[ru] || elongated[rv]))
+      continue;
+    if (corr.Unite(ru, rv)) in_corridor[ru] = in_corridor[rv] = 1;
   }
   // Plan rooms: one per corridor group or remaining unit, ordered by first ASR.
   std::vector<int> plan_of_r1(n1, -1);

@@ -99,6 +99,12 @@ struct PlanOptions {
   double seed_door_clearance_m = 0.8;  // path poses this close to an exit do not seed its room
   double corridor_max_width_m = 3.0;   // a corridor piece: at most this wide ...
   double corridor_min_aspect = 2.0;    // ... and at least this many times longer than wide
+  // Two corridor pieces are joined through an exit, or where their regions
+  // meet (directly or across at most this much unclaimed floor) along at
+  // least this much border: the robot leaves a corridor piece into a room
+  // and comes back out into the next piece, so the pieces of one corridor
+  // often share no exit.
+  double corridor_touch_m = 1.0;
   double sliver_path_m = 0.5;          // a store room with less path than this is absorbed by a neighbour
   double min_room_area_m2 = 0.25;      // smaller rooms are dropped
 };

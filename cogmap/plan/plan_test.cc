@@ -378,6 +378,49 @@ TEST(BuildPlan, CorridorInThreePiecesIsOneCorridorRoom) {
 // then along y (x 8..10, y 2..12); the inner walls have a 2 m gap each (walls
 // the sonar missed). The hull of both pieces spans the open corner beyond the
 // gaps; the corridor is its two arms, 40 m2.
+// A 20 m corridor (2 m wide) with a 4 x 4 m room above it, door at x = 10.
+// The robot drives the corridor's first half (ASR 0), looks into the room
+// (ASR 1: a short spike of path, the back wall, and the floor its grid saw),
+// and drives the second half (ASR 2). The corridor's halves share no exit
+// (each leads into the room); the room's walls and path are a thin fan.
+std::vector<asr::Asr> CorridorWithARoomLookedInto(bool with_floor) {
+  asr::Asr a = MakeAsr(0, {{{0, 0}, {10, 0}}, {{0, 2}, {9.5, 2}}, {{0, 0}, {0, 2}}}, Line({0.5, 1}, {9.8, 1}));
+  asr::Asr r = MakeAsr(1, {{{8.5, 6}, {11.5, 6}}}, Line({10, 2.2}, {10, 4}), 10.0);
+  asr::Asr b = MakeAsr(2, {{{10, 0}, {20, 0}}, {{10.5, 2}, {20, 2}}, {{20, 0}, {20, 2}}},
+                       Line({10.2, 1}, {19.5, 1}), 20.0);
+  if (with_floor) {
+    a.free_hull_local = {{0.1, 0.1}, {9.9, 0.1}, {9.9, 1.9}, {0.1, 1.9}};
+    r.free_hull_local = {{8.1, 2.1}, {11.9, 2.1}, {11.9, 5.9}, {8.1, 5.9}};
+    b.free_hull_local = {{10.1, 0.1}, {19.9, 0.1}, {19.9, 1.9}, {10.1, 1.9}};
+  }
+  a.exits.push_back({{10, 2}, 1.0, 0, 1});
+  r.exits = {{{10, 2}, 1.0, 0, 1}, {{10, 2}, 1.0, 1, 2}};
+  b.exits.push_back({{10, 2}, 1.0, 1, 2});
+  return {a, r, b};
+}
+
+TEST(BuildPlan, RoomLookedIntoFromACorridorIsARoomAndTheCorridorIsOne) {
+  const Plan plan = BuildPlan(CorridorWithARoomLookedInto(true), {});
+  ASSERT_EQ(plan.rooms.size(), 2u);
+  const Room& corridor = plan.rooms[0].corridor ? plan.rooms[0] : plan.rooms[1];
+  const Room& room = plan.rooms[0].corridor ? plan.rooms[1] : plan.rooms[0];
+  EXPECT_TRUE(corridor.corridor);
+  EXPECT_FALSE(room.corridor);
+  // The halves meet along the corridor's 2 m width: one corridor.
+  EXPECT_EQ(corridor.asr_ids, (std::vector<int>{0, 2}));
+  EXPECT_NEAR(corridor.area_m2, 40.0, 2.0);
+  // The room reaches the floor its grid saw: 3.8 x 3.8 m and the strip up to
+  // its back wall (3.8 x 0.1 under a wall 3 m long), not the fan; within the
+  // traced outline's half cells (0.05 m along its 16 m: 0.8 m2).
+  EXPECT_EQ(room.asr_ids, (std::vector<int>{1}));
+  EXPECT_NEAR(room.area_m2, 3.8 * 3.8 + 0.5 * (3.8 + 3.0) * 0.1, 0.8);
+  // Without the floor seen (a store older than schema 4) the fan reads as a
+  // corridor piece and joins the corridor, as before.
+  const Plan fan = BuildPlan(CorridorWithARoomLookedInto(false), {});
+  ASSERT_EQ(fan.rooms.size(), 1u);
+  EXPECT_TRUE(fan.rooms[0].corridor);
+}
+
 TEST(BuildPlan, CorridorTurningACornerDoesNotFillTheCorner) {
   asr::Asr a = MakeAsr(0, {{{0, 2}, {0, 0}, {10, 0}}, {{0, 2}, {3, 2}}, {{5, 2}, {8, 2}}}, Line({0.5, 1}, {9, 1}));
   asr::Asr b = MakeAsr(1, {{{10, 0}, {10, 12}, {8, 12}}, {{8, 2}, {8, 6}}, {{8, 8}, {8, 12}}},
