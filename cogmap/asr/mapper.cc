@@ -46,69 +46,79 @@ std::vector<Vec2> FreeSpaceHull(const grid::Grid2D<float>& values, const vectori
   const grid::MapLimits& lim = values.limits();
   const int w = lim.width(), h = lim.height();
   const size_t n = static_cast<size_t>(w) * h;
-  auto free = [&](int x, int y) { return values.at(x, y) < 0.0f; };  // explored empty or path
-  // City-block distance (cells) of every free cell to the nearest cell that
-  // is not free (or the grid's edge): a breadth-first pass from those cells.
+  auto free = [&](int x, int y) {  // explored empty or path; outside the grid is not
+    return x >= 0 && y >= 0 && x < w && y < h && values.at(x, y) < 0.0f;
+  };
+  const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
   const int r = std::max(0, static_cast<int>(std::lround(opening_m / lim.cell_m())));
-  std::vector<int> dist(n, std::numeric_limits<int>::max());
+  // City-block distance (cells) of every floor cell to the nearest cell that
+  // is not floor, up to r + 1 (all the opening asks): a breadth-first pass
+  // from the floor cells beside one. Only floor cells are visited.
+  constexpr uint16_t kFar = std::numeric_limits<uint16_t>::max();
+  std::vector<uint16_t> dist(n, 0);
   std::vector<int> queue;
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      if (!free(x, y) || x == 0 || y == 0 || x == w - 1 || y == h - 1) {
-        dist[static_cast<size_t>(y) * w + x] = free(x, y) ? 1 : 0;
-        queue.push_back(y * w + x);
-      }
-  const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+    for (int x = 0; x < w; ++x) {
+      if (!free(x, y)) continue;
+      bool edge = false;
+      for (int i = 0; i < 4; ++i) edge = edge || !free(x + dx[i], y + dy[i]);
+      dist[static_cast<size_t>(y) * w + x] = edge ? 1 : kFar;
+      if (edge) queue.push_back(y * w + x);
+    }
   for (size_t k = 0; k < queue.size(); ++k) {
-    const int x = queue[k] % w, y = queue[k] / w, d = dist[queue[k]];
+    const int x = queue[k] % w, y = queue[k] / w;
+    const uint16_t d = dist[queue[k]];
+    if (d > r) continue;  // farther than r + 1 is all the core test needs
     for (int i = 0; i < 4; ++i) {
       const int nx = x + dx[i], ny = y + dy[i];
-      if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+      if (!free(nx, ny)) continue;
       const size_t idx = static_cast<size_t>(ny) * w + nx;
       if (dist[idx] <= d + 1) continue;
-      dist[idx] = d + 1;
+      dist[idx] = static_cast<uint16_t>(d + 1);
       queue.push_back(static_cast<int>(idx));
     }
   }
-  // The core: free cells farther than r from anything else, 4-connected to a
-  // path cell of the core. An opening narrower than 2 r (a door, a gap in a
-  // wall) does not connect the core to the floor seen through it.
-  std::vector<uint8_t> core(n, 0);
+  // The core: floor cells farther than r from anything else, 4-connected to a
+  // path cell of the core; then the core grown back by r through floor cells,
+  // and the path. An opening narrower than 2 r (a door, a gap in a wall) does
+  // not connect the core to the floor seen through it. 'reach' holds the
+  // growth step + 1 of every cell taken (0: not taken).
+  std::vector<uint16_t> reach(n, 0);
   queue.clear();
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const size_t idx = static_cast<size_t>(y) * w + x;
-      if (classes.IsPath(values.at(x, y)) && dist[idx] > r) core[idx] = 1, queue.push_back(static_cast<int>(idx));
+      if (classes.IsPath(values.at(x, y)) && dist[idx] > r) reach[idx] = 1, queue.push_back(static_cast<int>(idx));
     }
   for (size_t k = 0; k < queue.size(); ++k) {
     const int x = queue[k] % w, y = queue[k] / w;
     for (int i = 0; i < 4; ++i) {
       const int nx = x + dx[i], ny = y + dy[i];
-      if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+      if (!free(nx, ny)) continue;
       const size_t idx = static_cast<size_t>(ny) * w + nx;
-      if (core[idx] || dist[idx] <= r) continue;
-      core[idx] = 1;
+      if (reach[idx] || dist[idx] <= r) continue;
+      reach[idx] = 1;
       queue.push_back(static_cast<int>(idx));
     }
   }
-  // The floor: the core grown back by r through free cells, and the path.
-  std::vector<int> grown(n, -1);
-  queue.clear();
-  for (size_t idx = 0; idx < n; ++idx)
-    if (core[idx] || classes.IsPath(values.at(static_cast<int>(idx % w), static_cast<int>(idx / w))))
-      grown[idx] = 0, queue.push_back(static_cast<int>(idx));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t idx = static_cast<size_t>(y) * w + x;
+      if (!reach[idx] && classes.IsPath(values.at(x, y))) reach[idx] = 1, queue.push_back(static_cast<int>(idx));
+    }
   std::vector<int> row_lo(h, w), row_hi(h, -1);
   for (size_t k = 0; k < queue.size(); ++k) {
-    const int x = queue[k] % w, y = queue[k] / w, d = grown[queue[k]];
+    const int x = queue[k] % w, y = queue[k] / w;
+    const int d = reach[queue[k]];  // growth step + 1
     row_lo[y] = std::min(row_lo[y], x);
     row_hi[y] = std::max(row_hi[y], x);
-    if (d >= r) continue;
+    if (d > r) continue;
     for (int i = 0; i < 4; ++i) {
       const int nx = x + dx[i], ny = y + dy[i];
-      if (nx < 0 || ny < 0 || nx >= w || ny >= h || !free(nx, ny)) continue;
+      if (!free(nx, ny)) continue;
       const size_t idx = static_cast<size_t>(ny) * w + nx;
-      if (grown[idx] >= 0) continue;
-      grown[idx] = d + 1;
+      if (reach[idx]) continue;
+      reach[idx] = static_cast<uint16_t>(d + 1);
       queue.push_back(static_cast<int>(idx));
     }
   }
