@@ -101,24 +101,14 @@ grid::Grid2D<float> RoomSeenWithADoor() {
   return g;
 }
 
-double Area(const std::vector<Vec2>& poly) {
-  double a = 0;
-  for (size_t i = 0; i < poly.size(); ++i) {
-    const Vec2& p = poly[i];
-    const Vec2& q = poly[(i + 1) % poly.size()];
-    a += p.x() * q.y() - q.x() * p.y();
-  }
-  return 0.5 * a;
-}
-
 TEST(FreeSpaceHull, IsTheRoomNotTheFloorSeenThroughItsDoor) {
   const auto hull = FreeSpaceHull(RoomSeenWithADoor(), vectorize::CellClasses{}, 0.5);
   // The room's floor: the door (0.8 m < 2 x 0.5 m) parts it from the floor
   // behind. Growing the core back by 0.5 m reaches the room's walls, and at
   // the door at most 0.5 m past it: the room (16 m2) and less than a 0.5 m
   // band beside it, not the 3 m of floor behind the door.
-  EXPECT_GE(Area(hull), 16.0 - 1e-9);
-  EXPECT_LT(Area(hull), 16.0 + 0.5 * 4.0);
+  EXPECT_GE(SignedArea(hull), 16.0 - 1e-9);
+  EXPECT_LT(SignedArea(hull), 16.0 + 0.5 * 4.0);
   for (const Vec2& p : hull) {
     EXPECT_GE(p.x(), 1.1 - 1e-9);
     EXPECT_LE(p.x(), 5.2 + 0.5 + 1e-9);

@@ -59,6 +59,8 @@ TEST(Geometry, ConvexHullOfASquareWithInnerAndEdgePoints) {
   const std::vector<Vec2> expected{{0, 0}, {2, 0}, {2, 2}, {0, 2}};  // counter-clockwise from the lowest x
   for (size_t i = 0; i < 4; ++i) EXPECT_EQ(h[i], expected[i]) << i;
   EXPECT_EQ(ConvexHull({{1, 1}, {1, 1}}).size(), 1u);
+  EXPECT_DOUBLE_EQ(SignedArea(h), 4.0);  // counter-clockwise: positive
+  EXPECT_DOUBLE_EQ(SignedArea({{0, 0}, {0, 2}, {2, 2}, {2, 0}}), -4.0);
 }
 
 TEST(InputError, NamesFileAndLine) {

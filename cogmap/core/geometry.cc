@@ -33,6 +33,16 @@ std::vector<Vec2> ConvexHull(std::vector<Vec2> p) {
   return h;
 }
 
+double SignedArea(const std::vector<Vec2>& ring) {
+  double a = 0.0;
+  for (size_t i = 0; i < ring.size(); ++i) {
+    const Vec2& p = ring[i];
+    const Vec2& q = ring[(i + 1) % ring.size()];
+    a += p.x() * q.y() - q.x() * p.y();
+  }
+  return 0.5 * a;
+}
+
 Polyline Transform(const Pose2& pose, const Polyline& line) {
   Polyline out;
   out.reserve(line.size());

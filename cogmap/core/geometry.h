@@ -47,6 +47,10 @@ std::vector<Segment2> ToSegments(const std::vector<Polyline>& lines);
 // come back as they are (sorted, unique).
 std::vector<Vec2> ConvexHull(std::vector<Vec2> points);
 
+// The signed area of a polygon (its vertices in order, not repeated):
+// positive when counter-clockwise (the shoelace formula).
+double SignedArea(const std::vector<Vec2>& ring);
+
 // Applies 'pose' to every vertex.
 Polyline Transform(const Pose2& pose, const Polyline& line);
 std::vector<Polyline> Transform(const Pose2& pose, const std::vector<Polyline>& lines);

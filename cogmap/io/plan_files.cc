@@ -44,16 +44,6 @@ std::vector<Vec2> Dedupe(const std::vector<Vec2>& pts, double eps) {
   return out;
 }
 
-double SignedArea(const std::vector<Vec2>& ring) {
-  double a = 0.0;
-  for (size_t i = 0; i < ring.size(); ++i) {
-    const Vec2& p = ring[i];
-    const Vec2& q = ring[(i + 1) % ring.size()];
-    a += p.x() * q.y() - q.x() * p.y();
-  }
-  return 0.5 * a;
-}
-
 // A polygon ring fit to write: no repeats, not closed, counter-clockwise,
 // >= 3 points and some area; empty when the room has no usable polygon.
 std::vector<Vec2> CleanRing(const std::vector<Vec2>& polygon, double eps) {
