@@ -36,6 +36,21 @@ namespace cogmap::mapping {
 namespace fs = std::filesystem;
 namespace {
 
+// A drawing to STEM.svg and / or STEM.png in 'folder' (listed in 'written');
+// the last file lets the drawing go as cairo takes it.
+void WriteSvgAndPng(draw::Drawing picture, const std::string& folder, const std::string& stem, bool svg, bool png,
+                    std::vector<std::string>* written) {
+  if (svg) {
+    const std::string path = (fs::path(folder) / (stem + ".svg")).string();
+    png ? picture.Write(path) : std::move(picture).Write(path);
+    written->push_back(stem + ".svg");
+  }
+  if (png) {
+    std::move(picture).Write((fs::path(folder) / (stem + ".png")).string());
+    written->push_back(stem + ".png");
+  }
+}
+
 long MaxRssKb() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
@@ -253,16 +268,7 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
     map_picture.picture.px_per_m = job.px_per_m;
     draw::Drawing picture = draw::DrawMasterMap(master, map_picture).drawing;
     if (!job.outputs.compare) master = {};  // the drawing holds what it shows
-    // The last file lets the drawing go as cairo takes it.
-    if (job.outputs.svg) {
-      const std::string svg = (fs::path(staging) / "map.svg").string();
-      job.outputs.png ? picture.Write(svg) : std::move(picture).Write(svg);
-      out.written.push_back("map.svg");
-    }
-    if (job.outputs.png) {
-      std::move(picture).Write((fs::path(staging) / "map.png").string());
-      out.written.push_back("map.png");
-    }
+    WriteSvgAndPng(std::move(picture), staging, "map", job.outputs.svg, job.outputs.png, &out.written);
   }
 
   // Before / after correction side by side (drawn before the floor plan,
@@ -318,16 +324,7 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
     draw::PlanPictureOptions pp;
     pp.picture.px_per_m = job.px_per_m;
     draw::Drawing picture = draw::DrawPlan(floor_plan, pp).drawing;
-    // The last file lets the drawing go as cairo takes it.
-    if (job.outputs.plan) {
-      const std::string svg = (fs::path(staging) / "plan.svg").string();
-      job.outputs.plan_png ? picture.Write(svg) : std::move(picture).Write(svg);
-      out.written.push_back("plan.svg");
-    }
-    if (job.outputs.plan_png) {
-      std::move(picture).Write((fs::path(staging) / "plan.png").string());
-      out.written.push_back("plan.png");
-    }
+    WriteSvgAndPng(std::move(picture), staging, "plan", job.outputs.plan, job.outputs.plan_png, &out.written);
   }
   out.plan_rooms = static_cast<int>(floor_plan.rooms.size());
   out.plan_walls = static_cast<int>(floor_plan.walls.size());
