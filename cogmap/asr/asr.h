@@ -58,7 +58,7 @@ struct Asr {
   std::vector<Pose2> path;                // robot poses through it (world, raw)
   // The floor the sensors saw: the convex hull (local frame, counter-
   // clockwise) of the grid's explored-empty cells connected to the robot's
-  // path. The floor plan lets the room reach this far even where no wall
+  // path, simplified to a few vertices (FreeSpaceHull). The floor plan lets the room reach this far even where no wall
   // bounds it (a room the robot only looked into). Empty: not known (a store
   // older than schema 4).
   std::vector<Vec2> free_hull_local;

@@ -42,7 +42,7 @@ Pose2 BestRigidFit(const std::vector<Pose2>& from, const std::vector<Pose2>& to)
 }
 
 std::vector<Vec2> FreeSpaceHull(const grid::Grid2D<float>& values, const vectorize::CellClasses& classes,
-                                double opening_m) {
+                                double opening_m, double max_area_loss) {
   const grid::MapLimits& lim = values.limits();
   const int w = lim.width(), h = lim.height();
   const size_t n = static_cast<size_t>(w) * h;
@@ -129,7 +129,28 @@ std::vector<Vec2> FreeSpaceHull(const grid::Grid2D<float>& values, const vectori
     for (const int x : {row_lo[y], row_hi[y] + 1})
       for (const int d : {0, 1}) corners.push_back(lim.FromCellCoords(Vec2(x, y + d)));
   }
-  return ConvexHull(std::move(corners));
+  return SimplifyConvex(ConvexHull(std::move(corners)), max_area_loss);
+}
+
+std::vector<Vec2> SimplifyConvex(std::vector<Vec2> poly, double max_area_loss) {
+  // Dropping a vertex of a convex polygon cuts off the triangle it makes with
+  // its neighbours; the polygon stays convex and inside the old one.
+  const double budget = max_area_loss * std::abs(SignedArea(poly));
+  double lost = 0.0;
+  auto cut = [&](size_t i) {
+    const Vec2& a = poly[(i + poly.size() - 1) % poly.size()];
+    const Vec2& c = poly[(i + 1) % poly.size()];
+    return std::abs(SignedArea({a, poly[i], c}));
+  };
+  while (poly.size() > 3) {
+    size_t best = 0;
+    for (size_t i = 1; i < poly.size(); ++i)
+      if (cut(i) < cut(best)) best = i;
+    if (lost + cut(best) > budget) break;
+    lost += cut(best);
+    poly.erase(poly.begin() + static_cast<long>(best));
+  }
+  return poly;
 }
 
 CognitiveMapper::CognitiveMapper(const sensors::RobotDescription& robot, const MapperOptions& options,
@@ -233,7 +254,8 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
     const vectorize::Orientation o = vectorize::DominantOrientation(cells);
     a.grid_orientation = {o.valid, o.angle_rad, o.contrast, o.points};
   }
-  a.free_hull_local = FreeSpaceHull(c.grid->values(), options_.vectorize.clean.classes, options_.free_opening_m);
+  a.free_hull_local = FreeSpaceHull(c.grid->values(), options_.vectorize.clean.classes, options_.free_opening_m,
+                                     options_.free_hull_area_loss);
   c.grid.reset();  // the room's grid is gone from here on
 
   Asr out = corrector_ ? corrector_(std::move(a)) : std::move(a);

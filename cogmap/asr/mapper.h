@@ -32,6 +32,10 @@ struct MapperOptions {
   // than twice this: 0.5 m parts the floor at a door (0.8-1 m) and keeps a
   // 2 m corridor whole.
   double free_opening_m = 0.5;
+  // ... and its convex hull simplified giving up at most this fraction of its
+  // area (a grid's hull has a vertex every few cells: about 18 vertices
+  // become 6-8).
+  double free_hull_area_loss = 0.01;
 };
 
 // Continuing a run into an existing store (cogmap map --resume).
@@ -57,9 +61,16 @@ Pose2 BestRigidFit(const std::vector<Pose2>& from, const std::vector<Pose2>& to)
 // path included) reachable from the robot's path through openings wider than
 // 2 x opening_m (a morphological opening of radius opening_m, city-block, seeded
 // from the path): the floor seen through a door or a gap in a wall belongs to
-// the space behind it. Empty when the grid has no path cell.
+// the space behind it. The hull is then simplified (SimplifyConvex) giving up
+// at most max_area_loss of its area. Empty when the grid has no path cell.
 std::vector<Vec2> FreeSpaceHull(const grid::Grid2D<float>& values, const vectorize::CellClasses& classes,
-                                double opening_m);
+                                double opening_m, double max_area_loss = 0.0);
+
+// A convex polygon with fewest vertices: drops, smallest first, the vertex
+// whose triangle with its neighbours is the least area, while the area given
+// up stays within max_area_loss (a fraction) of the polygon's. The result is
+// convex and inside the polygon.
+std::vector<Vec2> SimplifyConvex(std::vector<Vec2> poly, double max_area_loss);
 
 // Run-state keys written with every ASR (so --resume can continue).
 constexpr const char* kMetaLastRawPose = "last_raw_pose";  // "x y theta"
