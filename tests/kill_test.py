@@ -95,6 +95,12 @@ def read_store(store, scratch):
     """(meta dict, {id: row tuple}, placement count) of a copy of 'store'."""
     integrity(store, scratch)  # makes the copy
     con = sqlite3.connect(os.path.join(scratch, "s.sqlite"))
+    tables = {r[0] for r in con.execute("SELECT name FROM sqlite_master WHERE type='table'")}
+    if not tables:
+        # Killed between creating the file (SQLite writes its header when WAL
+        # is turned on) and committing the schema: a valid, empty database.
+        con.close()
+        return {}, {}, 0
     meta = dict(con.execute("SELECT key, value FROM meta").fetchall())
     # Every column but the five timings (sec_grid ... sec_fit), which vary from run to run.
     rows = {r[0]: r[:14] + r[19:] for r in con.execute("SELECT * FROM asr")}
