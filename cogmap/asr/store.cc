@@ -172,6 +172,14 @@ void MemoryAsrStore::PutPlacements(const std::vector<Asr>& asrs, const std::vect
   closures_.insert(closures_.end(), closures.begin(), closures.end());
 }
 
+void MemoryAsrStore::RevisePlacements(const std::vector<int>& ids, const std::function<void(Asr&)>& revise,
+                                      const std::vector<Placement>& placements,
+                                      const std::vector<ClosureRecord>& closures) {
+  for (int id : ids)
+    if (auto it = asrs_.find(id); it != asrs_.end()) revise(it->second);
+  PutPlacements({}, placements, closures);
+}
+
 int MemoryAsrStore::RoomOf(int id) const {
   auto it = placements_.find(id);
   return it == placements_.end() || it->second.room_id < 0 ? id : it->second.room_id;
@@ -811,11 +819,30 @@ namespace cogmap::asr {
 
 void SqliteAsrStore::PutPlacements(const std::vector<Asr>& asrs, const std::vector<Placement>& placements,
                                    const std::vector<ClosureRecord>& closures) {
+  WritePlacements([&] {
+    for (const Asr& a : asrs) Put(a);
+  }, placements, closures);
+}
+
+void SqliteAsrStore::RevisePlacements(const std::vector<int>& ids, const std::function<void(Asr&)>& revise,
+                                      const std::vector<Placement>& placements,
+                                      const std::vector<ClosureRecord>& closures) {
+  WritePlacements([&] {
+    for (int id : ids)
+      if (auto a = Get(id)) {
+        revise(*a);
+        Put(*a);
+      }
+  }, placements, closures);
+}
+
+void SqliteAsrStore::WritePlacements(const std::function<void()>& write_asrs, const std::vector<Placement>& placements,
+                                     const std::vector<ClosureRecord>& closures) {
   // One transaction for everything (one sync at the end of a run).
   Exec("BEGIN IMMEDIATE");
   in_batch_ = true;
   try {
-    for (const Asr& a : asrs) Put(a);
+    write_asrs();
     sqlite3* db = Db(db_);
     for (const Placement& p : placements) {
       Stmt s(db, "INSERT OR REPLACE INTO placement VALUES(?,?,?,?,?,?,?)");

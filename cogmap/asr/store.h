@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <list>
 #include <map>
 #include <memory>
@@ -57,6 +58,12 @@ class AsrStore {
   // run's closure candidates, in one transaction.
   virtual void PutPlacements(const std::vector<Asr>& asrs, const std::vector<Placement>& placements,
                              const std::vector<ClosureRecord>& closures) = 0;
+  // The same, each stored ASR of 'ids' read, revised in place by 'revise' and
+  // written back one at a time (an id not stored is skipped): the end of a
+  // long run holds one ASR, not all of them (1000-room building: some 18 MB).
+  virtual void RevisePlacements(const std::vector<int>& ids, const std::function<void(Asr&)>& revise,
+                                const std::vector<Placement>& placements,
+                                const std::vector<ClosureRecord>& closures) = 0;
   // The physical room of an ASR (its own id when never placed).
   virtual int RoomOf(int id) const = 0;
   virtual std::optional<Placement> GetPlacement(int id) const = 0;
@@ -83,6 +90,8 @@ class MemoryAsrStore : public AsrStore {
   void SetMeta(const std::string& key, const std::string& value) override { meta_[key] = value; }
   void PutPlacements(const std::vector<Asr>& asrs, const std::vector<Placement>& placements,
                      const std::vector<ClosureRecord>& closures) override;
+  void RevisePlacements(const std::vector<int>& ids, const std::function<void(Asr&)>& revise,
+                        const std::vector<Placement>& placements, const std::vector<ClosureRecord>& closures) override;
   int RoomOf(int id) const override;
   std::optional<Placement> GetPlacement(int id) const override;
   std::vector<ClosureRecord> Closures() const override { return closures_; }
@@ -136,6 +145,8 @@ class SqliteAsrStore : public AsrStore {
   void SetMeta(const std::string& key, const std::string& value) override;
   void PutPlacements(const std::vector<Asr>& asrs, const std::vector<Placement>& placements,
                      const std::vector<ClosureRecord>& closures) override;
+  void RevisePlacements(const std::vector<int>& ids, const std::function<void(Asr&)>& revise,
+                        const std::vector<Placement>& placements, const std::vector<ClosureRecord>& closures) override;
   int RoomOf(int id) const override;
   std::optional<Placement> GetPlacement(int id) const override;
   std::vector<ClosureRecord> Closures() const override;
@@ -153,6 +164,10 @@ class SqliteAsrStore : public AsrStore {
       : path_(std::move(path)), db_(db), read_only_(read_only) {}
   void Exec(const std::string& sql) const;
   [[noreturn]] void Fail(const std::string& what) const;
+  // One transaction: write_asrs() (its Puts join it), then the placements and
+  // closures.
+  void WritePlacements(const std::function<void()>& write_asrs, const std::vector<Placement>& placements,
+                       const std::vector<ClosureRecord>& closures);
 
   std::string path_;
   void* db_ = nullptr;  // sqlite3*

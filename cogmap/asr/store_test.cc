@@ -182,6 +182,33 @@ TEST(SqliteAsrStore, PlacementsAndClosuresRoundTrip) {
   EXPECT_EQ(s->IntegrityCheck(), "ok");
 }
 
+// RevisePlacements reads each listed ASR, lets the caller revise it and writes
+// it back with the placements, in one transaction; ids not stored are skipped.
+TEST(SqliteAsrStore, RevisePlacementsRevisesEachListedAsrInPlace) {
+  const std::string path = TempDir("revise") + "/map.sqlite";
+  auto sq = SqliteAsrStore::Open(path);
+  MemoryAsrStore mem;
+  for (AsrStore* s : {static_cast<AsrStore*>(sq.get()), static_cast<AsrStore*>(&mem)}) {
+    for (int i = 0; i < 3; ++i) s->Put(MakeAsr(i));
+    Placement p;
+    p.asr_id = 1;
+    p.room_id = 0;
+    std::vector<int> seen;
+    s->RevisePlacements({1, 2, 7}, [&](Asr& a) {
+      seen.push_back(a.id);
+      a.world_from_local_corrected.theta = 0.5 + a.id;
+      a.walls_local.pop_back();
+    }, {p}, {});
+    EXPECT_EQ(seen, (std::vector<int>{1, 2}));  // 7 is not stored
+    EXPECT_EQ(s->Get(0)->world_from_local_corrected.theta, MakeAsr(0).world_from_local_corrected.theta);
+    EXPECT_EQ(s->Get(1)->world_from_local_corrected.theta, 1.5);
+    EXPECT_EQ(s->Get(2)->walls_local.size(), MakeAsr(2).walls_local.size() - 1);
+    ExpectSame(*s->Get(0), MakeAsr(0));
+    EXPECT_EQ(s->RoomOf(1), 0);
+  }
+  EXPECT_EQ(sq->IntegrityCheck(), "ok");
+}
+
 // Turns a store back into what an older cogmap wrote: 'sql' drops the newer
 // tables, then the version is set.
 void DowngradeStore(const std::string& path, const std::string& sql, int version) {

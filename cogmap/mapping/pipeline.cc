@@ -252,7 +252,8 @@ const RunResult& MappingPipeline::Finish() {
   std::map<int, double> revised;  // ASR id -> heading correction after the revision
   if (result_.correction == Correction::kPoseGraph) {
     result_.graph = optimizer_->Finish();
-    std::vector<asr::Asr> updated;
+    std::vector<int> ids;
+    std::map<int, size_t> entry_of;  // ASR id -> its graph entry
     std::vector<asr::Placement> placements;
     std::vector<asr::ClosureRecord> closures;
     // Each ASR's corrected path and walls move into the store (its placement
@@ -269,20 +270,22 @@ const RunResult& MappingPipeline::Finish() {
       e.corrected_path = {};
       for (const auto& w : e.why) p.why += (p.why.empty() ? "" : "; ") + w;
       placements.push_back(std::move(p));
-      auto x = store_->Get(e.asr_id);
-      if (!x) continue;
-      x->world_from_local_corrected = e.pose;
-      if (!e.corrected_walls.empty() || x->walls_local.empty()) x->walls_local = std::move(e.corrected_walls);
-      e.corrected_walls = {};
-      x->heading_correction_rad = localize::CorrectionOf(*x).theta;
-      if (e.has_covariance) x->heading_uncertainty_rad = std::sqrt(std::max(0.0, e.covariance(2, 2)));
-      revised[e.asr_id] = x->heading_correction_rad;
-      updated.push_back(std::move(*x));
+      entry_of[e.asr_id] = ids.size();
+      ids.push_back(e.asr_id);
     }
     for (const auto& c : result_.graph.closures)
       closures.push_back({c.from_asr, c.to_asr, c.relative, c.agreement, c.rmse_m, c.mahalanobis2, c.accepted,
                           c.same_room, c.reason});
-    store_->PutPlacements(updated, placements, closures);
+    // The ASRs are revised one at a time inside the store's transaction.
+    store_->RevisePlacements(ids, [&](asr::Asr& x) {
+      auto& e = result_.graph.asrs[entry_of.at(x.id)];
+      x.world_from_local_corrected = e.pose;
+      if (!e.corrected_walls.empty() || x.walls_local.empty()) x.walls_local = std::move(e.corrected_walls);
+      e.corrected_walls = {};
+      x.heading_correction_rad = localize::CorrectionOf(x).theta;
+      if (e.has_covariance) x.heading_uncertainty_rad = std::sqrt(std::max(0.0, e.covariance(2, 2)));
+      revised[e.asr_id] = x.heading_correction_rad;
+    }, placements, closures);
     // The graph (every ASR's faces, samples and paths) is no longer needed:
     // the outputs are written from the store.
     optimizer_.reset();
