@@ -49,34 +49,37 @@ std::vector<Vec2> FreeSpaceHull(const grid::Grid2D<float>& values, const vectori
   auto free = [&](int x, int y) {  // explored empty or path; outside the grid is not
     return x >= 0 && y >= 0 && x < w && y < h && values.at(x, y) < 0.0f;
   };
-  const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
   const int r = std::max(0, static_cast<int>(std::lround(opening_m / lim.cell_m())));
+  // f(index) for each floor cell beside cell 'c' (4-connected).
+  auto each_floor_neighbour = [&](int c, auto&& f) {
+    const int x = c % w, y = c / w;
+    const int nx[4] = {x + 1, x - 1, x, x}, ny[4] = {y, y, y + 1, y - 1};
+    for (int i = 0; i < 4; ++i)
+      if (free(nx[i], ny[i])) f(ny[i] * w + nx[i]);
+  };
   // City-block distance (cells) of every floor cell to the nearest cell that
   // is not floor, up to r + 1 (all the opening asks): a breadth-first pass
-  // from the floor cells beside one. Only floor cells are visited.
+  // from the floor cells beside one. Only floor cells are visited. The path
+  // cells are listed on the way (row by row).
   constexpr uint16_t kFar = std::numeric_limits<uint16_t>::max();
   std::vector<uint16_t> dist(n, 0);
-  std::vector<int> queue;
+  std::vector<int> queue, path_cells;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       if (!free(x, y)) continue;
-      bool edge = false;
-      for (int i = 0; i < 4; ++i) edge = edge || !free(x + dx[i], y + dy[i]);
+      const bool edge = !free(x + 1, y) || !free(x - 1, y) || !free(x, y + 1) || !free(x, y - 1);
       dist[static_cast<size_t>(y) * w + x] = edge ? 1 : kFar;
       if (edge) queue.push_back(y * w + x);
+      if (classes.IsPath(values.at(x, y))) path_cells.push_back(y * w + x);
     }
   for (size_t k = 0; k < queue.size(); ++k) {
-    const int x = queue[k] % w, y = queue[k] / w;
     const uint16_t d = dist[queue[k]];
     if (d > r) continue;  // farther than r + 1 is all the core test needs
-    for (int i = 0; i < 4; ++i) {
-      const int nx = x + dx[i], ny = y + dy[i];
-      if (!free(nx, ny)) continue;
-      const size_t idx = static_cast<size_t>(ny) * w + nx;
-      if (dist[idx] <= d + 1) continue;
-      dist[idx] = static_cast<uint16_t>(d + 1);
-      queue.push_back(static_cast<int>(idx));
-    }
+    each_floor_neighbour(queue[k], [&](int c) {
+      if (dist[c] <= d + 1) return;
+      dist[c] = static_cast<uint16_t>(d + 1);
+      queue.push_back(c);
+    });
   }
   // The core: floor cells farther than r from anything else, 4-connected to a
   // path cell of the core; then the core grown back by r through floor cells,
@@ -85,27 +88,16 @@ std::vector<Vec2> FreeSpaceHull(const grid::Grid2D<float>& values, const vectori
   // growth step + 1 of every cell taken (0: not taken).
   std::vector<uint16_t> reach(n, 0);
   queue.clear();
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const size_t idx = static_cast<size_t>(y) * w + x;
-      if (classes.IsPath(values.at(x, y)) && dist[idx] > r) reach[idx] = 1, queue.push_back(static_cast<int>(idx));
-    }
-  for (size_t k = 0; k < queue.size(); ++k) {
-    const int x = queue[k] % w, y = queue[k] / w;
-    for (int i = 0; i < 4; ++i) {
-      const int nx = x + dx[i], ny = y + dy[i];
-      if (!free(nx, ny)) continue;
-      const size_t idx = static_cast<size_t>(ny) * w + nx;
-      if (reach[idx] || dist[idx] <= r) continue;
-      reach[idx] = 1;
-      queue.push_back(static_cast<int>(idx));
-    }
-  }
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const size_t idx = static_cast<size_t>(y) * w + x;
-      if (!reach[idx] && classes.IsPath(values.at(x, y))) reach[idx] = 1, queue.push_back(static_cast<int>(idx));
-    }
+  for (int c : path_cells)
+    if (dist[c] > r) reach[c] = 1, queue.push_back(c);
+  for (size_t k = 0; k < queue.size(); ++k)
+    each_floor_neighbour(queue[k], [&](int c) {
+      if (reach[c] || dist[c] <= r) return;
+      reach[c] = 1;
+      queue.push_back(c);
+    });
+  for (int c : path_cells)
+    if (!reach[c]) reach[c] = 1, queue.push_back(c);
   std::vector<int> row_lo(h, w), row_hi(h, -1);
   for (size_t k = 0; k < queue.size(); ++k) {
     const int x = queue[k] % w, y = queue[k] / w;
@@ -113,14 +105,11 @@ std::vector<Vec2> FreeSpaceHull(const grid::Grid2D<float>& values, const vectori
     row_lo[y] = std::min(row_lo[y], x);
     row_hi[y] = std::max(row_hi[y], x);
     if (d > r) continue;
-    for (int i = 0; i < 4; ++i) {
-      const int nx = x + dx[i], ny = y + dy[i];
-      if (!free(nx, ny)) continue;
-      const size_t idx = static_cast<size_t>(ny) * w + nx;
-      if (reach[idx]) continue;
-      reach[idx] = static_cast<uint16_t>(d + 1);
-      queue.push_back(static_cast<int>(idx));
-    }
+    each_floor_neighbour(queue[k], [&](int c) {
+      if (reach[c]) return;
+      reach[c] = static_cast<uint16_t>(d + 1);
+      queue.push_back(c);
+    });
   }
   // Per row, the extreme cells: their outer corners carry the hull.
   std::vector<Vec2> corners;
