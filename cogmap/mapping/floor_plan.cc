@@ -14,7 +14,7 @@ plan::Plan FloorPlanOfStore(const asr::AsrStore& store, const plan::PlanOptions&
     room_of[id] = store.RoomOf(id);
     if (auto p = store.GetPlacement(id)) placed_paths[id] = std::move(p->corrected_path);
   }
-  return plan::BuildPlan(all, room_of, options, placed_paths);
+  return plan::BuildPlanReleasing(&all, room_of, options, &placed_paths);  // nothing else reads them
 }
 
 }  // namespace cogmap::mapping

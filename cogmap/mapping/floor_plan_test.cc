@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
 #include <sstream>
+#include <vector>
 
 #include "cogmap/core/angles.h"
 #include "cogmap/core/test_temp.h"
@@ -51,6 +53,31 @@ TEST(FloorPlanOfStore, EqualsThePlanJsonOfTheMapJob) {
   std::stringstream written;
   written << in.rdbuf();
   EXPECT_EQ(plan::PlanToJsonText(p), written.str());
+
+  // The plan built from inputs it releases is the same plan, and it empties
+  // exactly what it says it does.
+  std::vector<asr::Asr> all;
+  std::map<int, int> room_of;
+  std::map<int, std::vector<Pose2>> placed;
+  for (int id : store->Ids()) {
+    all.push_back(*store->Get(id));
+    room_of[id] = store->RoomOf(id);
+    if (auto pl = store->GetPlacement(id)) placed[id] = pl->corrected_path;
+  }
+  const std::string kept = plan::PlanToJsonText(plan::BuildPlan(all, room_of, {}, placed));
+  EXPECT_EQ(kept, written.str());
+  const std::vector<asr::Asr> before = all;
+  ASSERT_FALSE(placed.empty());
+  EXPECT_EQ(plan::PlanToJsonText(plan::BuildPlanReleasing(&all, room_of, {}, &placed)), kept);
+  EXPECT_TRUE(placed.empty());
+  ASSERT_EQ(all.size(), before.size());
+  for (size_t i = 0; i < all.size(); ++i) {
+    EXPECT_TRUE(all[i].walls_local.empty() && all[i].path.empty() && all[i].free_hull_local.empty());
+    EXPECT_EQ(all[i].id, before[i].id);
+    EXPECT_EQ(all[i].exits.size(), before[i].exits.size());
+    EXPECT_EQ(all[i].start_time_s, before[i].start_time_s);
+    EXPECT_EQ(all[i].bytes.grid, before[i].bytes.grid);
+  }
 }
 
 TEST(FloorPlanOfStore, AnEmptyStoreHasAnEmptyPlan) {

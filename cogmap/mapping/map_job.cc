@@ -299,16 +299,12 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   for (const asr::Asr& x : all)
     if (placed_ids.count(x.id))
       if (auto p = store->GetPlacement(x.id)) placed_paths[x.id] = std::move(p->corrected_path);
-  const plan::Plan floor_plan = plan::BuildPlan(all, room_of, {}, placed_paths);
-  // Nothing below reads the placed paths, nor the ASRs' walls, exits and
-  // paths (walls.json and report.json take their counts and times): they go
-  // before the plan's files and picture are written.
-  std::map<int, std::vector<Pose2>>().swap(placed_paths);
-  for (auto& x : all) {
-    std::vector<Polyline>().swap(x.walls_local);
-    std::vector<asr::Exit>().swap(x.exits);
-    std::vector<Pose2>().swap(x.path);
-  }
+  // Nothing below reads the placed paths, nor the ASRs' walls, paths and
+  // floor (walls.json and report.json take their counts, sizes and times):
+  // the plan releases them as soon as it has read them, before it floods its
+  // rooms; the exits go after it.
+  const plan::Plan floor_plan = plan::BuildPlanReleasing(&all, room_of, {}, &placed_paths);
+  for (auto& x : all) std::vector<asr::Exit>().swap(x.exits);
   io::WriteFileAtomically((fs::path(staging) / "plan.json").string(),
                           [&](std::ostream& o) { plan::WritePlanJson(o, floor_plan); });
   out.written.push_back("plan.json");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -773,10 +774,12 @@ struct DoorCand {
   double lo = 0, hi = 0;  // the gap along line_u from line_c
 };
 
-}  // namespace
 
-Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room_of_asr, const PlanOptions& o,
-               const std::map<int, std::vector<Pose2>>& placed_paths) {
+// The plan; 'inputs_read' is called once the ASRs' walls, paths and floor and
+// the placed paths have been read (after it only ids, poses, exits and times
+// are), so a caller that hands them over can drop them before the floods.
+Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room_of_asr, const PlanOptions& o,
+                   const std::map<int, std::vector<Pose2>>& placed_paths, const std::function<void()>& inputs_read) {
   Plan plan;
   if (asrs.empty()) return plan;
 
@@ -809,6 +812,7 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
     }
   }
   plan.home = home;
+  inputs_read();
 
   // ---------------------------------------------------------------- faces
   std::vector<Evidence> ev;
@@ -1729,6 +1733,26 @@ Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room
     for (const auto& p : r.polygon) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   if (lo.x() <= hi.x()) plan.min = lo, plan.max = hi;
   return plan;
+}
+
+}  // namespace
+
+Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room_of_asr, const PlanOptions& options,
+               const std::map<int, std::vector<Pose2>>& placed_paths) {
+  return BuildPlanFrom(asrs, room_of_asr, options, placed_paths, [] {});
+}
+
+Plan BuildPlanReleasing(std::vector<asr::Asr>* asrs, const std::map<int, int>& room_of_asr, const PlanOptions& options,
+                        std::map<int, std::vector<Pose2>>* placed_paths) {
+  return BuildPlanFrom(*asrs, room_of_asr, options, *placed_paths, [&] {
+    std::map<int, std::vector<Pose2>>().swap(*placed_paths);
+    for (asr::Asr& x : *asrs) {
+      std::vector<Polyline>().swap(x.walls_local);
+      std::vector<Pose2>().swap(x.path);
+      std::vector<Pose2>().swap(x.true_path);
+      std::vector<Vec2>().swap(x.free_hull_local);
+    }
+  });
 }
 
 Plan TransformPlan(const Pose2& pose, const Plan& plan) {

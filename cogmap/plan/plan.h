@@ -117,6 +117,12 @@ struct PlanOptions {
 Plan BuildPlan(const std::vector<asr::Asr>& asrs, const std::map<int, int>& room_of_asr,
                const PlanOptions& options = {},
                const std::map<int, std::vector<Pose2>>& placed_paths = {});
+// The same plan; each ASR's walls, paths and floor, and the placed paths, are
+// released (emptied) as soon as they are read, before the plan floods its
+// rooms, so they do not add to the plan's peak memory. Ids, poses, exits,
+// times and sizes stay. For a caller that has no further use for them.
+Plan BuildPlanReleasing(std::vector<asr::Asr>* asrs, const std::map<int, int>& room_of_asr, const PlanOptions& options,
+                        std::map<int, std::vector<Pose2>>* placed_paths);
 
 // The plan carried by 'pose' (for example walls.json's world_from_map, to
 // compare it with a world): every point, the home pose and the bounds.
