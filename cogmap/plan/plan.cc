@@ -1498,6 +1498,60 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       continue;
     if (corr.Unite(ru, rv)) in_corridor[ru] = in_corridor[rv] = 1;
   }
+  // Corners. A corridor turning a corner is an L, whose principal moments
+  // read as wide, so the piece at the bend is neither narrow nor elongated
+  // and would cut the corridor. Its floor per metre of the robot's path
+  // through it is still about the corridor's (the robot drove along the L),
+  // while a room the robot crossed has far more floor per metre of path. A
+  // piece not in a corridor that meets two or more corridor pieces (narrow
+  // and elongated, or already in a corridor; through an exit or along
+  // corridor_touch_m of border) with at most corner_floor_ratio times their
+  // mean floor per metre of path is a corner of the corridor and joins
+  // them. A piece whose corridor neighbours are already one corridor would
+  // close a loop (a ring corridor): it stays a room, so the ring stays a
+  // simple polygon instead of enclosing the block it runs around.
+  {
+    std::vector<double> piece_path(n1, 0.0);
+    for (int u = 0; u < n_units; ++u)
+      if (unit_room[unit_root(u)] >= 0) piece_path[unit_room[unit_root(u)]] += unit_path[u];
+    auto floor_per_m = [&](int r) { return piece_path[r] > 0 ? shapes[r].area_m2 / piece_path[r] : 0.0; };
+    std::vector<std::set<int>> nb(n1);
+    for (int u = 0; u < n_units; ++u)
+      if (unit_room[u] >= 0)
+        for (int v : unit_adj[u]) {
+          const int a = unit_room[unit_root(u)], b = unit_room[unit_root(v)];
+          if (a != b) nb[a].insert(b), nb[b].insert(a);
+        }
+    std::vector<std::set<int>> meets = nb;  // every contact, however short: the flood crosses it
+    for (const auto& [pair, edges] : touching) {
+      meets[pair.first].insert(pair.second), meets[pair.second].insert(pair.first);
+      if (edges * g.cell >= o.corridor_touch_m) nb[pair.first].insert(pair.second), nb[pair.second].insert(pair.first);
+    }
+    for (int r = 0; r < n1; ++r) {
+      if (in_corridor[r] || (narrow[r] && elongated[r]) || piece_path[r] <= 0) continue;
+      std::vector<int> pieces;
+      double sum = 0.0;
+      for (int q : nb[r])
+        if (in_corridor[q] || (narrow[q] && elongated[q])) pieces.push_back(q), sum += floor_per_m(q);
+      if (pieces.size() < 2 || floor_per_m(r) > o.corner_floor_ratio * sum / pieces.size()) continue;
+      // The joined corridor would be a loop when its pieces meet in a cycle:
+      // at least as many meeting pairs as pieces.
+      std::set<int> groups;
+      for (int q : pieces) groups.insert(corr.Find(q));
+      if (groups.size() < pieces.size()) continue;  // two of them are one corridor already
+      std::vector<char> member(n1, 0);
+      int members = 1, pairs = 0;
+      member[r] = 1;
+      for (int q = 0; q < n1; ++q)
+        if (groups.count(corr.Find(q))) member[q] = 1, ++members;
+      for (int q = 0; q < n1; ++q)
+        if (member[q])
+          for (int t : meets[q]) pairs += t > q && member[t];
+      if (pairs >= members) continue;
+      for (int q : pieces) corr.Unite(r, q), in_corridor[q] = 1;
+      in_corridor[r] = 1;
+    }
+  }
   // Plan rooms: one per corridor group or remaining unit, ordered by first ASR.
   std::vector<int> plan_of_r1(n1, -1);
   std::vector<int> order;

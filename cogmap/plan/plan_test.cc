@@ -495,5 +495,107 @@ TEST(BuildPlan, SlightlyTiltedShortWallIsSquared) {
   EXPECT_TRUE(found);
 }
 
+// A corridor piece 2 m wide whose path is the axis-aligned centreline 'c':
+// its walls are the centreline offset 1 m to each side (mitred at the
+// bends), open at both ends unless 'close_start' / 'close_end'.
+asr::Asr CorridorPiece(int id, const std::vector<Vec2>& c, double t0, bool close_start = false,
+                       bool close_end = false) {
+  auto normal = [&](size_t k) {  // left normal of segment k
+    const Vec2 d = (c[k + 1] - c[k]).normalized();
+    return Vec2(-d.y(), d.x());
+  };
+  Polyline left, right;
+  for (size_t i = 0; i < c.size(); ++i) {
+    Vec2 n = i == 0 ? normal(0) : i + 1 == c.size() ? normal(i - 1) : normal(i - 1) + normal(i);
+    left.push_back(c[i] + n), right.push_back(c[i] - n);
+  }
+  std::vector<Polyline> walls = {left, right};
+  if (close_start) walls.push_back({left.front(), right.front()});
+  if (close_end) walls.push_back({left.back(), right.back()});
+  std::vector<Vec2> path;
+  for (size_t k = 0; k + 1 < c.size(); ++k) {
+    std::vector<Vec2> seg = Line(c[k], c[k + 1]);
+    path.insert(path.end(), seg.begin() + (k == 0 ? 0 : 1), seg.end());
+  }
+  return MakeAsr(id, walls, path, t0);
+}
+
+// An exit of width 2 m at 'at' between ASRs a and b, listed by both.
+void Join(std::vector<asr::Asr>* asrs, int a, int b, const Vec2& at) {
+  (*asrs)[a].exits.push_back({at, 2.0, a, b});
+  (*asrs)[b].exits.push_back({at, 2.0, a, b});
+}
+
+TEST(BuildPlan, LShapedCorridorIsOneCorridor) {
+  // Two straight arms (10 m) and the piece at the bend, an L of two 5 m legs:
+  // by its principal moments the L is wide (about 3.6 m), but its floor per
+  // metre of path (20 m2 / 10 m) is the arms' (2 m2/m): a corner.
+  std::vector<asr::Asr> asrs = {CorridorPiece(0, {{0, 1}, {10, 1}}, 0.0, true),
+                                CorridorPiece(1, {{10, 1}, {15, 1}, {15, 6}}, 10.0),
+                                CorridorPiece(2, {{15, 6}, {15, 16}}, 20.0, false, true)};
+  Join(&asrs, 0, 1, {10, 1});
+  Join(&asrs, 1, 2, {15, 6});
+  const Plan plan = BuildPlan(asrs, {});
+  ASSERT_EQ(plan.rooms.size(), 1u);
+  EXPECT_TRUE(plan.rooms[0].corridor);
+  EXPECT_EQ(plan.rooms[0].asr_ids, (std::vector<int>{0, 1, 2}));
+  EXPECT_NEAR(plan.rooms[0].area_m2, 20.0 + 20.0 + 20.0, 3.0);
+  EXPECT_TRUE(plan.edges.empty());
+  EXPECT_FALSE(Inside({12, 4}, plan.rooms[0].polygon));  // inside the bend: no floor
+  // Without the corner rule the bend is a room of its own, cutting the corridor.
+  PlanOptions no_corners;
+  no_corners.corner_floor_ratio = 0.0;
+  const Plan cut = BuildPlan(asrs, {}, no_corners);
+  ASSERT_EQ(cut.rooms.size(), 3u);
+  EXPECT_FALSE(cut.rooms[1].corridor);
+}
+
+TEST(BuildPlan, RingCorridorIsOneCorridorCutAtOneCorner) {
+  // A ring 2 m wide around a 20 x 20 m block (centreline 1..23), driven
+  // counter-clockwise in eight pieces: four arms and four L corners, the last
+  // corner leading back into the first arm. Every corner joins the corridor
+  // but the one that would close the loop: one polygon cannot have a hole,
+  // and a closed ring would enclose the block. That corner stays a room.
+  std::vector<std::vector<Vec2>> c = {{{5, 1}, {17, 1}},  {{17, 1}, {23, 1}, {23, 7}},   {{23, 7}, {23, 17}},
+                                      {{23, 17}, {23, 23}, {17, 23}}, {{17, 23}, {7, 23}}, {{7, 23}, {1, 23}, {1, 17}},
+                                      {{1, 17}, {1, 7}},   {{1, 7}, {1, 1}, {5, 1}}};
+  std::vector<asr::Asr> asrs;
+  for (int k = 0; k < 8; ++k) asrs.push_back(CorridorPiece(k, c[k], 10.0 * k));
+  for (int k = 0; k < 8; ++k) Join(&asrs, k, (k + 1) % 8, c[k].back());
+  const Plan plan = BuildPlan(asrs, {});
+  ASSERT_EQ(plan.rooms.size(), 2u);
+  const Room& corridor = plan.rooms[0];
+  EXPECT_TRUE(corridor.corridor);
+  EXPECT_EQ(corridor.asr_ids, (std::vector<int>{0, 1, 2, 3, 4, 5, 6}));
+  EXPECT_FALSE(plan.rooms[1].corridor);
+  EXPECT_EQ(plan.rooms[1].asr_ids, (std::vector<int>{7}));
+  // The ring's floor: 24^2 - 20^2 = 176 m2, the last corner's L 20 m2 of it.
+  EXPECT_NEAR(corridor.area_m2, 176.0 - 20.0, 6.0);
+  EXPECT_FALSE(Inside({12, 12}, corridor.polygon));  // the block is not floor
+  EXPECT_EQ(plan.edges.size(), 2u);                  // the corner's two doors
+}
+
+TEST(BuildPlan, RoomCrossedBetweenTwoCorridorPiecesStaysARoom) {
+  // Corridor piece, a 5 x 5 m room the robot crosses door to door, corridor
+  // piece: the room meets two corridor pieces but has 25 m2 / 5 m = 5 m2 of
+  // floor per metre of path against the corridor's 2: a room.
+  std::vector<asr::Asr> asrs = {CorridorPiece(0, {{0, 1}, {10, 1}}, 0.0, true)};
+  asrs[0].walls_local = {{{0, 0}, {10, 0}}, {{0, 2}, {10, 2}}, {{0, 0}, {0, 2}}};
+  asrs.push_back(MakeAsr(1, {{{10, 2}, {10, 3}, {15, 3}, {15, 2}}, {{10, 0}, {10, -2}, {15, -2}, {15, 0}}},
+                         Line({10, 1}, {15, 1}), 10.0));
+  asrs.push_back(CorridorPiece(2, {{15, 1}, {25, 1}}, 20.0, false, true));
+  asrs[2].walls_local = {{{15, 0}, {25, 0}}, {{15, 2}, {25, 2}}, {{25, 0}, {25, 2}}};
+  asrs[0].exits.push_back({{10, 1}, 0.9, 0, 1});
+  asrs[1].exits = {{{10, 1}, 0.9, 0, 1}, {{15, 1}, 0.9, 1, 2}};
+  asrs[2].exits.push_back({{15, 1}, 0.9, 1, 2});
+  const Plan plan = BuildPlan(asrs, {});
+  // Three plan rooms: the room does not join the pieces into one corridor.
+  ASSERT_EQ(plan.rooms.size(), 3u);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(plan.rooms[k].asr_ids, (std::vector<int>{k}));
+  EXPECT_FALSE(plan.rooms[1].corridor);
+  EXPECT_EQ(plan.edges.size(), 2u);
+  EXPECT_NEAR(plan.rooms[1].area_m2, 25.0, 2.0);
+}
+
 }  // namespace
 }  // namespace cogmap::plan
