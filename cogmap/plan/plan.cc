@@ -1534,6 +1534,15 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       for (int q : nb[r])
         if (in_corridor[q] || (narrow[q] && elongated[q])) pieces.push_back(q), sum += floor_per_m(q);
       if (pieces.size() < 2 || floor_per_m(r) > o.corner_floor_ratio * sum / pieces.size()) continue;
+      // A corner turns: two of the pieces it joins run across each other
+      // (axes more than 45 degrees apart). A room the robot crossed between
+      // two pieces of one straight corridor joins nothing (a generated
+      // building's rooms off a straight corridor read as corners otherwise).
+      bool turns = false;
+      for (size_t a = 0; a < pieces.size() && !turns; ++a)
+        for (size_t b = a + 1; b < pieces.size() && !turns; ++b)
+          turns = std::abs(shapes[pieces[a]].axis.dot(shapes[pieces[b]].axis)) < std::cos(Deg(45.0));
+      if (!turns) continue;
       // The joined corridor would be a loop when its pieces meet in a cycle:
       // at least as many meeting pairs as pieces.
       std::set<int> groups;
