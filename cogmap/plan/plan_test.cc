@@ -575,21 +575,24 @@ TEST(BuildPlan, RingCorridorIsOneCorridorCutAtOneCorner) {
   EXPECT_EQ(plan.edges.size(), 2u);                  // the corner's two doors
 }
 
-TEST(BuildPlan, RoomCrossedBetweenTwoCorridorPiecesStaysARoom) {
-  // Corridor piece, a 5 x 5 m room the robot crosses door to door, corridor
-  // piece: the room meets two corridor pieces but has 25 m2 / 5 m = 5 m2 of
-  // floor per metre of path against the corridor's 2: a room.
+// Corridor piece along y = 1 from x = 0 to 10, a 5 x 5 m room from x = 10 to
+// 15 (doors at both ends, at (10, 1) and (15, 1)) with the robot's path
+// 'room_path' through it, corridor piece from 15 to 25: ASRs 0, 1, 2.
+std::vector<asr::Asr> RoomBetweenTwoCorridorPieces(const std::vector<Vec2>& room_path) {
   std::vector<asr::Asr> asrs = {CorridorPiece(0, {{0, 1}, {10, 1}}, 0.0, true)};
   asrs[0].walls_local = {{{0, 0}, {10, 0}}, {{0, 2}, {10, 2}}, {{0, 0}, {0, 2}}};
   asrs.push_back(MakeAsr(1, {{{10, 2}, {10, 3}, {15, 3}, {15, 2}}, {{10, 0}, {10, -2}, {15, -2}, {15, 0}}},
-                         Line({10, 1}, {15, 1}), 10.0));
+                         room_path, 10.0));
   asrs.push_back(CorridorPiece(2, {{15, 1}, {25, 1}}, 20.0, false, true));
   asrs[2].walls_local = {{{15, 0}, {25, 0}}, {{15, 2}, {25, 2}}, {{25, 0}, {25, 2}}};
   asrs[0].exits.push_back({{10, 1}, 0.9, 0, 1});
   asrs[1].exits = {{{10, 1}, 0.9, 0, 1}, {{15, 1}, 0.9, 1, 2}};
   asrs[2].exits.push_back({{15, 1}, 0.9, 1, 2});
-  const Plan plan = BuildPlan(asrs, {});
-  // Three plan rooms: the room does not join the pieces into one corridor.
+  return asrs;
+}
+
+// Three plan rooms, one per ASR: the room joins no corridor.
+void ExpectRoomBetweenTwoCorridors(const Plan& plan) {
   ASSERT_EQ(plan.rooms.size(), 3u);
   for (int k = 0; k < 3; ++k) EXPECT_EQ(plan.rooms[k].asr_ids, (std::vector<int>{k}));
   EXPECT_FALSE(plan.rooms[1].corridor);
@@ -597,29 +600,23 @@ TEST(BuildPlan, RoomCrossedBetweenTwoCorridorPiecesStaysARoom) {
   EXPECT_NEAR(plan.rooms[1].area_m2, 25.0, 2.0);
 }
 
+TEST(BuildPlan, RoomCrossedBetweenTwoCorridorPiecesStaysARoom) {
+  // The robot crosses the room door to door: it meets two corridor pieces
+  // but has 25 m2 / 5 m = 5 m2 of floor per metre of path against the
+  // corridor's 2: a room.
+  ExpectRoomBetweenTwoCorridors(BuildPlan(RoomBetweenTwoCorridorPieces(Line({10, 1}, {15, 1})), {}));
+}
+
 TEST(BuildPlan, RoomExploredBetweenTwoPiecesOfAStraightCorridorStaysARoom) {
-  // The same corridor and room, but the robot explores the room (about 21 m
-  // of path in 25 m2: 1.2 m2 of floor per metre, under 1.5 times the
-  // corridor's 2): by floor per metre it could be a corner, but the two
-  // pieces it meets run along one axis, so it turns nothing: a room.
-  std::vector<asr::Asr> asrs = {CorridorPiece(0, {{0, 1}, {10, 1}}, 0.0, true)};
-  asrs[0].walls_local = {{{0, 0}, {10, 0}}, {{0, 2}, {10, 2}}, {{0, 0}, {0, 2}}};
+  // The robot explores the room (about 21 m of path in 25 m2: 1.2 m2 of
+  // floor per metre, under 1.5 times the corridor's 2): by floor per metre
+  // it could be a corner, but the two pieces it meets run along one axis,
+  // so it turns nothing: a room.
   std::vector<Vec2> explore;
   const std::vector<Vec2> stops = {{10, 1}, {14, 1}, {14, -1.5}, {11, -1.5}, {11, 2.5}, {14, 2.5}, {15, 1}};
   for (size_t k = 1; k < stops.size(); ++k)
     for (const Vec2& p : Line(stops[k - 1], stops[k])) explore.push_back(p);
-  asrs.push_back(MakeAsr(1, {{{10, 2}, {10, 3}, {15, 3}, {15, 2}}, {{10, 0}, {10, -2}, {15, -2}, {15, 0}}}, explore,
-                         10.0));
-  asrs.push_back(CorridorPiece(2, {{15, 1}, {25, 1}}, 20.0, false, true));
-  asrs[2].walls_local = {{{15, 0}, {25, 0}}, {{15, 2}, {25, 2}}, {{25, 0}, {25, 2}}};
-  asrs[0].exits.push_back({{10, 1}, 0.9, 0, 1});
-  asrs[1].exits = {{{10, 1}, 0.9, 0, 1}, {{15, 1}, 0.9, 1, 2}};
-  asrs[2].exits.push_back({{15, 1}, 0.9, 1, 2});
-  const Plan plan = BuildPlan(asrs, {});
-  ASSERT_EQ(plan.rooms.size(), 3u);
-  for (int k = 0; k < 3; ++k) EXPECT_EQ(plan.rooms[k].asr_ids, (std::vector<int>{k}));
-  EXPECT_FALSE(plan.rooms[1].corridor);
-  EXPECT_NEAR(plan.rooms[1].area_m2, 25.0, 2.0);
+  ExpectRoomBetweenTwoCorridors(BuildPlan(RoomBetweenTwoCorridorPieces(explore), {}));
 }
 
 }  // namespace
