@@ -9,6 +9,7 @@
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
+#include <map>
 #include <string>
 #include <unistd.h>
 
@@ -53,19 +54,21 @@ void BM_Direct(benchmark::State& state) {
     for (const auto& r : records) mapper.Push(r);
     mapper.Finish();
     const graph::OptimizerResult result = optimizer.Finish();
-    std::vector<asr::Asr> updated;
+    // As the pipeline writes them: each ASR revised in place, in one transaction.
+    std::vector<int> ids;
+    std::map<int, Pose2> pose_of;
     std::vector<asr::Placement> placements;
     for (const auto& e : result.asrs) {
-      auto x = store->Get(e.asr_id);
-      x->world_from_local_corrected = e.pose;
-      updated.push_back(*x);
+      ids.push_back(e.asr_id);
+      pose_of[e.asr_id] = e.pose;
       asr::Placement p;
       p.asr_id = e.asr_id;
       p.room_id = e.room_id;
       p.corrected_path = e.corrected_path;
       placements.push_back(p);
     }
-    store->PutPlacements(updated, placements, {});
+    store->RevisePlacements(ids, [&](asr::Asr& x) { x.world_from_local_corrected = pose_of.at(x.id); }, placements,
+                            {});
     benchmark::DoNotOptimize(result.asrs.size());
   }
   state.counters["records"] = static_cast<double>(records.size());

@@ -105,9 +105,10 @@ struct PlanOptions {
   // and comes back out into the next piece, so the pieces of one corridor
   // often share no exit.
   double corridor_touch_m = 1.0;
-  // A piece that is not a corridor piece but meets two corridor pieces with
-  // at most this many times their floor per metre of the robot's path is a
-  // corner of the corridor (an L reads as wide; docs/floor-plan.md).
+  // A piece that is not a corridor piece but meets two corridor pieces that
+  // turn (axes more than 45 degrees apart), with at most this many times
+  // their floor per metre of the robot's path, is a corner of the corridor
+  // (an L reads as wide; docs/floor-plan.md).
   double corner_floor_ratio = 1.5;
   double sliver_path_m = 0.5;          // a store room with less path than this is absorbed by a neighbour
   double min_room_area_m2 = 0.25;      // smaller rooms are dropped
