@@ -99,6 +99,11 @@ std::function<int()> SetupMap(CLI::App& sub) {
                  "Default mode, doorway boundaries: cut a space after this many metres of driving without a "
                  "doorway or corridor cut (0 = never, as in paper mode)")
       ->capture_default_str();
+  sub.add_option("--door-release", a->job.mapping.release_confirm_m,
+                 "Default mode, doorway boundaries: an access point ends only when L or R stays released for "
+                 "this many metres of driving; a shorter gap (a door on one side of a corridor) does not cut "
+                 "the space (0 = at the first release, as in paper mode; intel's laser log: 86 -> 73 ASRs with 1)")
+      ->capture_default_str();
   sub.add_option("--walls", a->walls,
                  "Default mode: how each room's walls are found: chains (the thesis's chain simplify and fit; "
                  "what default means) or lines (lines in each room's occupancy evidence, docs/walls.md); paper "

@@ -172,26 +172,38 @@ std::optional<BoundaryCut> BoundaryDetector::Step(double time_s, const Pose2& po
   max_depth_m_ = std::max(max_depth_m_, entry_dir_.dot(pos - p0));
   if (width_now > 0.0 && (min_width_m_ <= 0.0 || width_now < min_width_m_)) min_width_m_ = width_now;
 
-  if (!both) {  // the L-and-R stretch ended: back in a room
-    state_ = BoundaryState::kInRoom;
-    if (corridor_) {
-      if (asr_travel_m() < options_.min_asr_m - kEps) return std::nullopt;
-      asr_start_travel_m_ = travel_m_;
-      return MakeCut(CutKind::kCorridorExit, pose, time_s, min_width_m_);
+  if (!both) {  // L or R released
+    if (!releasing_) {
+      releasing_ = true;
+      release_ = stretch_.back();
+      release_max_depth_m_ = max_depth_m_;
     }
-    const double depth = entry_dir_.dot(pos - p0);
-    if (depth <= 0.0 || depth <= 0.5 * max_depth_m_) {
+    // Still within a side opening's length: wait (the state stays at the
+    // access point, so the mapper keeps the records to replay).
+    if (travel_m_ - release_.travel_m < options_.release_confirm_m - kEps) return std::nullopt;
+    // The L-and-R stretch ended where the release began: back in a room.
+    releasing_ = false;
+    state_ = BoundaryState::kInRoom;
+    const double release_travel = release_.travel_m;
+    if (corridor_) {
+      if (release_travel - asr_start_travel_m_ < options_.min_asr_m - kEps) return std::nullopt;
+      asr_start_travel_m_ = release_travel;
+      return MakeCut(CutKind::kCorridorExit, release_.pose, release_.time_s, min_width_m_);
+    }
+    const double depth = entry_dir_.dot(release_.pose.translation() - p0);
+    if (depth <= 0.0 || depth <= 0.5 * release_max_depth_m_) {
       ++turn_backs_;  // left on the side it came in: the same room
       return std::nullopt;
     }
-    double cut_time = time_s;
-    const double mid = 0.5 * (stretch_.front().travel_m + travel_m_);
+    double cut_time = release_.time_s;
+    const double mid = 0.5 * (stretch_.front().travel_m + release_travel);
     const Pose2 cut_pose = PoseAtTravel(mid, &cut_time);
     asr_start_travel_m_ = mid;
     BoundaryCut cut = MakeCut(CutKind::kDoorway, cut_pose, cut_time, min_width_m_);
     stretch_.clear();
     return cut;
   }
+  releasing_ = false;  // both on again: the gap was a side opening
 
   const double stretch_m = travel_m_ - stretch_.front().travel_m;
   if (!corridor_ && stretch_m > options_.corridor_m + kEps) {

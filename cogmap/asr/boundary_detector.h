@@ -53,6 +53,15 @@ struct BoundaryOptions {
   // odometry drift. 0 = never (the papers). 15 m leaves rooms of the size of
   // the thesis's whole (nine_rooms: about 12 m of driving per room) uncut.
   double max_asr_m = 0.0;
+  // Default mode: when L or R releases at an access point, the stretch ends
+  // only if they stay released for this much travel; if both come back on
+  // sooner, the gap was a side opening passed (a door on one side of a
+  // corridor, a sonar echo flickering around close_m) and the stretch goes
+  // on. A door leaf is at most about 1 m wide (ADA/DIN clear widths 0.8-0.9 m
+  // plus the jambs), so a release shorter than that is no way out. When the
+  // stretch does end, it ends where the release began (cut, depth and width
+  // as if decided then). 0 = end at the first release (the thesis, fig. 3.4).
+  double release_confirm_m = 0.0;
 };
 
 // Indices into robot.sensors of the side sensors.
@@ -170,6 +179,10 @@ class BoundaryDetector {
   double max_depth_m_ = 0.0;
   double min_width_m_ = 0.0;
   bool corridor_ = false;
+  // A release waiting for release_confirm_m of travel (default mode).
+  bool releasing_ = false;
+  StretchSample release_{};
+  double release_max_depth_m_ = 0.0;
   Vec2 prev_pos_{0, 0};  // a position a little behind, for the direction of travel
   Vec2 travel_dir_{1, 0};
   bool has_travel_dir_ = false;

@@ -54,6 +54,7 @@ TEST(BoundaryOptions, DefaultsAreThePapers) {
   EXPECT_DOUBLE_EQ(o.corridor_m, 2.0);
   EXPECT_DOUBLE_EQ(o.asr_length_m, 4.5);
   EXPECT_DOUBLE_EQ(o.side_tolerance_rad, DegToRad(60.0));
+  EXPECT_DOUBLE_EQ(o.release_confirm_m, 0.0);  // the access point ends at the first release
 }
 
 TEST(SideSensors, PioneerRingUsesTheSideAndDiagonalUnits) {
@@ -106,6 +107,71 @@ TEST(BoundaryDetector, AWallAlongOneSideAfterTheDoorDoesNotHoldTheAccessPoint) {
   ASSERT_EQ(cuts.size(), 1u);
   EXPECT_EQ(cuts[0].kind, CutKind::kDoorway);
   EXPECT_NEAR(cuts[0].center_m.x(), 0.5 * (3.05 + 3.50), 0.05 + 1e-9);
+}
+
+BoundaryOptions WithDoorRelease(double m) {
+  BoundaryOptions o;
+  o.release_confirm_m = m;
+  return o;
+}
+
+// A 1.4 m corridor from x = 3 to 15 with a door on the right every 3 m (0.8 m
+// open each): the thesis's rule ends the access point at every door; with a
+// release confirmed over 1 m the doors are side openings and the corridor is
+// cut at its mouth, every 4.5 m and where it ends.
+TEST(BoundaryDetector, SideDoorsOfACorridorDoNotCutItWithDoorRelease) {
+  auto left = [](const Pose2& p) { return Between(p.x, 3.0, 15.0); };
+  auto right = [](const Pose2& p) {
+    if (!Between(p.x, 3.0, 15.0)) return false;
+    for (double door = 4.0; door < 15.0; door += 3.0)
+      if (Between(p.x, door, door + 0.8)) return false;
+    return true;
+  };
+  auto paper = MakeDetector();
+  const auto paper_cuts = RunScript(&paper, Line(0.0, 20.0), {left, right});
+  EXPECT_EQ(paper_cuts.size(), 6u);  // the doors end pieces of it
+
+  auto d = MakeDetector(WithDoorRelease(1.0));
+  const auto cuts = RunScript(&d, Line(0.0, 20.0), {left, right});
+  ASSERT_EQ(cuts.size(), 4u);
+  EXPECT_EQ(cuts[0].kind, CutKind::kCorridorEntry);
+  EXPECT_NEAR(cuts[0].center_m.x(), 3.05, 1e-9);
+  // 4.5 m from the mouth falls in the door at 7.0-7.8 (and the next in the
+  // one at 10.0-10.8 + 0.2): each cut waits for both sides again.
+  EXPECT_EQ(cuts[1].kind, CutKind::kCorridor);
+  EXPECT_NEAR(cuts[1].center_m.x(), 7.90, 1e-9);
+  EXPECT_EQ(cuts[2].kind, CutKind::kCorridor);
+  EXPECT_NEAR(cuts[2].center_m.x(), 12.40, 1e-9);
+  // The exit is where the release began (15.10), decided 1 m later.
+  EXPECT_EQ(cuts[3].kind, CutKind::kCorridorExit);
+  EXPECT_NEAR(cuts[3].center_m.x(), 15.10, 1e-9);
+  EXPECT_NEAR(cuts[3].time_s, 15.10 / 0.05 * 0.1, 1e-9);
+  EXPECT_EQ(d.state(), BoundaryState::kInRoom);
+}
+
+// Through a door, then along a wall on one side: the release is confirmed
+// after 1 m and the cut is exactly the thesis rule's.
+TEST(BoundaryDetector, DoorReleaseCutsADoorwayWhereTheThesisRuleDoes) {
+  auto left = [](const Pose2& p) { return Between(p.x, 3.0, 3.4); };
+  auto right = [](const Pose2& p) { return Between(p.x, 3.0, 9.0); };
+  auto paper = MakeDetector();
+  const auto expected = RunScript(&paper, Line(0.0, 12.0), {left, right});
+  auto d = MakeDetector(WithDoorRelease(1.0));
+  const auto cuts = RunScript(&d, Line(0.0, 12.0), {left, right});
+  ASSERT_EQ(expected.size(), 1u);
+  ASSERT_EQ(cuts.size(), 1u);
+  EXPECT_EQ(cuts[0].kind, CutKind::kDoorway);
+  EXPECT_DOUBLE_EQ(cuts[0].center_m.x(), expected[0].center_m.x());
+  EXPECT_DOUBLE_EQ(cuts[0].time_s, expected[0].time_s);
+  EXPECT_DOUBLE_EQ(cuts[0].width_m, expected[0].width_m);
+  // Turning back still cuts nothing.
+  auto back = MakeDetector(WithDoorRelease(1.0));
+  auto door = [](const Pose2& p) { return Between(p.x, 3.0, 3.4); };
+  auto poses = Line(0.0, 3.3);
+  const auto ret = Line(3.3, 0.0);
+  poses.insert(poses.end(), ret.begin() + 1, ret.end());
+  EXPECT_TRUE(RunScript(&back, poses, {door, door}).empty());
+  EXPECT_EQ(back.turn_backs(), 1);
 }
 
 TEST(BoundaryDetector, OneSideCloseIsNotAnAccessPoint) {

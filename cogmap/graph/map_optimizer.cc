@@ -142,7 +142,9 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
                       heading_sigma2 * m.distance_m * m.distance_m;
     // Registration against the previous ASR (across the exit).
     if (!prev.faces.empty() && !node.faces.empty()) {
-      const Pose2 guess = graph_.pose(idx - 1).inverse() * graph_.pose(idx);
+      // The walls are raw: so is the registration, and its guess is the raw
+      // odometry (the graph's prediction without the drift's bend).
+      const Pose2 guess = graph_.Bend(idx - 1, m).inverse() * graph_.pose(idx - 1).inverse() * graph_.pose(idx);
       Registration reg = RegisterWalls(prev.faces, node.faces, guess, options_.registration);
       if (reg.converged && reg.match_fraction >= options_.min_match_fraction && reg.matches >= options_.min_matches) {
         // Gate against the odometry: both can be wrong, the test uses both
@@ -152,7 +154,8 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
         const Eigen::Vector3d d = Difference(guess, reg.target_from_source);
         const double d2 = d.dot(S.ldlt().solve(d));
         if (d2 <= ChiSquareQuantile(options_.gate_probability, 3)) {
-          graph_.AddRelative(idx - 1, idx, reg.target_from_source, reg.covariance, FactorKind::kRegistration);
+          graph_.AddRelative(idx - 1, idx, reg.target_from_source, reg.covariance, FactorKind::kRegistration, 2.0,
+                             &m);
           ++registrations_;
         }
       }

@@ -83,6 +83,36 @@ struct RelativeCost {
   }
 };
 
+// A registration of node j's walls against node i's, seen where node i's
+// path ends (across the exit): node i's walls there were placed with a heading
+// that had drifted by rate x its length more than at its origin, so the
+// measured raw pose z is bent by node i's drift rate as the odometry is (the
+// bent path end composed with z's offset from the raw path end).
+struct BentRelativeCost {
+  OdometryMeasurement m;  // node i's path to its end
+  Pose2 offset;           // m.delta^-1 * z
+  Eigen::Matrix3d W;
+  double scale = 1.0;
+  template <typename T>
+  bool operator()(const T* pi, const T* pj, const T* rate, T* r) const {
+    using std::cos;
+    using std::sin;
+    T bx(0.0), by(0.0);
+    for (const Eigen::Vector3d& st : m.steps) {
+      const T a = -rate[0] * T(st.z());
+      bx += cos(a) * T(st.x()) - sin(a) * T(st.y());
+      by += sin(a) * T(st.x()) + cos(a) * T(st.y());
+    }
+    const T bth = T(m.delta.theta) - rate[0] * T(m.distance_m);
+    const T cb = cos(bth), sb = sin(bth);
+    const T mx = bx + cb * T(offset.x) - sb * T(offset.y);
+    const T my = by + sb * T(offset.x) + cb * T(offset.y);
+    RelativeResidual(pi, pj, mx, my, bth + T(offset.theta), W, r);
+    for (int a = 0; a < 3; ++a) r[a] *= T(scale);
+    return true;
+  }
+};
+
 struct DirectionCost {
   double d = 0.0, inv_sigma = 1.0, s_mean = 0.0;
   double scale = 1.0;
@@ -314,20 +344,34 @@ void PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, dou
 }
 
 int PoseGraph::AddRelative(int i, int j, const Pose2& z, const Eigen::Matrix3d& cov, FactorKind kind,
-                           double cauchy_scale) {
+                           double cauchy_scale, const OdometryMeasurement* bend_i) {
   Impl::Factor f;
   f.kind = kind;
   f.i = i;
   f.j = j;
   f.dof = 3;
-  auto* c = new RelativeCost{z, SqrtInformation(cov)};
-  f.scale = &c->scale;
-  f.cost.reset(new ceres::AutoDiffCostFunction<RelativeCost, 3, 3, 3>(c));
+  if (bend_i) {
+    auto* c = new BentRelativeCost{*bend_i, bend_i->delta.inverse() * z, SqrtInformation(cov)};
+    f.scale = &c->scale;
+    f.cost.reset(new ceres::AutoDiffCostFunction<BentRelativeCost, 3, 3, 3, 1>(c));
+    f.params = {impl_->nodes[i].data(), impl_->nodes[j].data(), &impl_->rates[i]};
+  } else {
+    auto* c = new RelativeCost{z, SqrtInformation(cov)};
+    f.scale = &c->scale;
+    f.cost.reset(new ceres::AutoDiffCostFunction<RelativeCost, 3, 3, 3>(c));
+    f.params = {impl_->nodes[i].data(), impl_->nodes[j].data()};
+  }
   if (cauchy_scale > 0) f.loss.reset(new ceres::CauchyLoss(cauchy_scale));
-  f.params = {impl_->nodes[i].data(), impl_->nodes[j].data()};
   impl_->factors.push_back(std::move(f));
   impl_->relative_index.push_back(static_cast<int>(impl_->factors.size()) - 1);
   return static_cast<int>(impl_->relative_index.size()) - 1;
+}
+
+Pose2 PoseGraph::Bend(int i, const OdometryMeasurement& m) const {
+  const double rate = impl_->rates[i];
+  Vec2 t(0, 0);
+  for (const Eigen::Vector3d& st : m.steps) t += RotateAbout(Vec2(st.x(), st.y()), Vec2(0.0, 0.0), -rate * st.z());
+  return Pose2{t.x(), t.y(), m.delta.theta - rate * m.distance_m} * m.delta.inverse();
 }
 
 void PoseGraph::SetSigmaFactor(FactorKind kind, double factor) {

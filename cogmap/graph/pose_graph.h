@@ -78,9 +78,16 @@ class PoseGraph {
   // were seen (the node's drift rate times it leans them).
   void AddDirection(int i, double local_direction_rad, double sigma_rad, double s_mean_m = 0.0,
                     double cauchy_scale = 2.0);
-  // Pose of node j in node i's frame, with its covariance.
+  // Pose of node j in node i's frame, with its covariance. With 'bend_i'
+  // (node i's odometry to its path's end), j_in_i is a raw measurement made
+  // where node i's path ends (a registration across the exit): it is bent by
+  // node i's drift rate as that odometry is, so that it constrains the
+  // odometry's random error and not the drift.
   int AddRelative(int i, int j, const Pose2& j_in_i, const Eigen::Matrix3d& covariance, FactorKind kind,
-                  double cauchy_scale = 2.0);
+                  double cauchy_scale = 2.0, const OdometryMeasurement* bend_i = nullptr);
+  // Node i's path end under its current drift rate, given the raw one:
+  // bent_end * m.delta^-1 (identity at rate 0).
+  Pose2 Bend(int i, const OdometryMeasurement& m) const;
   void SetRelativeEnabled(int factor, bool enabled);
   // Multiplies every sigma of one kind of factor (variance components: the
   // prior sigmas fitted to a run's residuals). 1 = as given.

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <thread>
 #include <vector>
 
@@ -62,6 +63,56 @@ TEST(PoseGraph, DriftRateIsRecoveredFromWallDirections) {
   const auto cov = g.Covariances();
   ASSERT_EQ(cov.size(), 11u);
   EXPECT_GT(cov[10](1, 1), cov[1](1, 1));
+}
+
+// The same run with a registration across every exit: each room's walls
+// against the previous room's, both in their raw frames, so the measurement
+// is the raw relative pose (the walls near the exit were seen with the heading
+// drifted as far as the odometry's). Bent by the previous node's rate, the
+// registrations leave the drift to the wall directions; taken as true
+// relative poses they would hold the rate at zero and the rooms would keep
+// the drift.
+double MaxHeadingErrorWithExitRegistrations(bool bend) {
+  const double rate = DegToRad(2.0);
+  PoseGraph g;
+  Pose2 raw;
+  g.AddNode(raw, true);
+  g.AddDirection(0, 0.0, DegToRad(1.0));
+  Eigen::Matrix3d reg_cov = Eigen::Matrix3d::Zero();
+  reg_cov.diagonal() << 0.02 * 0.02, 0.02 * 0.02, std::pow(DegToRad(0.3), 2);
+  for (int i = 1; i <= 10; ++i) {
+    std::vector<Pose2> path;
+    Pose2 p;
+    for (int k = 0; k <= 40; ++k) {
+      path.push_back(p);
+      p = p * Pose2{0.1, 0.0, rate * 0.1};
+    }
+    const auto m = MeasureOdometry(path);
+    raw = raw * m.delta;
+    g.AddNode(raw);
+    g.AddOdometry(i - 1, i, m);
+    g.AddRelative(i - 1, i, m.delta, reg_cov, FactorKind::kRegistration, 2.0, bend ? &m : nullptr);
+    g.AddDirection(i, 0.0, DegToRad(1.0));
+    g.Solve(0);
+  }
+  double worst = 0.0;
+  for (int i = 0; i <= 10; ++i) worst = std::max(worst, std::abs(NormalizeAngle(g.pose(i).theta)));
+  return worst;
+}
+
+TEST(PoseGraph, RegistrationsAcrossExitsAreBentByTheDriftRate) {
+  EXPECT_LT(MaxHeadingErrorWithExitRegistrations(true), DegToRad(0.5));
+  EXPECT_GT(MaxHeadingErrorWithExitRegistrations(false), DegToRad(3.0));
+}
+
+TEST(PoseGraph, BendIsTheIdentityWithoutDrift) {
+  PoseGraph g;
+  g.AddNode(Pose2{}, true);
+  const auto m = MeasureOdometry(Straight(4.0));
+  const Pose2 b = g.Bend(0, m);
+  EXPECT_NEAR(b.x, 0.0, 1e-12);
+  EXPECT_NEAR(b.y, 0.0, 1e-12);
+  EXPECT_NEAR(b.theta, 0.0, 1e-12);
 }
 
 TEST(PoseGraph, ChiSquareQuantileMatchesTables) {

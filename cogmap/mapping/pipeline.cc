@@ -40,6 +40,8 @@ void MappingOptions::Validate() const {
   if (!(window_m > 0.0)) throw InputError("--window " + Num(window_m) + ": must be positive");
   if (!(asr_length_m > 0.0)) throw InputError("--asr-length " + Num(asr_length_m) + ": must be positive");
   if (!(max_asr_m >= 0.0)) throw InputError("--max-asr " + Num(max_asr_m) + ": must be 0 or positive");
+  if (!(release_confirm_m >= 0.0) || release_confirm_m > 100.0)
+    throw InputError("--door-release " + Num(release_confirm_m) + ": must be in [0, 100] metres");
   if (!std::isfinite(add_drift_rad_per_m) || std::abs(add_drift_rad_per_m) > DegToRad(90.0))
     throw InputError("--add-drift-deg-per-m " + Num(RadToDeg(add_drift_rad_per_m)) + ": must be in [-90, 90]");
 }
@@ -95,6 +97,10 @@ asr::MapperOptions MapperOptionsFor(const sensors::RobotDescription& robot, cons
   // Default mode also bounds how far an ASR runs without a doorway (a hall, a
   // wide corridor); paper mode leaves such a space whole, as the papers do.
   if (!o.paper) m.boundary.max_asr_m = o.max_asr_m;
+  // Default mode, on request (--door-release): an access point ends only on a
+  // release longer than a door (a corridor's side doors and flickering side
+  // echoes do not cut it). Off by default: docs/BENCHMARKS.md, "Door release".
+  if (!o.paper) m.boundary.release_confirm_m = o.release_confirm_m;
   // The grid orientation serves the heading correction's grid refinement,
   // which is for sonar robots only: not computed for a laser.
   m.grid_orientation = !LaserOnly(robot);
