@@ -199,6 +199,31 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
   return a;
 }
 
+OdometryMeasurement MapOptimizer::PathTo(const Node& n, const Vec2& local_point) const {
+  const Pose2 local_from_world = n.raw.inverse();
+  size_t best = 0;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  for (size_t t = 0; t < n.path_raw.size(); ++t) {
+    const double d2 = (local_from_world * n.path_raw[t].translation() - local_point).squaredNorm();
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best = t;
+    }
+  }
+  std::vector<Pose2> path;
+  path.reserve(best + 1);
+  for (size_t t = 0; t <= best && t < n.path_raw.size(); ++t) path.push_back(local_from_world * n.path_raw[t]);
+  return MeasureOdometry(path, options_.odometry);
+}
+
+namespace {
+Vec2 Centroid(const std::vector<FacedPoint>& pts) {
+  Vec2 c(0, 0);
+  for (const auto& p : pts) c += p.p;
+  return pts.empty() ? c : Vec2(c / static_cast<double>(pts.size()));
+}
+}  // namespace
+
 std::vector<FacedPoint> MapOptimizer::InBox(const std::vector<FacedPoint>& pts, const Node& n) const {
   std::vector<FacedPoint> out;
   const double m = 0.5;
@@ -239,7 +264,13 @@ void MapOptimizer::TryLoopClosures(int n) {
     LoopClosure lc;
     lc.from_asr = o.asr_id;
     lc.to_asr = cur.asr_id;
-    const Pose2 guess = graph_.pose(c.k).inverse() * Tn;
+    // The graph's pose of the new ASR in the stored one's frame, and the
+    // same for the raw walls: each node's walls bent back by its drift rate
+    // where they may overlap (the path pose nearest the other's centre).
+    const double rate_k = graph_.rate(c.k), rate_n = graph_.rate(n - 1);
+    const Pose2 placed = graph_.pose(c.k).inverse() * Tn;
+    const Pose2 guess = BendAt(PathTo(o, placed * cur.centre_local), rate_k).inverse() * placed *
+                        BendAt(PathTo(cur, placed.inverse() * o.centre_local), rate_n);
     // Correlative search over the pose uncertainty (positions and headings
     // within the gate), scored by how many of the new ASR's wall samples land
     // on a matching face; ICP from the best distinct starts. Distinct good
@@ -247,6 +278,7 @@ void MapOptimizer::TryLoopClosures(int n) {
     struct Sol {
       Registration reg;
       double agreement;
+      Vec2 overlap_in_o, overlap_in_cur;  // centroids of the overlapping samples
     };
     std::vector<Sol> sols;
     const double var_here = std::max(0.0, cur.var_prefix - o.var_prefix) + 0.01;
@@ -304,7 +336,7 @@ void MapOptimizer::TryLoopClosures(int n) {
       if (overlap < options_.min_matches) continue;
       const double a1 = AgreementFraction(o.faces, pts_in_o, options_.loop_tolerance_m, cos_max);
       const double a2 = AgreementFraction(cur.faces, o_in_cur, options_.loop_tolerance_m, cos_max);
-      sols.push_back({reg, std::min(a1, a2)});
+      sols.push_back({reg, std::min(a1, a2), Centroid(pts_in_o), Centroid(o_in_cur)});
     }
     if (sols.empty()) {
       const std::string need = " (at least " + std::to_string(options_.min_matches) + ")";
@@ -327,7 +359,11 @@ void MapOptimizer::TryLoopClosures(int n) {
     S(0, 0) += var;
     S(1, 1) += var;
     S(2, 2) += cur.heading_var + o.heading_var + DegToRad(1.0) * DegToRad(1.0);
-    const Eigen::Vector3d d = Difference(guess, best.reg.target_from_source);
+    // Where the walls overlap: each node's raw path to there, for the bend.
+    const OdometryMeasurement to_k = PathTo(o, best.overlap_in_o);
+    const OdometryMeasurement to_n = PathTo(cur, best.overlap_in_cur);
+    const Pose2 predicted_raw = BendAt(to_k, rate_k).inverse() * placed * BendAt(to_n, rate_n);
+    const Eigen::Vector3d d = Difference(predicted_raw, best.reg.target_from_source);
     lc.mahalanobis2 = d.dot(S.ldlt().solve(d));
     bool ambiguous = false;
     for (size_t s = 1; s < sols.size(); ++s) {
@@ -351,8 +387,8 @@ void MapOptimizer::TryLoopClosures(int n) {
     lc.reason = "accepted";
     lc.same_room = best.agreement >= options_.same_room_agreement;
     if (lc.same_room) cur.room_id = o.room_id;
-    closure_factor_.push_back(
-        graph_.AddRelative(c.k, n, best.reg.target_from_source, best.reg.covariance, FactorKind::kLoopClosure));
+    closure_factor_.push_back(graph_.AddRelative(c.k, n, best.reg.target_from_source, best.reg.covariance,
+                                                 FactorKind::kLoopClosure, 2.0, &to_k, &to_n));
     closure_index_.push_back(static_cast<int>(closures_.size()));
     closures_.push_back(lc);
   }

@@ -177,6 +177,9 @@ class MapOptimizer {
   };
   Node MakeNode(const asr::Asr& a) const;
   std::vector<Polyline> BendWalls(const Node& n, double rate) const;
+  // The raw odometry from n's origin to its path pose nearest 'local_point'
+  // (where walls near that point were seen from).
+  OdometryMeasurement PathTo(const Node& n, const Vec2& local_point) const;
   void TryLoopClosures(int n);
   // The points (in n's local frame) inside n's box, 0.5 m margin.
   std::vector<FacedPoint> InBox(const std::vector<FacedPoint>& pts, const Node& n) const;

@@ -83,31 +83,68 @@ struct RelativeCost {
   }
 };
 
-// A registration of node j's walls against node i's, seen where node i's
-// path ends (across the exit): node i's walls there were placed with a heading
-// that had drifted by rate x its length more than at its origin, so the
-// measured raw pose z is bent by node i's drift rate as the odometry is (the
-// bent path end composed with z's offset from the raw path end).
+// Node i's path end under drift rate 'rate' (m's steps re-integrated).
+template <typename T>
+void BentEnd(const OdometryMeasurement& m, const T& rate, T* out) {
+  using std::cos;
+  using std::sin;
+  T bx(0.0), by(0.0);
+  for (const Eigen::Vector3d& st : m.steps) {
+    const T a = -rate * T(st.z());
+    bx += cos(a) * T(st.x()) - sin(a) * T(st.y());
+    by += sin(a) * T(st.x()) + cos(a) * T(st.y());
+  }
+  out[0] = bx;
+  out[1] = by;
+  out[2] = T(m.delta.theta) - rate * T(m.distance_m);
+}
+
+template <typename T>
+void ComposeT(const T* a, const T* b, T* out) {
+  using std::cos;
+  using std::sin;
+  const T c = cos(a[2]), s = sin(a[2]);
+  const T x = a[0] + c * b[0] - s * b[1];
+  const T y = a[1] + s * b[0] + c * b[1];
+  out[0] = x;
+  out[1] = y;
+  out[2] = a[2] + b[2];
+}
+
+template <typename T>
+void InverseT(const T* a, T* out) {
+  using std::cos;
+  using std::sin;
+  const T c = cos(a[2]), s = sin(a[2]);
+  const T x = -(c * a[0] + s * a[1]);
+  const T y = -(-s * a[0] + c * a[1]);
+  out[0] = x;
+  out[1] = y;
+  out[2] = -a[2];
+}
+
+// A registration of raw walls: node j's against node i's, where they overlap
+// at a distance driven s_i into node i and s_j into node j. Walls seen there
+// were placed with the heading drifted by rate x s more than at the node's
+// origin, so the measured raw pose z is bent at both ends as the odometry is:
+// the prediction of node j in node i is B_i z B_j^-1, with B = (the path to s
+// re-integrated under the node's rate) x (the raw path to s)^-1. Across an
+// exit s_i is node i's whole path and s_j = 0 (B_j the identity).
 struct BentRelativeCost {
-  OdometryMeasurement m;  // node i's path to its end
-  Pose2 offset;           // m.delta^-1 * z
+  OdometryMeasurement mi, mj;  // each node's raw path to where the walls overlap
+  Pose2 middle;                // mi.delta^-1 z mj.delta
   Eigen::Matrix3d W;
   double scale = 1.0;
   template <typename T>
-  bool operator()(const T* pi, const T* pj, const T* rate, T* r) const {
-    using std::cos;
-    using std::sin;
-    T bx(0.0), by(0.0);
-    for (const Eigen::Vector3d& st : m.steps) {
-      const T a = -rate[0] * T(st.z());
-      bx += cos(a) * T(st.x()) - sin(a) * T(st.y());
-      by += sin(a) * T(st.x()) + cos(a) * T(st.y());
-    }
-    const T bth = T(m.delta.theta) - rate[0] * T(m.distance_m);
-    const T cb = cos(bth), sb = sin(bth);
-    const T mx = bx + cb * T(offset.x) - sb * T(offset.y);
-    const T my = by + sb * T(offset.x) + cb * T(offset.y);
-    RelativeResidual(pi, pj, mx, my, bth + T(offset.theta), W, r);
+  bool operator()(const T* pi, const T* pj, const T* rate_i, const T* rate_j, T* r) const {
+    T bi[3], bj[3], bj_inv[3], t[3], m[3];
+    BentEnd(mi, rate_i[0], bi);
+    BentEnd(mj, rate_j[0], bj);
+    InverseT(bj, bj_inv);
+    const T mid[3] = {T(middle.x), T(middle.y), T(middle.theta)};
+    ComposeT(bi, mid, t);
+    ComposeT(t, bj_inv, m);
+    RelativeResidual(pi, pj, m[0], m[1], m[2], W, r);
     for (int a = 0; a < 3; ++a) r[a] *= T(scale);
     return true;
   }
@@ -344,17 +381,21 @@ void PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, dou
 }
 
 int PoseGraph::AddRelative(int i, int j, const Pose2& z, const Eigen::Matrix3d& cov, FactorKind kind,
-                           double cauchy_scale, const OdometryMeasurement* bend_i) {
+                           double cauchy_scale, const OdometryMeasurement* bend_i,
+                           const OdometryMeasurement* bend_j) {
   Impl::Factor f;
   f.kind = kind;
   f.i = i;
   f.j = j;
   f.dof = 3;
-  if (bend_i) {
-    auto* c = new BentRelativeCost{*bend_i, bend_i->delta.inverse() * z, SqrtInformation(cov)};
+  if (bend_i || bend_j) {
+    const OdometryMeasurement none;
+    const OdometryMeasurement& mi = bend_i ? *bend_i : none;
+    const OdometryMeasurement& mj = bend_j ? *bend_j : none;
+    auto* c = new BentRelativeCost{mi, mj, mi.delta.inverse() * z * mj.delta, SqrtInformation(cov)};
     f.scale = &c->scale;
-    f.cost.reset(new ceres::AutoDiffCostFunction<BentRelativeCost, 3, 3, 3, 1>(c));
-    f.params = {impl_->nodes[i].data(), impl_->nodes[j].data(), &impl_->rates[i]};
+    f.cost.reset(new ceres::AutoDiffCostFunction<BentRelativeCost, 3, 3, 3, 1, 1>(c));
+    f.params = {impl_->nodes[i].data(), impl_->nodes[j].data(), &impl_->rates[i], &impl_->rates[j]};
   } else {
     auto* c = new RelativeCost{z, SqrtInformation(cov)};
     f.scale = &c->scale;
@@ -367,8 +408,9 @@ int PoseGraph::AddRelative(int i, int j, const Pose2& z, const Eigen::Matrix3d& 
   return static_cast<int>(impl_->relative_index.size()) - 1;
 }
 
-Pose2 PoseGraph::Bend(int i, const OdometryMeasurement& m) const {
-  const double rate = impl_->rates[i];
+Pose2 PoseGraph::Bend(int i, const OdometryMeasurement& m) const { return BendAt(m, impl_->rates[i]); }
+
+Pose2 BendAt(const OdometryMeasurement& m, double rate) {
   Vec2 t(0, 0);
   for (const Eigen::Vector3d& st : m.steps) t += RotateAbout(Vec2(st.x(), st.y()), Vec2(0.0, 0.0), -rate * st.z());
   return Pose2{t.x(), t.y(), m.delta.theta - rate * m.distance_m} * m.delta.inverse();

@@ -48,6 +48,11 @@ struct OdometryMeasurement {
 OdometryMeasurement MeasureOdometry(const std::vector<Pose2>& path_i, const OdometryNoiseOptions& options = {},
                                     int max_steps = 24);
 
+// The raw path's end of 'm' re-integrated under a drift rate, composed with
+// the raw end's inverse: the rigid move that takes raw coordinates near the
+// path's end to where that rate puts them (identity at rate 0).
+Pose2 BendAt(const OdometryMeasurement& m, double rate_rad_per_m);
+
 enum class FactorKind { kOdometry, kDirection, kRegistration, kLoopClosure, kRateWalk, kRatePrior };
 const char* FactorKindName(FactorKind k);
 
@@ -79,12 +84,14 @@ class PoseGraph {
   void AddDirection(int i, double local_direction_rad, double sigma_rad, double s_mean_m = 0.0,
                     double cauchy_scale = 2.0);
   // Pose of node j in node i's frame, with its covariance. With 'bend_i'
-  // (node i's odometry to its path's end), j_in_i is a raw measurement made
-  // where node i's path ends (a registration across the exit): it is bent by
-  // node i's drift rate as that odometry is, so that it constrains the
-  // odometry's random error and not the drift.
+  // and/or 'bend_j' (each node's raw path from its origin to where the walls
+  // were seen: MeasureOdometry), j_in_i is a registration of raw walls: it is
+  // bent by each node's drift rate as the odometry is, so that it constrains
+  // the odometry's random error and not the drift. Across an exit: bend_i =
+  // node i's odometry to node j, no bend_j.
   int AddRelative(int i, int j, const Pose2& j_in_i, const Eigen::Matrix3d& covariance, FactorKind kind,
-                  double cauchy_scale = 2.0, const OdometryMeasurement* bend_i = nullptr);
+                  double cauchy_scale = 2.0, const OdometryMeasurement* bend_i = nullptr,
+                  const OdometryMeasurement* bend_j = nullptr);
   // Node i's path end under its current drift rate, given the raw one:
   // bent_end * m.delta^-1 (identity at rate 0).
   Pose2 Bend(int i, const OdometryMeasurement& m) const;

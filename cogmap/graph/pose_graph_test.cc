@@ -105,6 +105,39 @@ TEST(PoseGraph, RegistrationsAcrossExitsAreBentByTheDriftRate) {
   EXPECT_GT(MaxHeadingErrorWithExitRegistrations(false), DegToRad(3.0));
 }
 
+// A closure measured on raw walls that overlap 6 m into node 0 and 3 m into
+// node 1 (raw paths turning 1 deg/m left): with both rates at the drift the
+// factor's prediction B_0 z B_1^-1 is exactly the true relative pose; at rate
+// zero it is not.
+TEST(PoseGraph, ClosureBentAtBothEndsIsExactAtTheTrueRate) {
+  const double rate = DegToRad(1.0);
+  auto raw_path = [&](double length_m) {
+    std::vector<Pose2> path;
+    Pose2 p;
+    for (double s = 0.0; s <= length_m + 1e-9; s += 0.1) {
+      path.push_back(p);
+      p = p * Pose2{0.1, 0.0, rate * 0.1};
+    }
+    return MeasureOdometry(path);
+  };
+  const OdometryMeasurement to_0 = raw_path(6.0), to_1 = raw_path(3.0);
+  const Pose2 t0{1.0, 2.0, 0.3}, t1{4.0, 7.0, 1.9};
+  const Pose2 z = BendAt(to_0, rate).inverse() * (t0.inverse() * t1) * BendAt(to_1, rate);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Identity() * 1e-4;
+  auto chi2_at = [&](double r) {
+    PoseGraph g;
+    g.AddNode(t0, true);
+    g.AddNode(t1);
+    g.ChainWithRate(r);
+    g.AddRelative(0, 1, z, cov, FactorKind::kLoopClosure, 2.0, &to_0, &to_1);
+    return g.Residuals().back().chi2;
+  };
+  EXPECT_NEAR(chi2_at(rate), 0.0, 1e-12);
+  EXPECT_GT(chi2_at(0.0), 100.0);
+  // The bend at a path's end turns by the rate times its length.
+  EXPECT_NEAR(BendAt(to_0, rate).theta, -rate * to_0.distance_m, 1e-12);
+}
+
 TEST(PoseGraph, BendIsTheIdentityWithoutDrift) {
   PoseGraph g;
   g.AddNode(Pose2{}, true);
