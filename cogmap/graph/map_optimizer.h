@@ -24,6 +24,16 @@ struct MapOptimizerOptions {
   // walls (docs/heading-correction.md): the factor uses max(floor, scale x it).
   double direction_sigma_scale = 2.0;
   double direction_sigma_floor_rad = DegToRad(1.0);
+  // Drift inside an ASR: an ASR whose path is at least twice this long has its
+  // walls grouped by where along the path they were seen from (the nearest
+  // path point: the grid takes readings within the MHIMM window, 3 m, of the
+  // robot, so a group spans about one window), each group's dominant
+  // direction a factor at its own mean distance driven. Used when two or more
+  // groups give a direction and their directions turn with the distance
+  // driven (the weighted slope differs from zero at drift_test_probability);
+  // else one factor for the whole ASR. Not for walls whose direction needs
+  // the grid (sonar). 0 = one factor per ASR.
+  double direction_split_m = 3.0;
   // Local solve when an ASR closes: the last 'window' nodes move. A full
   // solve once the graph has grown by full_solve_growth (and at least
   // 'window' nodes) since the last one: the full solves cost O(N) each, so
@@ -180,6 +190,19 @@ class MapOptimizer {
   // The raw odometry from n's origin to its path pose nearest 'local_point'
   // (where walls near that point were seen from).
   OdometryMeasurement PathTo(const Node& n, const Vec2& local_point) const;
+  // Direction factors of an ASR's walls grouped along its path
+  // (direction_split_m); fewer than two: use one for the whole ASR.
+  struct SplitDirection {
+    double direction_local;
+    double sigma;
+    double s_mean_m;
+  };
+  std::vector<SplitDirection> SplitDirections(const Node& n, const asr::Asr& a) const;
+  struct Split {
+    int whole;                // the whole-ASR direction factor (disabled while split)
+    std::vector<int> groups;  // the groups' factors
+  };
+  std::vector<Split> splits_;
   void TryLoopClosures(int n);
   // The points (in n's local frame) inside n's box, 0.5 m margin.
   std::vector<FacedPoint> InBox(const std::vector<FacedPoint>& pts, const Node& n) const;

@@ -362,7 +362,9 @@ void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const Od
   }
 }
 
-void PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, double cauchy_scale) {
+void PoseGraph::SetFactorEnabled(int handle, bool enabled) { impl_->factors[handle].enabled = enabled; }
+
+int PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, double cauchy_scale) {
   if (!impl_->has_phi) {
     // The building direction starts at this first room's wall direction.
     impl_->phi = impl_->nodes[i][2] + d;
@@ -378,6 +380,7 @@ void PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, dou
   f.loss.reset(new ceres::CauchyLoss(cauchy_scale));
   f.params = {impl_->nodes[i].data(), &impl_->phi, &impl_->rates[i]};
   impl_->factors.push_back(std::move(f));
+  return static_cast<int>(impl_->factors.size()) - 1;
 }
 
 int PoseGraph::AddRelative(int i, int j, const Pose2& z, const Eigen::Matrix3d& cov, FactorKind kind,

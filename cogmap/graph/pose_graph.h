@@ -81,8 +81,12 @@ class PoseGraph {
   void AddOdometry(int i, int j, const OdometryMeasurement& m, const OdometryNoiseOptions& noise = {});
   // 's_mean_m': mean distance driven from the node's origin while its walls
   // were seen (the node's drift rate times it leans them).
-  void AddDirection(int i, double local_direction_rad, double sigma_rad, double s_mean_m = 0.0,
-                    double cauchy_scale = 2.0);
+  // Returns the factor's handle for SetFactorEnabled.
+  int AddDirection(int i, double local_direction_rad, double sigma_rad, double s_mean_m = 0.0,
+                   double cauchy_scale = 2.0);
+  // Any factor by the handle AddDirection returned (disabled factors are left
+  // out of solves, residuals and covariances).
+  void SetFactorEnabled(int handle, bool enabled);
   // Pose of node j in node i's frame, with its covariance. With 'bend_i'
   // and/or 'bend_j' (each node's raw path from its origin to where the walls
   // were seen: MeasureOdometry), j_in_i is a registration of raw walls: it is

@@ -74,6 +74,7 @@ struct HeadingCorrectionOptions {
 class HeadingCorrector {
  public:
   explicit HeadingCorrector(const HeadingCorrectionOptions& options = {}) : options_(options) {}
+  const HeadingCorrectionOptions& options() const { return options_; }
 
   // Corrects one ASR that has just closed; call in visiting order.
   asr::Asr Close(asr::Asr raw);
