@@ -16,6 +16,17 @@ std::vector<Pose2> Straight(double length_m, double step_m = 0.1) {
   return p;
 }
 
+// The odometry of a raw path of 'length_m' turning left by 'rate' per metre.
+OdometryMeasurement TurningOdometry(double length_m, double rate) {
+  std::vector<Pose2> path;
+  Pose2 p;
+  for (double s = 0.0; s <= length_m + 1e-9; s += 0.1) {
+    path.push_back(p);
+    p = p * Pose2{0.1, 0.0, rate * 0.1};
+  }
+  return MeasureOdometry(path);
+}
+
 TEST(OdometryModel, VarianceGrowsWithDistanceAndHeadingTurnsLateral) {
   OdometryNoiseOptions o;
   const auto m2 = MeasureOdometry(Straight(2.0), o);
@@ -38,14 +49,7 @@ TEST(PoseGraph, DriftRateIsRecoveredFromWallDirections) {
   g.AddNode(raw, true);
   g.AddDirection(0, 0.0, DegToRad(1.0));
   for (int i = 1; i <= 10; ++i) {
-    // Raw path of 4 m turning left by rate per metre.
-    std::vector<Pose2> path;
-    Pose2 p;
-    for (int k = 0; k <= 40; ++k) {
-      path.push_back(p);
-      p = p * Pose2{0.1, 0.0, rate * 0.1};
-    }
-    const auto m = MeasureOdometry(path);
+    const auto m = TurningOdometry(4.0, rate);
     raw = raw * m.delta;
     g.AddNode(raw);
     g.AddOdometry(i - 1, i, m);
@@ -81,13 +85,7 @@ double MaxHeadingErrorWithExitRegistrations(bool bend) {
   Eigen::Matrix3d reg_cov = Eigen::Matrix3d::Zero();
   reg_cov.diagonal() << 0.02 * 0.02, 0.02 * 0.02, std::pow(DegToRad(0.3), 2);
   for (int i = 1; i <= 10; ++i) {
-    std::vector<Pose2> path;
-    Pose2 p;
-    for (int k = 0; k <= 40; ++k) {
-      path.push_back(p);
-      p = p * Pose2{0.1, 0.0, rate * 0.1};
-    }
-    const auto m = MeasureOdometry(path);
+    const auto m = TurningOdometry(4.0, rate);
     raw = raw * m.delta;
     g.AddNode(raw);
     g.AddOdometry(i - 1, i, m);
@@ -111,16 +109,7 @@ TEST(PoseGraph, RegistrationsAcrossExitsAreBentByTheDriftRate) {
 // zero it is not.
 TEST(PoseGraph, ClosureBentAtBothEndsIsExactAtTheTrueRate) {
   const double rate = DegToRad(1.0);
-  auto raw_path = [&](double length_m) {
-    std::vector<Pose2> path;
-    Pose2 p;
-    for (double s = 0.0; s <= length_m + 1e-9; s += 0.1) {
-      path.push_back(p);
-      p = p * Pose2{0.1, 0.0, rate * 0.1};
-    }
-    return MeasureOdometry(path);
-  };
-  const OdometryMeasurement to_0 = raw_path(6.0), to_1 = raw_path(3.0);
+  const OdometryMeasurement to_0 = TurningOdometry(6.0, rate), to_1 = TurningOdometry(3.0, rate);
   const Pose2 t0{1.0, 2.0, 0.3}, t1{4.0, 7.0, 1.9};
   const Pose2 z = BendAt(to_0, rate).inverse() * (t0.inverse() * t1) * BendAt(to_1, rate);
   Eigen::Matrix3d cov = Eigen::Matrix3d::Identity() * 1e-4;
