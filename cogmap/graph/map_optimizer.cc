@@ -289,7 +289,7 @@ std::vector<MapOptimizer::SplitDirection> MapOptimizer::SplitDirections(const No
   if (!(det > 0.0)) return {};
   const double slope = (W * Wsy - Ws * Wy) / det;
   const double chi2 = slope * slope / (W / det);
-  if (chi2 <= ChiSquareQuantile(options_.drift_test_probability, static_cast<int>(out.size()) - 1)) return {};
+  if (chi2 <= ChiSquareQuantile(options_.drift_test_probability, 1)) return {};
   return out;
 }
 
