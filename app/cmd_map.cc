@@ -104,6 +104,12 @@ std::function<int()> SetupMap(CLI::App& sub) {
                  "this many metres of driving; a shorter gap (a door on one side of a corridor) does not cut "
                  "the space (0 = at the first release, as in paper mode; intel's laser log: 86 -> 73 ASRs with 1)")
       ->capture_default_str();
+  sub.add_option("--direction-split", a->job.mapping.direction_split_m,
+                 "Default mode, pose graph, laser walls: one wall-direction factor per this many metres of an "
+                 "ASR's path where the directions turn with the distance driven, so drift inside a long ASR is "
+                 "seen (0 = one per ASR; docs/pose-graph.md, 'Drift inside an ASR': 3 helps at 1 deg/m and "
+                 "hurts at 2 deg/m)")
+      ->capture_default_str();
   sub.add_option("--walls", a->walls,
                  "Default mode: how each room's walls are found: chains (the thesis's chain simplify and fit; "
                  "what default means) or lines (lines in each room's occupancy evidence, docs/walls.md); paper "

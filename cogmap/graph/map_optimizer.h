@@ -32,8 +32,11 @@ struct MapOptimizerOptions {
   // groups give a direction and their directions turn with the distance
   // driven (the weighted slope differs from zero at drift_test_probability);
   // else one factor for the whole ASR. Not for walls whose direction needs
-  // the grid (sonar). 0 = one factor per ASR.
-  double direction_split_m = 3.0;
+  // the grid (sonar). 0 = one factor per ASR (the default: at 2 deg/m the
+  // groups' directions, each bent by 6 deg inside its 3 m, gave a drift of
+  // 1 deg/m and 2 of 5 nine_rooms laser runs fell back to odometry;
+  // docs/pose-graph.md). `cogmap map --direction-split 3` turns it on.
+  double direction_split_m = 0.0;
   // Local solve when an ASR closes: the last 'window' nodes move. A full
   // solve once the graph has grown by full_solve_growth (and at least
   // 'window' nodes) since the last one: the full solves cost O(N) each, so

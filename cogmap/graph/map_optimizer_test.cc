@@ -156,6 +156,7 @@ TEST(MapOptimizer, DriftInsideLongAsrsIsFoundFromWallsAlongThePath) {
   const auto straight = BentHalls(0.0);
   MapOptimizerOptions o;
   o.heading.grid_refine = false;
+  o.direction_split_m = 3.0;
   MapOptimizer opt(o);
   for (const auto& a : straight) opt.Place(a);
   const OptimizerResult none = opt.Finish();

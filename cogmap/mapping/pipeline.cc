@@ -40,6 +40,8 @@ void MappingOptions::Validate() const {
   if (!(window_m > 0.0)) throw InputError("--window " + Num(window_m) + ": must be positive");
   if (!(asr_length_m > 0.0)) throw InputError("--asr-length " + Num(asr_length_m) + ": must be positive");
   if (!(max_asr_m >= 0.0)) throw InputError("--max-asr " + Num(max_asr_m) + ": must be 0 or positive");
+  if (!(direction_split_m >= 0.0) || direction_split_m > 1000.0)
+    throw InputError("--direction-split " + Num(direction_split_m) + ": must be in [0, 1000] metres");
   if (!(release_confirm_m >= 0.0) || release_confirm_m > 100.0)
     throw InputError("--door-release " + Num(release_confirm_m) + ": must be in [0, 100] metres");
   if (!std::isfinite(add_drift_rad_per_m) || std::abs(add_drift_rad_per_m) > DegToRad(90.0))
@@ -118,9 +120,10 @@ localize::HeadingCorrectionOptions HeadingOptionsFor(const sensors::RobotDescrip
   h.grid_refine = !LaserOnly(robot);
   return h;
 }
-graph::MapOptimizerOptions GraphOptionsFor(const localize::HeadingCorrectionOptions& h) {
+graph::MapOptimizerOptions GraphOptionsFor(const localize::HeadingCorrectionOptions& h, const MappingOptions& o) {
   graph::MapOptimizerOptions g;
   g.heading = h;
+  g.direction_split_m = o.direction_split_m;
   return g;
 }
 }  // namespace
@@ -146,7 +149,7 @@ MappingPipeline::MappingPipeline(sensors::RobotDescription robot, MappingOptions
       mapper_->SetCorrector([this](asr::Asr pre) { return drift_corrector_.Close(std::move(pre)); });
       break;
     case Correction::kPoseGraph:
-      optimizer_ = std::make_unique<graph::MapOptimizer>(GraphOptionsFor(heading_options_));
+      optimizer_ = std::make_unique<graph::MapOptimizer>(GraphOptionsFor(heading_options_, options_));
       mapper_->SetPlacer([this](asr::Asr x) { return optimizer_->Place(std::move(x)); });
       break;
     case Correction::kPerAsrEm:
