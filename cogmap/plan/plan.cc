@@ -1438,6 +1438,10 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   build_regions(unit_room, n1, {}, &seeds, &hulls);
   std::vector<Shape> shapes;
   std::map<std::pair<int, int>, int> touching;  // pairs of units -> cell edges their regions share
+  // The same contacts split by the direction of the step (x, y): a straight
+  // border of slope dy/dx crosses about |dy| / cell x-steps and |dx| / cell
+  // y-steps, so its length is about cell * hypot(x-steps, y-steps).
+  std::map<std::pair<int, int>, std::pair<int, int>> touching_xy;
   {  // pass 1's labels go before pass 2 floods
     const Mask blocked1 = door_mask(unit_room);
     const Labels label1 = Flood(g, blocked1, seeds, hulls);
@@ -1456,7 +1460,11 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
           if (nx >= g.w || ny >= g.h || blocked1.Get(nx, ny)) break;
           const int q = label1.Get(nx, ny);
           if (q < 0) continue;
-          if (q != r) ++touching[{std::min(r, q), std::max(r, q)}];
+          if (q != r) {
+            ++touching[{std::min(r, q), std::max(r, q)}];
+            auto& xy = touching_xy[{std::min(r, q), std::max(r, q)}];
+            ++(dx ? xy.first : xy.second);
+          }
           break;
         }
     });
@@ -1560,6 +1568,30 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       for (int q : pieces) corr.Unite(r, q), in_corridor[q] = 1;
       in_corridor[r] = 1;
     }
+  }
+  // Open plan. Two rooms the robot drove between (an exit joins them),
+  // neither a corridor (nor a lone corridor piece), whose pass-1 regions
+  // meet across open floor (never across a wall or a door line) along more
+  // than open_border_m are one space: a room's border is walls and doors,
+  // and no doorway is that wide, so the exit was a narrowing, not a door.
+  // The robot cut one room where clutter narrowed its way (cluttered_lab:
+  // one 12 x 6 m lab, two ASRs meeting along 7 m of open floor); the room
+  // graph keeps both. Rooms the robot entered each from elsewhere (offices
+  // off a corridor) are not joined: between them an open border is more
+  // likely a wall the sensor missed.
+  std::set<std::pair<int, int>> driven;
+  for (int u = 0; u < n_units; ++u)
+    if (unit_room[unit_root(u)] >= 0)
+      for (int v : unit_adj[u]) {
+        const int a = unit_room[unit_root(u)], b = unit_room[unit_root(v)];
+        if (a != b) driven.insert({std::min(a, b), std::max(a, b)});
+      }
+  for (const auto& [pair, xy] : touching_xy) {
+    const auto [ru, rv] = pair;
+    auto corridor_like = [&](int r) { return in_corridor[r] || (narrow[r] && elongated[r]); };
+    if (!driven.count(pair) || corridor_like(ru) || corridor_like(rv)) continue;
+    if (g.cell * std::hypot(xy.first, xy.second) <= o.open_border_m) continue;
+    corr.Unite(ru, rv);
   }
   // Plan rooms: one per corridor group or remaining unit, ordered by first ASR.
   std::vector<int> plan_of_r1(n1, -1);

@@ -110,6 +110,12 @@ struct PlanOptions {
   // their floor per metre of the robot's path, is a corner of the corridor
   // (an L reads as wide; docs/floor-plan.md).
   double corner_floor_ratio = 1.5;
+  // Two rooms (neither a corridor) whose regions meet across open floor (no
+  // wall, no door line) along more than this are one space of the plan: a
+  // room's border is walls and doors, and no doorway is wider than
+  // max_door_m. The room graph keeps both (the robot cut an open-plan room
+  // where clutter narrowed it).
+  double open_border_m = 2.5;
   double sliver_path_m = 0.5;          // a store room with less path than this is absorbed by a neighbour
   double min_room_area_m2 = 0.25;      // smaller rooms are dropped
 };

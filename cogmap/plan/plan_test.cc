@@ -619,5 +619,51 @@ TEST(BuildPlan, RoomExploredBetweenTwoPiecesOfAStraightCorridorStaysARoom) {
   ExpectRoomBetweenTwoCorridors(BuildPlan(RoomBetweenTwoCorridorPieces(explore), {}));
 }
 
+TEST(BuildPlan, OpenFloorBetweenTwoAsrsOfOneRoomIsOneRoom) {
+  // One 12 x 6 m lab with a desk (5.5..6.5 x 1.5..3): the robot drove along
+  // y = 0.75 between the wall and the desk, where the way narrowed to 1.5 m,
+  // and the map cut the lab there into two ASRs. Above the desk the two
+  // ASRs' floors meet along 3 m of open floor, wider than any doorway
+  // (max_door_m 2.5): one room of the plan; the room graph keeps both.
+  const Polyline desk = Box(5.5, 1.5, 6.5, 3.0);
+  asr::Asr a = MakeAsr(0, {{{6, 0}, {0, 0}, {0, 6}, {6, 6}}, desk}, Line({1, 0.75}, {6, 0.75}));
+  std::vector<Vec2> pb = Line({6, 0.75}, {11, 0.75});
+  for (const Vec2& p : Line({11, 0.85}, {11, 5})) pb.push_back(p);
+  asr::Asr b = MakeAsr(1, {{{6, 0}, {12, 0}, {12, 6}, {6, 6}}, desk}, pb, 10.0);
+  a.exits.push_back({{6.0, 0.75}, 1.5, 0, 1});
+  b.exits.push_back({{6.0, 0.75}, 1.5, 0, 1});
+  const Plan plan = BuildPlan({a, b}, {});
+  ASSERT_EQ(plan.rooms.size(), 1u);
+  EXPECT_EQ(plan.rooms[0].asr_ids, (std::vector<int>{0, 1}));
+  EXPECT_EQ(plan.rooms[0].graph_rooms.size(), 2u);
+  EXPECT_NEAR(plan.rooms[0].area_m2, 72.0, 4.0);  // the lab (the desk inside it is its own)
+  EXPECT_TRUE(plan.edges.empty());                 // no door of the plan inside one room
+  PlanOptions narrow_only;
+  narrow_only.open_border_m = 3.5;  // a border no wider than this may be a doorway: two rooms
+  EXPECT_EQ(BuildPlan({a, b}, {}, narrow_only).rooms.size(), 2u);
+
+  // With the border closed by a wall above the desk, the two are rooms
+  // joined by a door (the 1.5 m way between the wall and the desk).
+  a.walls_local.push_back({{6, 3}, {6, 6}});
+  b.walls_local.push_back({{6, 3}, {6, 6}});
+  const Plan walled = BuildPlan({a, b}, {});
+  EXPECT_EQ(walled.rooms.size(), 2u);
+}
+
+TEST(BuildPlan, RoomsEnteredEachFromTheCorridorStayTwoAcrossAMissedWall) {
+  // Two 4 x 4 m offices off a 2 m corridor; the wall between them (x = 4)
+  // was not seen, so their floors meet along 4 m of open floor. The robot
+  // entered each from the corridor, never one from the other: the open
+  // border is more likely a missed wall than one room, and they stay two.
+  asr::Asr r1 = MakeAsr(0, {{{1.55, 2}, {0, 2}, {0, 6}, {4, 6}}, {{2.45, 2}, {4, 2}}}, Line({2, 2.5}, {2, 5}));
+  asr::Asr c = MakeAsr(1, {Box(0, 0, 8, 2)}, Line({0.5, 1}, {7.5, 1}), 10.0);
+  asr::Asr r2 = MakeAsr(2, {{{6.45, 2}, {8, 2}, {8, 6}, {4, 6}}, {{5.55, 2}, {4, 2}}}, Line({6, 2.5}, {6, 5}), 20.0);
+  for (asr::Asr* x : {&r1, &c}) x->exits.push_back({{2.0, 2.0}, 0.9, 0, 1});
+  for (asr::Asr* x : {&c, &r2}) x->exits.push_back({{6.0, 2.0}, 0.9, 1, 2});
+  const Plan plan = BuildPlan({r1, c, r2}, {});
+  ASSERT_EQ(plan.rooms.size(), 3u);
+  for (const Room& r : plan.rooms) EXPECT_EQ(r.asr_ids.size(), 1u);
+}
+
 }  // namespace
 }  // namespace cogmap::plan
