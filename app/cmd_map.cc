@@ -104,6 +104,8 @@ std::function<int()> SetupMap(CLI::App& sub) {
                  "this many metres of driving; a shorter gap (a door on one side of a corridor) does not cut "
                  "the space (0 = at the first release, as in paper mode; intel's laser log: 86 -> 73 ASRs with 1)")
       ->capture_default_str();
+  sub.add_flag("--sonar-cone", a->job.mapping.cone_hits,
+               "Default mode, sonar: fuse each echo over the sonar's cone, not its axis alone: the cone nearer than the echo is free (weighted towards the axis) and the echo goes on its arc, at the cell nearest the axis not known empty (off by default: walls placed at the true poses are better on every bench world, the whole map is mixed; docs/walls.md, \"Sonar cone\")");
   sub.add_option("--direction-split", a->job.mapping.direction_split_m,
                  "Default mode, pose graph, laser walls: one wall-direction factor per this many metres of an "
                  "ASR's path where the directions turn with the distance driven, so drift inside a long ASR is "

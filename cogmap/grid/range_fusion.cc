@@ -189,8 +189,8 @@ void HimmFusion::InsertRay(const CellIndex& r0, double sx, double sy, double cos
   const MapLimits* lim = &grid_.limits();
   const double inv = 1.0 / lim->cell_m();
   const double ex = sx + d * cos_h, ey = sy + d * sin_h;
-  const int tx = static_cast<int>(std::floor((ex - lim->origin().x()) * inv));
-  const int ty = static_cast<int>(std::floor((ey - lim->origin().y()) * inv));
+  int tx = static_cast<int>(std::floor((ex - lim->origin().x()) * inv));
+  int ty = static_cast<int>(std::floor((ey - lim->origin().y()) * inv));
   int x0 = r0.x(), y0 = r0.y();
   if (!bounded_ && (tx < 1 || ty < 1 || tx + 1 >= lim->width() || ty + 1 >= lim->height() ||
                     !lim->Contains(r0))) {
@@ -244,6 +244,58 @@ void HimmFusion::InsertRay(const CellIndex& r0, double sx, double sy, double cos
   if (!hit) {
     if (tx != r0.x() || ty != r0.y()) decrement(tx, ty);
     return;
+  }
+  // The cone (default mode, MhimmOptions::cone_hits): free evidence over the
+  // cone nearer than the echo, and the hit on the echo's arc.
+  const double half = 0.5 * sensor.beam_width_rad;
+  if (modified_ && options_.cone_hits && half * d >= lim->cell_m()) {
+    const double cell = lim->cell_m();
+    const double ox = lim->origin().x(), oy = lim->origin().y();
+    const double reach = d - 1.5 * cell;
+    if (reach > 0.0) {
+      // The sector's box: its apex, the two ends of its arc and the arc's
+      // point on the axis (the farthest along it).
+      const double ca = std::cos(half), sa = std::sin(half);
+      const double lx = cos_h * ca - sin_h * sa, ly = sin_h * ca + cos_h * sa;  // left edge
+      const double rx = cos_h * ca + sin_h * sa, ry = sin_h * ca - cos_h * sa;  // right edge
+      const double bx0 = std::min({0.0, reach * lx, reach * rx, reach * cos_h});
+      const double bx1 = std::max({0.0, reach * lx, reach * rx, reach * cos_h});
+      const double by0 = std::min({0.0, reach * ly, reach * ry, reach * sin_h});
+      const double by1 = std::max({0.0, reach * ly, reach * ry, reach * sin_h});
+      const int x_lo = std::max(0, static_cast<int>(std::floor((sx + bx0 - ox) * inv)));
+      const int x_hi = std::min(w - 1, static_cast<int>(std::floor((sx + bx1 - ox) * inv)));
+      const int y_lo = std::max(0, static_cast<int>(std::floor((sy + by0 - oy) * inv)));
+      const int y_hi = std::min(h - 1, static_cast<int>(std::floor((sy + by1 - oy) * inv)));
+      const double reach2 = reach * reach, cos2 = ca * ca;
+      for (int y = y_lo; y <= y_hi; ++y)
+        for (int x = x_lo; x <= x_hi; ++x) {
+          const double px = ox + (x + 0.5) * cell - sx, py = oy + (y + 0.5) * cell - sy;
+          const double rr = px * px + py * py;
+          const double along = px * cos_h + py * sin_h;
+          if (rr >= reach2 || along <= 0.0 || along * along < cos2 * rr) continue;
+          // The angle off the axis from its sine (within a cone of at most
+          // 90 degrees; asin's series to the cube is within 1e-4 rad at 15).
+          const double sn = std::abs(px * sin_h - py * cos_h) / std::sqrt(rr);
+          const double angle = std::min(half, sn * (1.0 + sn * sn / 6.0));
+          float& v = cells[static_cast<long>(y) * w + x];
+          if (v != path) v = std::max(v - static_cast<float>(dec * (1.0 - angle / half)), lo);
+        }
+    }
+    // The arc at d, one cell apart, from the axis outwards (0, +1, -1, +2, -2, ...).
+    const int n = static_cast<int>(std::ceil(half * d * inv));
+    const double heading = std::atan2(sin_h, cos_h);
+    for (int j = 0; j <= 2 * n; ++j) {
+      const int k = (j + 1) / 2 * (j % 2 ? 1 : -1);
+      const double a = heading + half * k / n;
+      const int cx = static_cast<int>(std::floor((sx + d * std::cos(a) - ox) * inv));
+      const int cy = static_cast<int>(std::floor((sy + d * std::sin(a) - oy) * inv));
+      if (static_cast<unsigned>(cx) >= static_cast<unsigned>(w) || static_cast<unsigned>(cy) >= static_cast<unsigned>(h))
+        continue;
+      const float v = cells[static_cast<long>(cy) * w + cx];
+      if (v < 0.0f || v == path) continue;
+      tx = cx, ty = cy;
+      break;
+    }
   }
   // Beam first, then the hit: t +3, its 8 neighbours +1.5 (SPEC 2).
   add(tx, ty, options_.hit_increment);

@@ -114,6 +114,20 @@ struct MhimmOptions : HimmOptions {
   // cell between sweeps leaves an unbroken path for cleaning. The papers mark
   // only the centre cell at each update: 0 reproduces that.
   double join_path_max_m = 1.0;
+  // Default mode on request (--sonar-cone; off by default, docs/walls.md,
+  // "Sonar cone" says why): the sonar's cone, not only its axis. An echo at range r comes from the nearest reflector
+  // inside the cone, so (1) every cell of the cone nearer than r, less a
+  // cell and a half, is free evidence, weighted (1 - |angle| / half-angle)
+  // x beam_decrement (Moravec's angular weight: a cell near the cone's edge
+  // is less surely empty), beside the axis's own decrement; and (2) the hit
+  // goes on the arc of radius r, to the arc cell nearest the axis that is
+  // not known empty (value >= 0), on the axis when every arc cell is. HIMM
+  // puts the echo on the axis, which for an oblique sonar is in front of
+  // the wall: the echo came from the cone's edge (a Pioneer's 50-degree
+  // sonar 1 m from a wall: 0.22 m in front). Only for a sensor whose cone
+  // at the range is wider than a cell; a laser's beam stays a ray. The
+  // papers use the axis alone: false reproduces them.
+  bool cone_hits = false;
 };
 
 // The two sonar-cone rules of chapter II (Moravec / Murphy): the cone of

@@ -119,6 +119,54 @@ TEST(Mhimm, ManyMissesClampAtMinusThree) {
   EXPECT_EQ(g.values().at(45, 40), -3.0f);
 }
 
+// The sonar cone (MhimmOptions::cone_hits). An echo whose axis cell is known
+// empty goes on its arc, at the cell nearest the axis that is not: a 30-degree
+// sonar at (0.05, 0.05) looking along +x, its axis row (y in [0, 0.1)) cleared
+// by a narrow beam; its echo at 1 m lands 5 degrees to the left (arc cells one
+// cell apart: n = ceil(15 deg x 1 m / 0.1 m) = 3), at (0.046 + 1, 0.137).
+TEST(Mhimm, ConeHitGoesOnTheArcWhereTheAxisIsKnownEmpty) {
+  MhimmOptions o;
+  o.cone_hits = true;
+  HimmFusion f(true, o, Bounded());
+  sensors::RangeSensor ray = Ahead();
+  ray.beam_width_rad = DegToRad(0.5);  // a ray: the cone is narrower than a cell
+  for (int i = 0; i < 3; ++i) f.Insert(kRobot, ray, 5.0);  // no echo: the row is cleared to the window
+  ASSERT_LT(f.Values().at(50, 40), 0.0f);
+  sensors::RangeSensor sonar = Ahead();
+  sonar.beam_width_rad = DegToRad(30.0);
+  f.Insert(kRobot, sonar, 1.0);
+  const auto v = f.Values();
+  const double a = DegToRad(5.0);
+  const int cx = static_cast<int>(std::floor((0.05 + std::cos(a) + 4.0) / 0.1));
+  const int cy = static_cast<int>(std::floor((0.05 + std::sin(a) + 4.0) / 0.1));
+  EXPECT_EQ(cy, 41);
+  EXPECT_FLOAT_EQ(v.at(cx, cy), 3.0f);    // the hit
+  EXPECT_FLOAT_EQ(v.at(50, 40), -1.5f);   // the axis cell: -3, and +1.5 as the hit's neighbour
+  // The cone nearer than the echo lost evidence off the axis too: the cell
+  // 0.5 m ahead and 0.1 m left is 11 degrees off the axis (weight 0.25).
+  EXPECT_LT(v.at(45, 40 + 1), 0.0f);
+  // Without cone_hits the same readings put the echo on the axis.
+  HimmFusion axis(true, MhimmOptions{}, Bounded());
+  for (int i = 0; i < 3; ++i) axis.Insert(kRobot, ray, 5.0);
+  axis.Insert(kRobot, sonar, 1.0);
+  EXPECT_FLOAT_EQ(axis.Values().at(50, 40), 0.0f);  // -3 + 3
+}
+
+// A laser's beam is a ray: cone_hits changes nothing for it.
+TEST(Mhimm, ConeHitsLeaveARayAlone) {
+  MhimmOptions o;
+  o.cone_hits = true;
+  HimmFusion with(true, o, Bounded()), without(true, MhimmOptions{}, Bounded());
+  sensors::RangeSensor laser = Ahead();
+  laser.beam_width_rad = DegToRad(1.0);
+  for (double r : {0.7, 1.0, 1.33, 2.5, 4.0})
+    for (double th : {0.0, 0.4, -1.1}) {
+      with.Insert(Pose2{0.05, 0.05, th}, laser, r);
+      without.Insert(Pose2{0.05, 0.05, th}, laser, r);
+    }
+  EXPECT_EQ(with.Values().cells(), without.Values().cells());
+}
+
 TEST(Himm, ManyMissesClampAtZero) {
   auto g = Himm();
   for (int i = 0; i < 10; ++i) g.Insert(kRobot, Ahead(), 1.0);

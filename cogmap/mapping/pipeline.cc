@@ -92,6 +92,9 @@ asr::MapperOptions MapperOptionsFor(const sensors::RobotDescription& robot, cons
   asr::MapperOptions m;
   m.cell_m = o.cell_m;
   m.mhimm.window_m = o.window_m;
+  // Default mode, on request (--sonar-cone): free evidence over the sonar's
+  // cone and each echo on its arc. Off by default: docs/walls.md, "Sonar cone".
+  m.mhimm.cone_hits = !o.paper && o.cone_hits;
   m.vectorize = o.paper ? vectorize::VectorizeOptions::Paper() : vectorize::VectorizeOptions{};
   if (!o.paper) ConfigureWallLines(robot, o.wall_lines, &m.vectorize);
   m.boundary.mode = o.boundary;

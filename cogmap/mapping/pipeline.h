@@ -42,6 +42,7 @@ struct MappingOptions {
   double max_asr_m = 15.0;             // default mode: cut a space after this many metres (0 = never)
   double release_confirm_m = 0.0;      // default mode, --door-release: a side released for less travel is a side opening (0: off)
   double direction_split_m = 0.0;     // pose graph, laser walls: direction factors per this much path (0: off)
+  bool cone_hits = false;              // default mode, --sonar-cone: MHIMM over the sonar's cone (grid::MhimmOptions::cone_hits)
   bool correct = true;                 // false: every ASR at its odometry pose
   bool pose_graph = true;              // default mode: the pose graph (false: the drift filter)
   bool drift_filter = true;            // without the graph: the drift-rate filter

@@ -33,6 +33,7 @@ FusedLog FuseWholeLog(io::LogReader& log, const sensors::RobotDescription& robot
   grid::FusionOptions fo;
   fo.bounds.cell_m = job.cell_m;
   fo.mhimm.window_m = job.window_m;
+  fo.mhimm.cone_hits = !job.paper && job.cone_hits;
   FusedLog f;
   f.fusion = grid::MakeFusion(grid::FusionRule::kMhimm, fo);
   sensors::LogRecord rec;
