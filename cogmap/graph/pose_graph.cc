@@ -50,22 +50,31 @@ void RelativeResidual(const T* pi, const T* pj, const T& mx, const T& my, const 
   for (int a = 0; a < 3; ++a) r[a] = T(W(a, 0)) * e[0] + T(W(a, 1)) * e[1] + T(W(a, 2)) * e[2];
 }
 
+// Node i's path end under drift rate 'rate' (m's steps re-integrated).
+template <typename T>
+void BentEnd(const OdometryMeasurement& m, const T& rate, T* out) {
+  using std::cos;
+  using std::sin;
+  T bx(0.0), by(0.0);
+  for (const Eigen::Vector3d& st : m.steps) {
+    const T a = -rate * T(st.z());
+    bx += cos(a) * T(st.x()) - sin(a) * T(st.y());
+    by += sin(a) * T(st.x()) + cos(a) * T(st.y());
+  }
+  out[0] = bx;
+  out[1] = by;
+  out[2] = T(m.delta.theta) - rate * T(m.distance_m);
+}
+
 struct OdometryCost {
   OdometryMeasurement m;
   Eigen::Matrix3d W;
   double scale = 1.0;  // 1 / the variance component's sigma factor
   template <typename T>
   bool operator()(const T* pi, const T* pj, const T* rate, T* r) const {
-    using std::cos;
-    using std::sin;
-    T mx(0.0), my(0.0);
-    for (const Eigen::Vector3d& st : m.steps) {
-      const T a = -rate[0] * T(st.z());
-      mx += cos(a) * T(st.x()) - sin(a) * T(st.y());
-      my += sin(a) * T(st.x()) + cos(a) * T(st.y());
-    }
-    const T mth = T(m.delta.theta) - rate[0] * T(m.distance_m);
-    RelativeResidual(pi, pj, mx, my, mth, W, r);
+    T end[3];
+    BentEnd(m, rate[0], end);
+    RelativeResidual(pi, pj, end[0], end[1], end[2], W, r);
     for (int a = 0; a < 3; ++a) r[a] *= T(scale);
     return true;
   }
@@ -82,22 +91,6 @@ struct RelativeCost {
     return true;
   }
 };
-
-// Node i's path end under drift rate 'rate' (m's steps re-integrated).
-template <typename T>
-void BentEnd(const OdometryMeasurement& m, const T& rate, T* out) {
-  using std::cos;
-  using std::sin;
-  T bx(0.0), by(0.0);
-  for (const Eigen::Vector3d& st : m.steps) {
-    const T a = -rate * T(st.z());
-    bx += cos(a) * T(st.x()) - sin(a) * T(st.y());
-    by += sin(a) * T(st.x()) + cos(a) * T(st.y());
-  }
-  out[0] = bx;
-  out[1] = by;
-  out[2] = T(m.delta.theta) - rate * T(m.distance_m);
-}
 
 template <typename T>
 void ComposeT(const T* a, const T* b, T* out) {
@@ -413,11 +406,16 @@ int PoseGraph::AddRelative(int i, int j, const Pose2& z, const Eigen::Matrix3d& 
 
 Pose2 PoseGraph::Bend(int i, const OdometryMeasurement& m) const { return BendAt(m, impl_->rates[i]); }
 
-Pose2 BendAt(const OdometryMeasurement& m, double rate) {
+namespace {
+// The path's end under drift rate 'rate' (m's steps re-integrated), in doubles.
+Pose2 BentPathEnd(const OdometryMeasurement& m, double rate) {
   Vec2 t(0, 0);
   for (const Eigen::Vector3d& st : m.steps) t += RotateAbout(Vec2(st.x(), st.y()), Vec2(0.0, 0.0), -rate * st.z());
-  return Pose2{t.x(), t.y(), m.delta.theta - rate * m.distance_m} * m.delta.inverse();
+  return Pose2{t.x(), t.y(), m.delta.theta - rate * m.distance_m};
 }
+}  // namespace
+
+Pose2 BendAt(const OdometryMeasurement& m, double rate) { return BentPathEnd(m, rate) * m.delta.inverse(); }
 
 void PoseGraph::SetSigmaFactor(FactorKind kind, double factor) {
   for (auto& f : impl_->factors)
@@ -468,10 +466,7 @@ void PoseGraph::ChainWithRate(double rate) {
   for (double& r : impl_->rates) r = rate;
   for (const auto& f : impl_->factors) {
     if (f.kind != FactorKind::kOdometry || !f.odometry || impl_->fixed[f.j]) continue;
-    const OdometryMeasurement& m = *f.odometry;
-    Vec2 t(0.0, 0.0);
-    for (const Eigen::Vector3d& st : m.steps) t += RotateAbout(Vec2(st.x(), st.y()), Vec2(0.0, 0.0), -rate * st.z());
-    set_pose(f.j, pose(f.i) * Pose2{t.x(), t.y(), m.delta.theta - rate * m.distance_m});
+    set_pose(f.j, pose(f.i) * BentPathEnd(*f.odometry, rate));
   }
 }
 
