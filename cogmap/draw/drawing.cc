@@ -114,14 +114,7 @@ Drawing::Drawing(double width_px, double height_px, Colour background)
       background_(background),
       steps_(std::make_shared<std::vector<Step>>()) {}
 
-void Drawing::Line(const Vec2& a, const Vec2& b, const Stroke& stroke) {
-  steps_->push_back([a, b, stroke](cairo_t* cr) {
-    ApplyStroke(cr, stroke);
-    cairo_move_to(cr, a.x(), a.y());
-    cairo_line_to(cr, b.x(), b.y());
-    cairo_stroke(cr);
-  });
-}
+void Drawing::Line(const Vec2& a, const Vec2& b, const Stroke& stroke) { Stroked({a, b}, stroke, false); }
 
 namespace {
 
@@ -145,19 +138,65 @@ std::vector<Vec2> Thinned(const std::vector<Vec2>& points) {
 
 void Drawing::Polyline(const std::vector<Vec2>& input, const Stroke& stroke, bool closed) {
   if (input.size() < 2) return;
-  std::vector<Vec2> points = Thinned(input);
-  steps_->push_back([points = std::move(points), stroke, closed](cairo_t* cr) {
-    ApplyStroke(cr, stroke);
-    cairo_move_to(cr, points[0].x(), points[0].y());
-    for (size_t i = 1; i < points.size(); ++i) cairo_line_to(cr, points[i].x(), points[i].y());
-    if (closed) cairo_close_path(cr);
+  Stroked(Thinned(input), stroke, closed);
+}
+
+namespace {
+
+bool SameStroke(const Stroke& a, const Stroke& b) {
+  return a.colour.r == b.colour.r && a.colour.g == b.colour.g && a.colour.b == b.colour.b &&
+         a.colour.a == b.colour.a && a.width_px == b.width_px && a.dash_px == b.dash_px && a.round == b.round;
+}
+
+}  // namespace
+
+// Lines drawn one after another with the same opaque stroke are one cairo
+// path of several subpaths, stroked once: what they paint is the same (an
+// opaque stroke painted over itself looks as painted once; a dash pattern
+// starts again at each subpath as at each path), but the SVG holds one
+// <path> element and one style for them instead of one per line (a
+// 1000-room floor plan has some 13,000 walls; cairo keeps the page in
+// memory until it is written). Translucent strokes stay one path each, since
+// their overlaps would darken.
+struct Drawing::StrokeBatch {
+  Stroke stroke;
+  std::vector<std::vector<Vec2>> lines;
+  std::vector<bool> closed;
+};
+
+void Drawing::Stroked(std::vector<Vec2> points, const Stroke& stroke, bool closed) {
+  std::shared_ptr<StrokeBatch> batch = open_batch_.lock();
+  if (batch && open_batch_step_ + 1 == steps_->size() && stroke.colour.a >= 1.0 &&
+      SameStroke(batch->stroke, stroke)) {
+    batch->lines.push_back(std::move(points));
+    batch->closed.push_back(closed);
+    return;
+  }
+  batch = std::make_shared<StrokeBatch>();
+  batch->stroke = stroke;
+  batch->lines.push_back(std::move(points));
+  batch->closed.push_back(closed);
+  open_batch_ = batch;
+  open_batch_step_ = steps_->size();
+  steps_->push_back([batch](cairo_t* cr) {
+    ApplyStroke(cr, batch->stroke);
+    for (size_t k = 0; k < batch->lines.size(); ++k) {
+      const auto& points = batch->lines[k];
+      cairo_move_to(cr, points[0].x(), points[0].y());
+      for (size_t i = 1; i < points.size(); ++i) cairo_line_to(cr, points[i].x(), points[i].y());
+      if (batch->closed[k]) cairo_close_path(cr);
+    }
     cairo_stroke(cr);
   });
 }
 
-void Drawing::Polygon(const std::vector<Vec2>& points, Colour fill, const Stroke& outline) {
-  if (points.size() < 3) return;
-  steps_->push_back([points, fill, outline](cairo_t* cr) {
+void Drawing::Polygon(const std::vector<Vec2>& input, Colour fill, const Stroke& outline) {
+  if (input.size() < 3) return;
+  // Thinned as a polyline is: a room outline traced on a 0.1 m grid and
+  // drawn at a few pixels a room keeps a point per quarter pixel.
+  std::vector<Vec2> thinned = Thinned(input);
+  std::vector<Vec2> points = thinned.size() >= 3 ? std::move(thinned) : input;
+  steps_->push_back([points = std::move(points), fill, outline](cairo_t* cr) {
     cairo_move_to(cr, points[0].x(), points[0].y());
     for (size_t i = 1; i < points.size(); ++i) cairo_line_to(cr, points[i].x(), points[i].y());
     cairo_close_path(cr);

@@ -113,9 +113,15 @@ class Drawing {
   void Replay(cairo_t* cr, bool release) const;
   void EncodeTo(Format format, std::ostream& out, bool release) const;
   void Write(const std::string& path, bool release) const;
+  // A stroked polyline, joined to the last step when that one strokes the
+  // same opaque way (drawing.cc).
+  struct StrokeBatch;
+  void Stroked(std::vector<Vec2> points, const Stroke& stroke, bool closed);
   double width_, height_;
   Colour background_;
   std::shared_ptr<std::vector<Step>> steps_;
+  std::weak_ptr<StrokeBatch> open_batch_;  // the last step's lines, while it is one
+  size_t open_batch_step_ = 0;
 };
 
 }  // namespace cogmap::draw

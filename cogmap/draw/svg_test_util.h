@@ -29,32 +29,47 @@ inline std::string Attr(const std::string& element, const std::string& name) {
   return std::regex_search(element, m, re) ? m[1].str() : std::string();
 }
 
-// Every <path> of the document, in order.
+// Every subpath of every <path> of the document, in order, each with its
+// path's style (lines stroked alike are one <path> of several subpaths: see
+// Drawing::Polyline).
 inline std::vector<SvgPath> ParseSvgPaths(const std::string& svg) {
   std::vector<SvgPath> out;
   const std::regex path_re("<path[^>]*>");
   for (auto it = std::sregex_iterator(svg.begin(), svg.end(), path_re); it != std::sregex_iterator(); ++it) {
     const std::string e = it->str();
     if (e.find(" transform=") != std::string::npos) continue;  // glyph outlines and the like
-    SvgPath p;
-    p.style = Attr(e, "style");
-    const std::string d = Attr(e, "d");
-    std::vector<double> nums;
-    const std::regex num_re("-?[0-9]+(\\.[0-9]+)?(e-?[0-9]+)?");
-    for (auto n = std::sregex_iterator(d.begin(), d.end(), num_re); n != std::sregex_iterator(); ++n)
-      nums.push_back(std::stod(n->str()));
-    for (size_t i = 0; i + 1 < nums.size(); i += 2) p.points.emplace_back(nums[i], nums[i + 1]);
+    SvgPath style;
+    style.style = Attr(e, "style");
     std::smatch m;
     const std::regex stroke_re("stroke:rgb\\(([0-9.]+)%,\\s*([0-9.]+)%,\\s*([0-9.]+)%\\)");
-    if (std::regex_search(p.style, m, stroke_re)) {
-      p.stroked = true;
-      p.r = static_cast<int>(std::lround(std::stod(m[1]) * 2.55));
-      p.g = static_cast<int>(std::lround(std::stod(m[2]) * 2.55));
-      p.b = static_cast<int>(std::lround(std::stod(m[3]) * 2.55));
+    if (std::regex_search(style.style, m, stroke_re)) {
+      style.stroked = true;
+      style.r = static_cast<int>(std::lround(std::stod(m[1]) * 2.55));
+      style.g = static_cast<int>(std::lround(std::stod(m[2]) * 2.55));
+      style.b = static_cast<int>(std::lround(std::stod(m[3]) * 2.55));
     }
     const std::regex width_re("stroke-width:([0-9.]+)");
-    if (std::regex_search(p.style, m, width_re)) p.width = std::stod(m[1]);
-    out.push_back(std::move(p));
+    if (std::regex_search(style.style, m, width_re)) style.width = std::stod(m[1]);
+    const std::string d = Attr(e, "d");
+    const size_t first = out.size();
+    const std::regex sub_re("M[^M]*");
+    const std::regex num_re("-?[0-9]+(\\.[0-9]+)?(e-?[0-9]+)?");
+    for (auto sub = std::sregex_iterator(d.begin(), d.end(), sub_re); sub != std::sregex_iterator(); ++sub) {
+      const std::string part = sub->str();
+      std::vector<double> nums;
+      for (auto n = std::sregex_iterator(part.begin(), part.end(), num_re); n != std::sregex_iterator(); ++n)
+        nums.push_back(std::stod(n->str()));
+      SvgPath p = style;
+      for (size_t i = 0; i + 1 < nums.size(); i += 2) p.points.emplace_back(nums[i], nums[i + 1]);
+      // cairo ends a closed subpath with "Z M x y", the start again: that
+      // point stays with the subpath it closes, as in a path of its own.
+      if (p.points.size() == 1 && out.size() > first && part.find('L') == std::string::npos &&
+          part.find('C') == std::string::npos) {
+        out.back().points.push_back(p.points[0]);
+        continue;
+      }
+      out.push_back(std::move(p));
+    }
   }
   return out;
 }
