@@ -1046,7 +1046,12 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
           for (const auto& sa : std::vector<std::pair<double, double>>(A.spans)) {
             const double o0 = std::max(t0, sa.first), o1 = std::min(t1, sa.second);
             if (o1 - o0 < 0.1) continue;
-            // Separation at the overlap's two ends: B behind A (opposite A's free side).
+            // Separation at the overlap's two ends: B behind A (opposite A's
+            // free side) by s. A real wall has s >= 0 (its thickness); faces
+            // that cross (s < 0) put each room's floor beyond the other's
+            // wall, which no wall does: they are one wall that placement
+            // and sensor put apart, as far as two views of one face may lie
+            // (same_face_m).
             auto on_b = [&](double t) {
               const Vec2 pa = A.c + t * A.u;
               const double along = B.u.dot(pa - B.c);
@@ -1054,7 +1059,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
             };
             const Vec2 a0 = A.c + o0 * A.u, a1 = A.c + o1 * A.u, b0 = on_b(o0), b1 = on_b(o1);
             const double s0 = -A.n.dot(b0 - a0), s1 = -A.n.dot(b1 - a1);
-            if (std::abs(s0) >= o.thin_wall_m || std::abs(s1) >= o.thin_wall_m) continue;
+            if (s0 >= o.thin_wall_m || s1 >= o.thin_wall_m || s0 <= -o.same_face_m || s1 <= -o.same_face_m) continue;
             Piece t;
             const Vec2 m0 = 0.5 * (a0 + b0), m1 = 0.5 * (a1 + b1);
             t.c = m0;

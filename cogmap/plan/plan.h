@@ -79,7 +79,7 @@ struct PlanOptions {
   double face_angle_deg = 20.0;        // ... its free-side normal agrees this well
   double join_gap_m = 0.4;             // ... and it lies within this of the face's extent along it
   double min_wall_m = 0.4;             // fused faces shorter than this are dropped (notches)
-  double thin_wall_m = 0.15;           // opposite faces closer than this are one thin wall seen from both sides
+  double thin_wall_m = 0.15;           // opposite faces closer than this (or crossed by less than same_face_m) are one thin wall seen from both sides
   double residual_floor_m = 0.03;      // floor of a face's fit residual (1 sigma)
   double correlation_length_m = 0.5;   // residuals along a wall are correlated over this (one independent error)
   double heading_floor_deg = 1.0;      // model error of a wall's direction (ASR heading), added to its fit error

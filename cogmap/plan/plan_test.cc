@@ -254,6 +254,21 @@ TEST(BuildPlan, ThinWallSeenFromBothSidesIsOneWall) {
   EXPECT_EQ(middle[0]->asr_ids, (std::vector<int>{0, 1}));
 }
 
+// Each room's face of the wall between them lies 0.2 m inside the other room
+// (laser faces sit a few centimetres behind the wall, and the two rooms were
+// placed 0.1 m apart): no wall has its faces that way round, so it is one
+// wall, midway.
+TEST(BuildPlan, CrossedFacesOfOneWallAreOneWall) {
+  const Plan plan = BuildPlan(TwoRooms(-0.2), {});
+  std::vector<const Wall*> middle;
+  for (const Wall& w : plan.walls)
+    if (OnLine(w, true, 3.9, 0.15)) middle.push_back(&w);
+  ASSERT_EQ(middle.size(), 1u);
+  EXPECT_TRUE(middle[0]->two_sided);
+  EXPECT_TRUE(OnLine(*middle[0], true, 3.9, 1e-6));
+  EXPECT_EQ(middle[0]->asr_ids, (std::vector<int>{0, 1}));
+}
+
 TEST(BuildPlan, ExitCutsADoorInTheWall) {
   // Room A below y = 4, room B above; the wall y = 4 seen whole by both (thin),
   // the robot went through at x = 3 (exit 0.9 m wide).
