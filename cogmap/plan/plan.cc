@@ -1011,6 +1011,94 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   std::vector<std::map<int, double>>().swap(face_quality);
   face_hash = CellHash(2.0);
 
+  // ---------------------------------------------------------------- one face found twice
+  // Grouping tests each segment against a face's line as it stands when the
+  // segment comes, so two faces of one wall can stay apart (each room placed
+  // with its own error, each face fitted without the other). But two opaque
+  // faces that face the same way cannot both be seen along the same stretch:
+  // the nearer hides the farther. So same-facing pieces whose lines lie
+  // within same_face_m of each other along an overlap of at least min_wall_m
+  // are one face, refitted as one line with each weighted by its evidence
+  // (test SameFaceFoundTwiceIsOneWall).
+  {
+    auto extent = [](const Piece& p) {
+      return std::make_pair(p.spans.front().first, p.spans.back().second);
+    };
+    std::vector<bool> gone(pieces.size(), false);
+    for (bool again = true; again;) {
+      again = false;
+      CellHash hash(2.0);
+      auto box = [&](const Piece& p, Vec2* lo, Vec2* hi) {
+        const auto [t0, t1] = extent(p);
+        const Vec2 a = p.c + t0 * p.u, b = p.c + t1 * p.u;
+        *lo = a.cwiseMin(b), *hi = a.cwiseMax(b);
+      };
+      for (size_t i = 0; i < pieces.size(); ++i) {
+        if (gone[i]) continue;
+        Vec2 lo, hi;
+        box(pieces[i], &lo, &hi);
+        hash.Add(lo, hi, static_cast<int>(i));
+      }
+      const Vec2 m(o.same_face_m, o.same_face_m);
+      for (size_t i = 0; i < pieces.size(); ++i) {
+        if (gone[i]) continue;
+        Vec2 lo, hi;
+        box(pieces[i], &lo, &hi);
+        for (int j : hash.Query(lo - m, hi + m)) {
+          if (j == static_cast<int>(i) || gone[j] || gone[i]) continue;
+          Piece& A = pieces[i];
+          const Piece& B = pieces[j];
+          if (A.n.dot(B.n) < cos_face) continue;
+          const auto [a0, a1] = extent(A);
+          const auto [b0, b1] = extent(B);
+          const Vec2 q0 = B.c + b0 * B.u, q1 = B.c + b1 * B.u;
+          const double t0 = std::max(a0, std::min(A.u.dot(q0 - A.c), A.u.dot(q1 - A.c)));
+          const double t1 = std::min(a1, std::max(A.u.dot(q0 - A.c), A.u.dot(q1 - A.c)));
+          if (t1 - t0 < o.min_wall_m) continue;
+          // B's line where A's overlap ends fall on it.
+          auto on_b = [&](double t) {
+            const Vec2 pa = A.c + t * A.u;
+            return Vec2(B.c + B.u.dot(pa - B.c) * B.u);
+          };
+          const Vec2 pa0 = A.c + t0 * A.u, pa1 = A.c + t1 * A.u, pb0 = on_b(t0), pb1 = on_b(t1);
+          if (std::abs(A.n.dot(pb0 - pa0)) >= o.same_face_m || std::abs(A.n.dot(pb1 - pa1)) >= o.same_face_m) continue;
+          // One line: directions and the overlap's midpoints averaged by evidence.
+          const double wa = std::max(A.weight, 1e-6), wb = std::max(B.weight, 1e-6);
+          const Vec2 ub = B.u.dot(A.u) >= 0 ? B.u : Vec2(-B.u);
+          Piece f;
+          f.u = (wa * A.u + wb * ub).normalized();
+          f.n = Perp(f.u);
+          if (f.n.dot(A.n) < 0) f.n = -f.n;
+          f.c = (wa * 0.5 * (pa0 + pa1) + wb * 0.5 * (pb0 + pb1)) / (wa + wb);
+          std::vector<std::pair<double, double>> iv;
+          for (const Piece* p : {static_cast<const Piece*>(&A), &B})
+            for (const auto& sp : p->spans) {
+              const double u0 = f.u.dot(p->c + sp.first * p->u - f.c), u1 = f.u.dot(p->c + sp.second * p->u - f.c);
+              iv.push_back({std::min(u0, u1), std::max(u0, u1)});
+            }
+          std::sort(iv.begin(), iv.end());
+          for (const auto& sp : iv) {
+            if (!f.spans.empty() && sp.first <= f.spans.back().second + o.join_gap_m)
+              f.spans.back().second = std::max(f.spans.back().second, sp.second);
+            else
+              f.spans.push_back(sp);
+          }
+          f.asrs = A.asrs;
+          f.asrs.insert(B.asrs.begin(), B.asrs.end());
+          f.weight = A.weight + B.weight;
+          f.squared = A.squared && B.squared;
+          A = std::move(f);
+          gone[j] = true;
+          again = true;
+        }
+      }
+    }
+    std::vector<Piece> kept;
+    for (size_t i = 0; i < pieces.size(); ++i)
+      if (!gone[i]) kept.push_back(std::move(pieces[i]));
+    pieces = std::move(kept);
+  }
+
   // ---------------------------------------------------------------- thin walls: opposite faces that coincide
   {
     CellHash hash(2.0);

@@ -269,6 +269,29 @@ TEST(BuildPlan, CrossedFacesOfOneWallAreOneWall) {
   EXPECT_EQ(middle[0]->asr_ids, (std::vector<int>{0, 1}));
 }
 
+// One wall y = 0 seen by two ASRs, the second placed 3.3 degrees off: its
+// segment leaves the first's line by 0.4 m at its far end, so grouping keeps
+// two faces; along the 3 m both cover they lie within 0.23 m, facing the same
+// way, and the nearer would hide the farther: one wall.
+TEST(BuildPlan, SameFaceFoundTwiceIsOneWall) {
+  std::vector<asr::Asr> asrs = {
+      MakeAsr(0, {{{0, 0}, {8, 0}}}, Line({1, 2}, {7, 2})),
+      MakeAsr(1, {{{5, 0.05}, {11, 0.4}}}, Line({6, 2}, {10, 2}), 10.0),
+  };
+  const Plan plan = BuildPlan(asrs, {});
+  ASSERT_EQ(plan.walls.size(), 1u);
+  const Wall& w = plan.walls[0];
+  EXPECT_EQ(w.asr_ids, (std::vector<int>{0, 1}));
+  EXPECT_FALSE(w.two_sided);
+  double x0 = 1e9, x1 = -1e9;
+  for (const Vec2& q : w.points) {
+    x0 = std::min(x0, q.x()), x1 = std::max(x1, q.x());
+    EXPECT_LT(std::abs(q.y()), 0.45) << q.transpose();
+  }
+  EXPECT_NEAR(x0, 0.0, 0.1);
+  EXPECT_NEAR(x1, 11.0, 0.1);
+}
+
 TEST(BuildPlan, ExitCutsADoorInTheWall) {
   // Room A below y = 4, room B above; the wall y = 4 seen whole by both (thin),
   // the robot went through at x = 3 (exit 0.9 m wide).
