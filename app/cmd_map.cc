@@ -105,7 +105,10 @@ std::function<int()> SetupMap(CLI::App& sub) {
                  "the space (0 = at the first release, as in paper mode; intel's laser log: 86 -> 73 ASRs with 1)")
       ->capture_default_str();
   sub.add_flag("--sonar-cone", a->job.mapping.cone_hits,
-               "Default mode, sonar: fuse each echo over the sonar's cone, not its axis alone: the cone nearer than the echo is free (weighted towards the axis) and the echo goes on its arc, at the cell nearest the axis not known empty (off by default: walls placed at the true poses are better on every bench world, the whole map is mixed; docs/walls.md, \"Sonar cone\")");
+               "Default mode, sonar: one grid per room, fused over the sonar's cone (the cone nearer than the echo is free, weighted towards the axis; the echo goes on its arc, at the cell nearest the axis not known empty), for the pose graph as well. Off by default: the walls kept already come from such a grid beside the axis grid, and the pose graph's closures, tuned on axis grids, accepted two wrong ones on cone grids (docs/walls.md, \"Sonar cone\")");
+  sub.add_flag("--axis-walls", [a](int64_t) { a->job.mapping.cone_walls = false; },
+               "Default mode, sonar: keep the walls of the axis grid (the thesis's MHIMM, which the pose graph "
+               "matches) instead of those of the cone grid mapped beside it (docs/walls.md, \"Sonar cone\")");
   sub.add_option("--direction-split", a->job.mapping.direction_split_m,
                  "Default mode, pose graph, laser walls: one wall-direction factor per this many metres of an "
                  "ASR's path where the directions turn with the distance driven, so drift inside a long ASR is "

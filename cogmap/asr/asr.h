@@ -70,12 +70,35 @@ struct Asr {
   double heading_correction_rad = 0.0;    // rotation applied (corrected - raw)
   double heading_uncertainty_rad = -1.0;  // < 0: not estimated
   GridOrientation grid_orientation;       // transient, see GridOrientation
+  // Transient (MapperOptions::cone_output_walls): the walls of the room's
+  // cone grid, which replace walls_local once the ASR is placed; the pose
+  // graph registers and closes loops on walls_local as mapped.
+  bool has_output_walls = false;
+  std::vector<Polyline> output_walls_local;
+  // The walls the pose graph matched when they are not walls_local (then
+  // walls_local are the cone grid's): stored (schema 5) so that a resumed
+  // run matches what the uninterrupted run matched.
+  bool has_matched_walls = false;
+  std::vector<Polyline> matched_walls_local;
 
   std::vector<Polyline> WallsWorldRaw() const { return Transform(world_from_local_raw, walls_local); }
   std::vector<Polyline> WallsWorldCorrected() const {
     return Transform(world_from_local_corrected, walls_local);
   }
 };
+
+// A stored ASR as the pose graph first saw it: its matched walls as
+// walls_local and the walls it keeps as output_walls_local (when the two
+// differ; else unchanged). For replaying a run into the graph (--resume).
+inline Asr MatchedView(Asr a) {
+  if (!a.has_matched_walls) return a;
+  a.output_walls_local = std::move(a.walls_local);
+  a.has_output_walls = true;
+  a.walls_local = std::move(a.matched_walls_local);
+  a.matched_walls_local = {};
+  a.has_matched_walls = false;
+  return a;
+}
 
 // The robot's path through an ASR as the pose graph places it: the raw path
 // in the ASR's local frame (world_from_local_raw^-1), re-integrated with the

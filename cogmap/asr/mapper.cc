@@ -177,12 +177,18 @@ void CognitiveMapper::Start(const Pose2& entry_pose, double time_s, const std::o
   bounds.cell_m = options_.cell_m;
   bounds.grow_chunk_cells = options_.grow_chunk_cells;
   current_->grid = std::make_unique<grid::HimmFusion>(true, options_.mhimm, bounds);
+  if (options_.cone_output_walls) {
+    grid::MhimmOptions cone = options_.mhimm;
+    cone.cone_hits = true;
+    current_->cone_grid = std::make_unique<grid::HimmFusion>(true, cone, bounds);
+  }
 }
 
 void CognitiveMapper::Feed(const sensors::LogRecord& record, const Pose2& raw_odom) {
   Current& c = *current_;
   const auto t0 = Clock::now();
   c.grid->InsertSweep(c.local_from_world * record.odom, robot_, record.ranges);
+  if (c.cone_grid) c.cone_grid->InsertSweep(c.local_from_world * record.odom, robot_, record.ranges);
   c.asr.seconds.grid += Since(t0);
   stats_.peak_grid_cells = std::max<int64_t>(stats_.peak_grid_cells, c.grid->limits().cell_count());
   // The path is sampled every path_step_m of odometry. When the log has
@@ -246,11 +252,25 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
   a.free_hull_local = FreeSpaceHull(c.grid->values(), options_.vectorize.clean.classes, options_.free_opening_m,
                                      options_.free_hull_area_loss);
   c.grid.reset();  // the room's grid is gone from here on
+  if (c.cone_grid) {
+    const auto t0 = Clock::now();
+    a.output_walls_local = vectorize::Vectorize(c.cone_grid->values(), options_.vectorize).polylines;
+    a.has_output_walls = true;
+    c.cone_grid.reset();
+    a.seconds.fit += Since(t0);
+  }
 
   Asr out = corrector_ ? corrector_(std::move(a)) : std::move(a);
   // The placer sees the ASR in the frame its walls were built in (the
   // pre-corrected one when the odometry is filtered).
   if (placer_) out = placer_(std::move(out));
+  if (out.has_output_walls) {
+    out.matched_walls_local = std::move(out.walls_local);
+    out.has_matched_walls = true;
+    out.walls_local = std::move(out.output_walls_local);
+    out.output_walls_local = {};
+    out.has_output_walls = false;
+  }
   if (odometry_filter_) {
     // Back to the raw odometry frame (see SetOdometryFilter).
     const Pose2 raw_from_pre = BestRigidFit(out.path, c.raw_path);

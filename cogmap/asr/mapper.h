@@ -36,6 +36,12 @@ struct MapperOptions {
   // area (a grid's hull has a vertex every few cells: about 18 vertices
   // become 6-8).
   double free_hull_area_loss = 0.01;
+  // Default mode, sonar robots: each room also has a grid that fuses every
+  // echo over the sonar's cone (grid::MhimmOptions::cone_hits), and the walls
+  // the ASR keeps (the map's, the floor plan's) are that grid's; the heading
+  // correction and the pose graph work on the walls of the axis grid
+  // (Asr::output_walls_local; docs/walls.md, "Sonar cone").
+  bool cone_output_walls = false;
 };
 
 // Continuing a run into an existing store (cogmap map --resume).
@@ -149,6 +155,7 @@ class CognitiveMapper {
   struct Current {
     Asr asr;
     std::unique_ptr<grid::HimmFusion> grid;
+    std::unique_ptr<grid::HimmFusion> cone_grid;  // MapperOptions::cone_output_walls
     std::vector<double> path_times;
     std::vector<Pose2> raw_path;  // the raw odometry at the poses of asr.path
     std::vector<double> true_path_times;

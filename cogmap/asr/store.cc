@@ -299,6 +299,16 @@ const char* kSchemaV4 = R"sql(
 CREATE TABLE IF NOT EXISTS free_space(asr_id INTEGER PRIMARY KEY, hull BLOB NOT NULL);
 )sql";
 
+// Schema version 5: the walls the pose graph matched (Asr::matched_walls_local),
+// when they are not the walls kept (a sonar's axis-grid walls beside its
+// cone-grid walls, asr::MapperOptions::cone_output_walls). With them a run
+// resumed after a kill registers and closes loops on the walls the
+// uninterrupted run used. Older stores are migrated by creating the table
+// (their ASRs have no row: the walls kept are the walls matched, as then).
+const char* kSchemaV5 = R"sql(
+CREATE TABLE IF NOT EXISTS matched_walls(asr_id INTEGER PRIMARY KEY, walls BLOB NOT NULL);
+)sql";
+
 bool HasSqliteHeader(const std::string& path, bool* empty) {
   std::ifstream in(path, std::ios::binary);
   char header[16] = {};
@@ -380,6 +390,7 @@ std::string SchemaOfVersion(int version) {
   if (version >= 2) sqlite3_exec(db, kSchemaV2, nullptr, nullptr, nullptr);
   if (version >= 3) sqlite3_exec(db, kSchemaV3, nullptr, nullptr, nullptr);
   if (version >= 4) sqlite3_exec(db, kSchemaV4, nullptr, nullptr, nullptr);
+  if (version >= 5) sqlite3_exec(db, kSchemaV5, nullptr, nullptr, nullptr);
   bool readable = true;
   std::string s = SchemaOf(db, &readable);
   sqlite3_close(db);
@@ -398,8 +409,10 @@ bool HasTable(sqlite3* db, const char* name) {
 // An older version this cogmap migrates (and reads as it is when read-only):
 // its tables must be exactly that version's.
 bool MigratableVersion(int version, const std::string& schema) {
-  static const std::string v1 = SchemaOfVersion(1), v2 = SchemaOfVersion(2), v3 = SchemaOfVersion(3);
-  return (version == 1 && schema == v1) || (version == 2 && schema == v2) || (version == 3 && schema == v3);
+  static const std::string v1 = SchemaOfVersion(1), v2 = SchemaOfVersion(2), v3 = SchemaOfVersion(3),
+                           v4 = SchemaOfVersion(4);
+  return (version == 1 && schema == v1) || (version == 2 && schema == v2) || (version == 3 && schema == v3) ||
+         (version == 4 && schema == v4);
 }
 
 }  // namespace
@@ -492,6 +505,7 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     std::unique_ptr<SqliteAsrStore> store(new SqliteAsrStore(path, db, /*read_only=*/true));
     store->has_orientation_ = HasTable(db, "orientation");
     store->has_free_space_ = HasTable(db, "free_space");
+    store->has_matched_walls_ = HasTable(db, "matched_walls");
     return store;
   }
   sqlite3* db = nullptr;
@@ -517,8 +531,10 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     store->Exec(kSchemaV2);
     store->Exec(kSchemaV3);
     store->Exec(kSchemaV4);
+    store->Exec(kSchemaV5);
     store->has_orientation_ = true;
     store->has_free_space_ = true;
+    store->has_matched_walls_ = true;
     store->Exec("PRAGMA application_id=" + std::to_string(kStoreApplicationId));
     store->Exec("PRAGMA user_version=" + std::to_string(kStoreSchemaVersion));
     store->Exec("INSERT OR IGNORE INTO meta(key, value) VALUES('application', 'cogmap')");
@@ -594,6 +610,13 @@ void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string
     s.Bind(4, g.contrast);
     s.BindInt(5, g.cells);
     if (s.Step() != SQLITE_DONE) fail("insert orientation");
+  }
+  if (asr.has_matched_walls) {
+    Stmt s(db, "INSERT OR REPLACE INTO matched_walls VALUES(?,?)");
+    if (!s.ok()) fail("prepare");
+    s.BindInt(1, asr.id);
+    s.BindBlob(2, EncodeWalls(asr.matched_walls_local));
+    if (s.Step() != SQLITE_DONE) fail("insert matched walls");
   }
   if (!asr.free_hull_local.empty()) {
     Stmt s(db, "INSERT OR REPLACE INTO free_space VALUES(?,?)");
@@ -689,6 +712,21 @@ std::optional<Asr> SqliteAsrStore::Get(int id) const {
       }
     } else if (f.failed()) {
       Fail("free space of ASR " + std::to_string(id) + ": " + sqlite3_errmsg(Db(db_)));
+    }
+  }
+  if (has_matched_walls_) {
+    Stmt m(Db(db_), "SELECT walls FROM matched_walls WHERE asr_id=?");
+    if (!m.ok()) Fail(sqlite3_errmsg(Db(db_)));
+    m.BindInt(1, id);
+    if (m.Step() == SQLITE_ROW) {
+      try {
+        a.matched_walls_local = DecodeWalls(m.Blob(0));
+        a.has_matched_walls = true;
+      } catch (const std::runtime_error& e) {
+        throw InputError(path_, 0, "ASR " + std::to_string(id) + ": matched walls: " + e.what());
+      }
+    } else if (m.failed()) {
+      Fail("matched walls of ASR " + std::to_string(id) + ": " + sqlite3_errmsg(Db(db_)));
     }
   }
   return a;

@@ -111,7 +111,7 @@ class MemoryAsrStore : public AsrStore {
 // transaction per Put; closing a writable store checkpoints it and leaves WAL
 // (journal_mode=DELETE), so that the file alone is the store (read-only media,
 // copies). See docs/store.md.
-constexpr int kStoreSchemaVersion = 4;
+constexpr int kStoreSchemaVersion = 5;
 constexpr int32_t kStoreApplicationId = 0x636f676d;  // "cogm"
 
 class SqliteAsrStore : public AsrStore {
@@ -174,6 +174,7 @@ class SqliteAsrStore : public AsrStore {
   bool read_only_ = false;
   bool in_batch_ = false;  // inside PutPlacements' transaction
   bool has_orientation_ = false;  // schema 3's orientation table (older stores read-only: none)
+  bool has_matched_walls_ = false;  // schema 5's matched_walls table
   bool has_free_space_ = false;   // schema 4's free_space table (older stores read-only: none)
 };
 

@@ -215,7 +215,9 @@ void DowngradeStore(const std::string& path, const std::string& sql, int version
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
   const std::string v = std::to_string(version);
-  ASSERT_EQ(sqlite3_exec(db, (sql + "; PRAGMA user_version=" + v + "; UPDATE meta SET value='" + v +
+  // Every version before 5 lacks schema 5's table as well.
+  const std::string older = version < 5 ? "DROP TABLE IF EXISTS matched_walls; " : "";
+  ASSERT_EQ(sqlite3_exec(db, (older + sql + "; PRAGMA user_version=" + v + "; UPDATE meta SET value='" + v +
                               "' WHERE key='schema_version'").c_str(),
                          nullptr, nullptr, nullptr),
             SQLITE_OK);
@@ -301,6 +303,38 @@ TEST(SqliteAsrStore, VersionThreeStoreIsMigratedAndFreeHullsRoundTrip) {
   EXPECT_TRUE(s->Get(0)->free_hull_local.empty());
   s->Put(a);
   EXPECT_EQ(s->Get(0)->free_hull_local, a.free_hull_local);
+}
+
+// Version 4 had no matched_walls table: read as it is (the walls kept are
+// the walls matched), then migrated by creating it; a sonar ASR's matched
+// (axis-grid) walls round-trip beside the walls it keeps from version 5 on.
+TEST(SqliteAsrStore, VersionFourStoreIsMigratedAndMatchedWallsRoundTrip) {
+  const std::string path = TempDir("v4") + "/map.sqlite";
+  Asr a = MakeAsr(0);
+  a.matched_walls_local = {{{0, 0.1}, {4, 0.1}}, {{4, 0.1}, {4, 3}}};
+  a.has_matched_walls = true;
+  {
+    auto s = SqliteAsrStore::Open(path);
+    s->Put(a);
+    s->Put(MakeAsr(1));  // walls matched = walls kept: no row
+    EXPECT_TRUE(s->Get(0)->has_matched_walls);
+    EXPECT_EQ(s->Get(0)->matched_walls_local, a.matched_walls_local);
+    EXPECT_FALSE(s->Get(1)->has_matched_walls);
+    const Asr view = MatchedView(*s->Get(0));
+    EXPECT_EQ(view.walls_local, a.matched_walls_local);
+    EXPECT_EQ(view.output_walls_local, a.walls_local);
+  }
+  DowngradeStore(path, "SELECT 1", 4);  // drops matched_walls
+  {
+    auto r = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
+    EXPECT_FALSE(r->Get(0)->has_matched_walls);
+    ExpectSame(*r->Get(1), MakeAsr(1));
+  }
+  auto s = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kOpenExisting);
+  EXPECT_EQ(*s->GetMeta("schema_version"), std::to_string(kStoreSchemaVersion));
+  EXPECT_FALSE(s->Get(0)->has_matched_walls);
+  s->Put(a);
+  EXPECT_EQ(s->Get(0)->matched_walls_local, a.matched_walls_local);
 }
 
 TEST(SqliteAsrStore, ReplaceStartsEmpty) {

@@ -69,8 +69,15 @@ MapOptimizer::Node MapOptimizer::MakeNode(const asr::Asr& a) const {
   if (!a.path.empty() && n.path_local.back() != local_from_world * a.path.back().translation())
     n.path_local.push_back(local_from_world * a.path.back().translation());
   n.path_raw = a.path;
-  n.walls = a.walls_local;
-  n.faces = FaceWalls(a.walls_local, n.path_local);
+  // The walls matched (registration, loop closure, consistency) and, when
+  // they differ, the walls the ASR keeps (the cone grid's:
+  // asr::MapperOptions::cone_output_walls), bent with the drift found as the
+  // matched ones are. A fresh ASR holds them as walls_local and
+  // output_walls_local; a stored one as matched_walls_local and walls_local.
+  n.walls = a.has_matched_walls ? a.matched_walls_local : a.walls_local;
+  if (a.has_output_walls) n.output_walls = a.output_walls_local;
+  else if (a.has_matched_walls) n.output_walls = a.walls_local;
+  n.faces = FaceWalls(n.walls, n.path_local);
   // The samples and the face index are made again when a loop closure needs
   // them (TryLoopClosures, a few candidates per ASR) rather than kept for
   // every ASR of the run.
@@ -230,7 +237,7 @@ std::vector<MapOptimizer::SplitDirection> MapOptimizer::SplitDirections(const No
     double s;
   };
   std::vector<std::vector<Edge>> by_bin(bins);
-  for (const Polyline& line : a.walls_local) {
+  for (const Polyline& line : a.has_matched_walls ? a.matched_walls_local : a.walls_local) {
     for (size_t i = 1; i < line.size(); ++i) {
       const Vec2 e = line[i] - line[i - 1];
       const double len = e.norm();
@@ -818,7 +825,7 @@ OptimizerResult MapOptimizer::Finish() {
       view.world_from_local_corrected = chosen[i];
       view.path = nodes_[i].path_raw;
       e.corrected_path = asr::CorrectedPath(view, e.drift_rate_rad_per_m);
-      e.corrected_walls = BendWalls(nodes_[i], e.drift_rate_rad_per_m);
+      e.corrected_walls = BendWalls(nodes_[i], e.drift_rate_rad_per_m, /*output=*/true);
     }
     e.direction_factor = nodes_[i].direction;
     e.direction_residual_sigmas = dir_resid[i];
@@ -881,8 +888,9 @@ void MapOptimizer::FitVarianceComponents() {
   }
 }
 
-std::vector<Polyline> MapOptimizer::BendWalls(const Node& n, double rate) const {
-  if (rate == 0.0 || n.path_raw.empty()) return n.walls;
+std::vector<Polyline> MapOptimizer::BendWalls(const Node& n, double rate, bool output) const {
+  const std::vector<Polyline>& walls = output && n.output_walls ? *n.output_walls : n.walls;
+  if (rate == 0.0 || n.path_raw.empty()) return walls;
   // The path in the local frame, as mapped (q) and with the drift removed (c),
   // with the distance driven to each pose.
   const Pose2 local_from_world = n.raw.inverse();
@@ -900,7 +908,7 @@ std::vector<Polyline> MapOptimizer::BendWalls(const Node& n, double rate) const 
     const Vec2 prev = k == 0 ? Vec2(0, 0) : q[k - 1];
     s[k] = (k == 0 ? 0.0 : s[k - 1]) + (q[k] - prev).norm();
   }
-  std::vector<Polyline> out = n.walls;
+  std::vector<Polyline> out = walls;
   for (Polyline& line : out) {
     for (Vec2& p : line) {
       size_t best = 0;

@@ -178,6 +178,7 @@ class MapOptimizer {
     std::vector<Vec2> path_local;    // robot path, local frame, every ~0.2 m
     std::vector<Pose2> path_raw;     // raw path (world raw), for the odometry factor
     std::vector<Polyline> walls;     // local frame, as mapped
+    std::optional<std::vector<Polyline>> output_walls;  // the walls the ASR keeps, when not 'walls'
     Vec2 centre_local{0, 0};
     Vec2 box_lo{0, 0}, box_hi{0, 0};  // of walls and path, local frame
     double radius_m = 0.0;
@@ -189,7 +190,9 @@ class MapOptimizer {
     int room_id = -1;
   };
   Node MakeNode(const asr::Asr& a) const;
-  std::vector<Polyline> BendWalls(const Node& n, double rate) const;
+  // n's walls with the drift 'rate' removed inside the ASR; 'output': the
+  // walls it keeps (Node::output_walls) rather than those matched.
+  std::vector<Polyline> BendWalls(const Node& n, double rate, bool output = false) const;
   // The raw odometry from n's origin to its path pose nearest 'local_point'
   // (where walls near that point were seen from).
   OdometryMeasurement PathTo(const Node& n, const Vec2& local_point) const;

@@ -95,6 +95,11 @@ asr::MapperOptions MapperOptionsFor(const sensors::RobotDescription& robot, cons
   // Default mode, on request (--sonar-cone): free evidence over the sonar's
   // cone and each echo on its arc. Off by default: docs/walls.md, "Sonar cone".
   m.mhimm.cone_hits = !o.paper && o.cone_hits;
+  // Default mode, sonar: the walls kept come from a second grid fused over
+  // the cone, while the pose graph matches the axis grid's walls (docs/walls.md,
+  // "Sonar cone"). A laser's beam is narrower than a cell: its cone grid
+  // would be the same grid.
+  m.cone_output_walls = !o.paper && !o.cone_hits && o.cone_walls && !LaserOnly(robot);
   m.vectorize = o.paper ? vectorize::VectorizeOptions::Paper() : vectorize::VectorizeOptions{};
   if (!o.paper) ConfigureWallLines(robot, o.wall_lines, &m.vectorize);
   m.boundary.mode = o.boundary;
@@ -211,7 +216,7 @@ void MappingPipeline::Resume() {
     for (const asr::Exit& e : last_asr->exits)
       if (e.from_asr == last && e.to_asr == r.next_id) r.leaving_exit = e;
     for (int id : store_->Ids()) {  // one ASR at a time: the first accepted one sets it
-      reference = localize::ReferenceDirection({*store_->Get(id)}, heading_options_);
+      reference = localize::ReferenceDirection({asr::MatchedView(*store_->Get(id))}, heading_options_);
       if (reference) break;
     }
   }
@@ -233,7 +238,7 @@ void MappingPipeline::Resume() {
       if (id <= finished_through || store_->GetPlacement(id)) {
         optimizer_->AddStored(*x, store_->RoomOf(id));
       } else {
-        optimizer_->Place(std::move(*x));
+        optimizer_->Place(asr::MatchedView(std::move(*x)));
         ++result_.replayed;
       }
     }

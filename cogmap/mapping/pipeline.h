@@ -43,6 +43,7 @@ struct MappingOptions {
   double release_confirm_m = 0.0;      // default mode, --door-release: a side released for less travel is a side opening (0: off)
   double direction_split_m = 0.0;     // pose graph, laser walls: direction factors per this much path (0: off)
   bool cone_hits = false;              // default mode, --sonar-cone: MHIMM over the sonar's cone (grid::MhimmOptions::cone_hits)
+  bool cone_walls = true;              // default mode, sonar: the walls kept are a cone grid's (asr::MapperOptions::cone_output_walls); --axis-walls: false
   bool correct = true;                 // false: every ASR at its odometry pose
   bool pose_graph = true;              // default mode: the pose graph (false: the drift filter)
   bool drift_filter = true;            // without the graph: the drift-rate filter
