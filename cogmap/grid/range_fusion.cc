@@ -267,8 +267,24 @@ void HimmFusion::InsertRay(const CellIndex& r0, double sx, double sy, double cos
       const int y_lo = std::max(0, static_cast<int>(std::floor((sy + by0 - oy) * inv)));
       const int y_hi = std::min(h - 1, static_cast<int>(std::floor((sy + by1 - oy) * inv)));
       const double reach2 = reach * reach, cos2 = ca * ca;
-      for (int y = y_lo; y <= y_hi; ++y)
-        for (int x = x_lo; x <= x_hi; ++x) {
+      for (int y = y_lo; y <= y_hi; ++y) {
+        // The row's cells that can lie in the sector: within the disk and
+        // between the two edges (each a half-plane through the apex; the
+        // sector is their intersection with the disk, half-angle < 90
+        // degrees). One cell of margin each side; the test below decides.
+        const double py = oy + (y + 0.5) * cell - sy;
+        const double disk2 = reach2 - py * py;
+        if (disk2 <= 0.0) continue;
+        double p_lo = -std::sqrt(disk2), p_hi = -p_lo;
+        // Right edge: ry * px <= rx * py; left edge: ly * px >= lx * py.
+        if (ry > 1e-9) p_hi = std::min(p_hi, rx * py / ry);
+        else if (ry < -1e-9) p_lo = std::max(p_lo, rx * py / ry);
+        if (ly > 1e-9) p_lo = std::max(p_lo, lx * py / ly);
+        else if (ly < -1e-9) p_hi = std::min(p_hi, lx * py / ly);
+        if (p_lo > p_hi + cell) continue;
+        const int xa = std::max(x_lo, static_cast<int>(std::floor((sx + p_lo - ox) * inv - 0.5)) - 1);
+        const int xb = std::min(x_hi, static_cast<int>(std::ceil((sx + p_hi - ox) * inv - 0.5)) + 1);
+        for (int x = xa; x <= xb; ++x) {
           const double px = ox + (x + 0.5) * cell - sx, py = oy + (y + 0.5) * cell - sy;
           const double rr = px * px + py * py;
           const double along = px * cos_h + py * sin_h;
@@ -280,6 +296,7 @@ void HimmFusion::InsertRay(const CellIndex& r0, double sx, double sy, double cos
           float& v = cells[static_cast<long>(y) * w + x];
           if (v != path) v = std::max(v - static_cast<float>(dec * (1.0 - angle / half)), lo);
         }
+      }
     }
     // The arc at d, one cell apart, from the axis outwards (0, +1, -1, +2, -2, ...).
     const int n = static_cast<int>(std::ceil(half * d * inv));
