@@ -254,8 +254,12 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
   c.grid.reset();  // the room's grid is gone from here on
   if (c.cone_grid) {
     const auto t0 = Clock::now();
-    a.output_walls_local = vectorize::Vectorize(c.cone_grid->values(), options_.vectorize).polylines;
+    vectorize::VectorizeResult kept = vectorize::Vectorize(c.cone_grid->values(), options_.vectorize);
+    a.output_walls_local = std::move(kept.polylines);
     a.has_output_walls = true;
+    // The sizes are those of the walls kept (the grid's, of the axis grid).
+    a.bytes.vertices = kept.bytes.vertices;
+    a.bytes.polylines = kept.bytes.polylines;
     c.cone_grid.reset();
     a.seconds.fit += Since(t0);
   }
