@@ -72,8 +72,9 @@ std::function<int()> SetupVectorize(CLI::App& sub) {
   sub.add_option("--robot", a->job.robot_spec,
                  "Robot: a built-in name (" + Join(sensors::BuiltinRobotNames()) +
                      ") or a robot JSON file (default: the log's own robot, else pioneer16)");
-  sub.add_flag("--sonar-cone", a->job.cone_hits,
-               "Default mode, sonar: fuse each echo over the sonar's cone, not its axis alone: the cone nearer than the echo is free (weighted towards the axis) and the echo goes on its arc, at the cell nearest the axis not known empty (off by default: walls placed at the true poses are better on every bench world, the whole map is mixed; docs/walls.md, \"Sonar cone\")");
+  sub.add_flag("--axis-walls", [a](int64_t) { a->job.cone_hits = false; },
+               "Default mode, sonar: fuse each echo on its axis alone, as the thesis (by default each echo is fused over the sonar's cone: the cone nearer than the echo is free, weighted towards the axis, and the echo goes on its arc, at the cell nearest the axis not known empty; walls at the true poses are better on every bench world; docs/walls.md, \"Sonar cone\")");
+  sub.add_flag("--sonar-cone", a->job.cone_hits, "The default (kept for scripts that ask for it)");
   sub.add_option("--cell", a->job.cell_m, "Cell size in metres")->capture_default_str();
   sub.add_option("--window", a->job.window_m,
                  "Window w in metres (MHIMM hits nearer than w; also the cleaning range max_dist)")

@@ -24,7 +24,11 @@ struct VectorizeJob {
   double cell_m = 0.1;         // cell side
   double window_m = 3.0;       // MHIMM window w; also the cleaning range max_dist
   bool paper = false;          // the thesis's line fit (VectorizeOptions::Paper())
-  bool cone_hits = false;      // default mode, --sonar-cone (grid::MhimmOptions::cone_hits)
+  // Default mode: the grid fuses each sonar echo over its cone
+  // (grid::MhimmOptions::cone_hits), as the walls `cogmap map` keeps;
+  // --axis-walls (cone_hits false): on its axis alone, as the thesis. A
+  // laser's grid is the same either way.
+  bool cone_hits = true;
   bool use_truth = false;      // fuse at the log's true poses where it has them
   // Stage overrides; negative (or empty): the mode's default.
   double gamma_cells = -1, tau_cells = -1, eta_cells = -1, max_rms_cells = -1;
