@@ -426,6 +426,21 @@ void SqliteAsrStore::Exec(const std::string& sql) const {
   }
 }
 
+std::optional<std::vector<Polyline>> SqliteAsrStore::WallsRow(const char* sql, int id, const std::string& what) const {
+  Stmt q(Db(db_), sql);
+  if (!q.ok()) Fail(sqlite3_errmsg(Db(db_)));
+  q.BindInt(1, id);
+  if (q.Step() == SQLITE_ROW) {
+    try {
+      return DecodeWalls(q.Blob(0));
+    } catch (const std::runtime_error& e) {
+      throw InputError(path_, 0, "ASR " + std::to_string(id) + ": " + what + ": " + e.what());
+    }
+  }
+  if (q.failed()) Fail(what + " of ASR " + std::to_string(id) + ": " + sqlite3_errmsg(Db(db_)));
+  return std::nullopt;
+}
+
 void SqliteAsrStore::Fail(const std::string& what) const {
   throw InputError(path_, 0, "store error: " + what);
 }
@@ -699,34 +714,17 @@ std::optional<Asr> SqliteAsrStore::Get(int id) const {
     }
   }
   if (has_free_space_) {
-    Stmt f(Db(db_), "SELECT hull FROM free_space WHERE asr_id=?");
-    if (!f.ok()) Fail(sqlite3_errmsg(Db(db_)));
-    f.BindInt(1, id);
-    if (f.Step() == SQLITE_ROW) {
-      try {
-        auto hull = DecodeWalls(f.Blob(0));
-        if (hull.size() != 1) throw std::runtime_error("free space: " + std::to_string(hull.size()) + " polygons");
-        a.free_hull_local = std::move(hull[0]);
-      } catch (const std::runtime_error& e) {
-        throw InputError(path_, 0, "ASR " + std::to_string(id) + ": " + e.what());
-      }
-    } else if (f.failed()) {
-      Fail("free space of ASR " + std::to_string(id) + ": " + sqlite3_errmsg(Db(db_)));
+    if (auto hull = WallsRow("SELECT hull FROM free_space WHERE asr_id=?", id, "free space")) {
+      if (hull->size() != 1)
+        throw InputError(path_, 0, "ASR " + std::to_string(id) + ": free space: " + std::to_string(hull->size()) +
+                                       " polygons");
+      a.free_hull_local = std::move((*hull)[0]);
     }
   }
   if (has_matched_walls_) {
-    Stmt m(Db(db_), "SELECT walls FROM matched_walls WHERE asr_id=?");
-    if (!m.ok()) Fail(sqlite3_errmsg(Db(db_)));
-    m.BindInt(1, id);
-    if (m.Step() == SQLITE_ROW) {
-      try {
-        a.matched_walls_local = DecodeWalls(m.Blob(0));
-        a.has_matched_walls = true;
-      } catch (const std::runtime_error& e) {
-        throw InputError(path_, 0, "ASR " + std::to_string(id) + ": matched walls: " + e.what());
-      }
-    } else if (m.failed()) {
-      Fail("matched walls of ASR " + std::to_string(id) + ": " + sqlite3_errmsg(Db(db_)));
+    if (auto walls = WallsRow("SELECT walls FROM matched_walls WHERE asr_id=?", id, "matched walls")) {
+      a.matched_walls_local = std::move(*walls);
+      a.has_matched_walls = true;
     }
   }
   return a;

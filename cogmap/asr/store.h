@@ -164,6 +164,10 @@ class SqliteAsrStore : public AsrStore {
       : path_(std::move(path)), db_(db), read_only_(read_only) {}
   void Exec(const std::string& sql) const;
   [[noreturn]] void Fail(const std::string& what) const;
+  // The walls blob of the row 'sql' (one ? for the ASR id) selects; none
+  // without a row. A blob that does not decode is an InputError naming the
+  // store, the ASR and 'what'.
+  std::optional<std::vector<Polyline>> WallsRow(const char* sql, int id, const std::string& what) const;
   // One transaction: write_asrs() (its Puts join it), then the placements and
   // closures.
   void WritePlacements(const std::function<void()>& write_asrs, const std::vector<Placement>& placements,

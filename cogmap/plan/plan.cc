@@ -134,7 +134,22 @@ struct Piece {
   double weight = 0.0;  // metres seen, quality-weighted, per metre of extent
   bool squared = false;
   bool two_sided = false;
+  // The point of this piece's line nearest q.
+  Vec2 Foot(const Vec2& q) const { return c + u.dot(q - c) * u; }
 };
+
+// Intervals (any order) as sorted spans, those less than 'gap' apart joined.
+std::vector<std::pair<double, double>> JoinSpans(std::vector<std::pair<double, double>> iv, double gap) {
+  std::sort(iv.begin(), iv.end());
+  std::vector<std::pair<double, double>> spans;
+  for (const auto& s : iv) {
+    if (!spans.empty() && s.first <= spans.back().second + gap)
+      spans.back().second = std::max(spans.back().second, s.second);
+    else
+      spans.push_back(s);
+  }
+  return spans;
+}
 
 // Removes [lo, hi] from a sorted list of spans.
 void SubtractSpan(std::vector<std::pair<double, double>>* spans, double lo, double hi) {
@@ -983,14 +998,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       const double ta = f.Along(ev[m].a), tb = f.Along(ev[m].b);
       iv.push_back({std::min(ta, tb), std::max(ta, tb)});
     }
-    std::sort(iv.begin(), iv.end());
-    std::vector<std::pair<double, double>> spans;
-    for (const auto& s : iv) {
-      if (!spans.empty() && s.first <= spans.back().second + o.join_gap_m)
-        spans.back().second = std::max(spans.back().second, s.second);
-      else
-        spans.push_back(s);
-    }
+    const std::vector<std::pair<double, double>> spans = JoinSpans(std::move(iv), o.join_gap_m);
     Piece p;
     p.c = f.c, p.u = f.u, p.n = f.n, p.squared = f.squared;
     double ext = 0.0;
@@ -1056,11 +1064,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
           const double t1 = std::min(a1, std::max(A.u.dot(q0 - A.c), A.u.dot(q1 - A.c)));
           if (t1 - t0 < o.min_wall_m) continue;
           // B's line where A's overlap ends fall on it.
-          auto on_b = [&](double t) {
-            const Vec2 pa = A.c + t * A.u;
-            return Vec2(B.c + B.u.dot(pa - B.c) * B.u);
-          };
-          const Vec2 pa0 = A.c + t0 * A.u, pa1 = A.c + t1 * A.u, pb0 = on_b(t0), pb1 = on_b(t1);
+          const Vec2 pa0 = A.c + t0 * A.u, pa1 = A.c + t1 * A.u, pb0 = B.Foot(pa0), pb1 = B.Foot(pa1);
           if (std::abs(A.n.dot(pb0 - pa0)) >= o.same_face_m || std::abs(A.n.dot(pb1 - pa1)) >= o.same_face_m) continue;
           // One line: directions and the overlap's midpoints averaged by evidence.
           const double wa = std::max(A.weight, 1e-6), wb = std::max(B.weight, 1e-6);
@@ -1076,13 +1080,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
               const double u0 = f.u.dot(p->c + sp.first * p->u - f.c), u1 = f.u.dot(p->c + sp.second * p->u - f.c);
               iv.push_back({std::min(u0, u1), std::max(u0, u1)});
             }
-          std::sort(iv.begin(), iv.end());
-          for (const auto& sp : iv) {
-            if (!f.spans.empty() && sp.first <= f.spans.back().second + o.join_gap_m)
-              f.spans.back().second = std::max(f.spans.back().second, sp.second);
-            else
-              f.spans.push_back(sp);
-          }
+          f.spans = JoinSpans(std::move(iv), o.join_gap_m);
           f.asrs = A.asrs;
           f.asrs.insert(B.asrs.begin(), B.asrs.end());
           f.weight = A.weight + B.weight;
@@ -1140,12 +1138,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
             // wall, which no wall does: they are one wall that placement
             // and sensor put apart, as far as two views of one face may lie
             // (same_face_m).
-            auto on_b = [&](double t) {
-              const Vec2 pa = A.c + t * A.u;
-              const double along = B.u.dot(pa - B.c);
-              return B.c + along * B.u;
-            };
-            const Vec2 a0 = A.c + o0 * A.u, a1 = A.c + o1 * A.u, b0 = on_b(o0), b1 = on_b(o1);
+            const Vec2 a0 = A.c + o0 * A.u, a1 = A.c + o1 * A.u, b0 = B.Foot(a0), b1 = B.Foot(a1);
             const double s0 = -A.n.dot(b0 - a0), s1 = -A.n.dot(b1 - a1);
             if (s0 >= o.thin_wall_m || s1 >= o.thin_wall_m || s0 <= -o.same_face_m || s1 <= -o.same_face_m) continue;
             Piece t;
