@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <functional>
 #include <vector>
 
 #include "cogmap/core/bresenham.h"
@@ -64,6 +65,7 @@ grid::Grid2D<float> CleanMap(const grid::Grid2D<float>& grid, const CleanOptions
   // branchy lexicographic comparison.
   using Key = unsigned __int128;
   std::vector<Key> candidates;
+  std::vector<uint64_t> open_order;  // (nearest possible d2, bucket index)
   std::pair<int, int> witness(-1, -1);
   // Survivors with the path cell that sees them.
   std::vector<std::pair<grid::CellIndex, std::pair<int, int>>> survivors;
@@ -95,25 +97,47 @@ grid::Grid2D<float> CleanMap(const grid::Grid2D<float>& grid, const CleanOptions
       };
       // Nearest first: the first path cell that sees a is then about square
       // to the wall, which kRunMiddle uses as the direction through the band.
+      // The buckets in range are opened in the order of their nearest
+      // possible cell, their path cells kept in a min-heap of (d2, x, y)
+      // keys; the heap's top is tried only when no unopened bucket can hold
+      // a smaller key. Exactly the order of sorting every candidate, but the
+      // first few nearest usually see the cell, so most are never sorted.
       candidates.clear();
+      open_order.clear();
       const int bx0 = std::max(0, (x - m) / bucket), bx1 = std::min(bw - 1, (x + m) / bucket);
       const int by0 = std::max(0, (y - m) / bucket), by1 = std::min(bh - 1, (y + m) / bucket);
       for (int by = by0; by <= by1; ++by)
-        for (int bx = bx0; bx <= bx1; ++bx)
-          for (const auto& p : buckets[static_cast<size_t>(by) * bw + bx])
+        for (int bx = bx0; bx <= bx1; ++bx) {
+          if (buckets[static_cast<size_t>(by) * bw + bx].empty()) continue;
+          const int gx = std::max({0, bx * bucket - x, x - (bx * bucket + bucket - 1)});
+          const int gy = std::max({0, by * bucket - y, y - (by * bucket + bucket - 1)});
+          open_order.push_back(static_cast<uint64_t>(gx * gx + gy * gy) << 32 |
+                               static_cast<uint64_t>(by * bw + bx));
+        }
+      std::sort(open_order.begin(), open_order.end());
+      const auto lower = std::greater<Key>();
+      size_t next = 0;
+      while (!found) {
+        while (next < open_order.size() &&
+               (candidates.empty() || static_cast<uint64_t>(candidates.front() >> 64) >= open_order[next] >> 32)) {
+          for (const auto& p : buckets[static_cast<size_t>(open_order[next] & 0xffffffffu)])
             if (in_range(p)) {
               const int ddx = p.first - x, ddy = p.second - y;
               candidates.push_back(static_cast<Key>(static_cast<uint64_t>(ddx * ddx + ddy * ddy)) << 64 |
                                    static_cast<uint64_t>(p.first) << 32 | static_cast<uint32_t>(p.second));
+              std::push_heap(candidates.begin(), candidates.end(), lower);
             }
-      std::sort(candidates.begin(), candidates.end());
-      for (const Key c : candidates) {
+          ++next;
+        }
+        if (candidates.empty()) break;
+        std::pop_heap(candidates.begin(), candidates.end(), lower);
+        const Key c = candidates.back();
+        candidates.pop_back();
         const std::pair<int, int> p(static_cast<int>(static_cast<uint64_t>(c) >> 32),
                                     static_cast<int>(static_cast<uint32_t>(c)));
         if (attempt(p)) {
           found = true;
           witness = p;
-          break;
         }
       }
       if (found) survivors.push_back({grid::CellIndex(x, y), witness});
