@@ -720,6 +720,11 @@ std::vector<Vec2> TraceRegion(const Region& reg, const Vec2& origin, double step
 struct Shape {
   double length_m = 0.0, width_m = 0.0, area_m2 = 0.0;
   Vec2 axis{1, 0};
+  Vec2 centre{0, 0};                                   // of its area
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();       // of its area (m^2)
+  // Its extent along a unit direction: sqrt(12 x the variance along it), as
+  // length_m and width_m are along the principal axes.
+  double ExtentAlong(const Vec2& u) const { return std::sqrt(12.0 * std::max(0.0, u.dot(cov * u))); }
 };
 
 // The width of a convex polygon measured as RegionShapes measures a region's:
@@ -762,8 +767,13 @@ std::vector<Shape> RegionShapes(const RoomGrid& g, const Labels& label, int n) {
     const double cell_var = g.cell * g.cell / 12.0;
     out[r].length_m = std::sqrt(12.0 * (std::max(0.0, es.eigenvalues()(1)) + cell_var));
     out[r].width_m = std::sqrt(12.0 * (std::max(0.0, es.eigenvalues()(0)) + cell_var));
-    out[r].axis = g.FromFrame(es.eigenvectors().col(1)) ;
+    out[r].axis = g.FromFrame(es.eigenvectors().col(1));
     out[r].area_m2 = cells[r] * g.cell * g.cell;
+    out[r].centre = g.FromFrame(m[r].Mean());
+    const double c = std::cos(g.phi), sn = std::sin(g.phi);
+    Eigen::Matrix2d rot;
+    rot << c, -sn, sn, c;
+    out[r].cov = rot * (m[r].Cov() + Eigen::Matrix2d::Identity() * (g.cell * g.cell / 12.0)) * rot.transpose();
   }
   return out;
 }
@@ -1609,6 +1619,25 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     for (int u = 0; u < n_units; ++u)
       if (unit_room[unit_root(u)] >= 0) piece_path[unit_room[unit_root(u)]] += unit_path[u];
     auto floor_per_m = [&](int r) { return piece_path[r] > 0 ? shapes[r].area_m2 / piece_path[r] : 0.0; };
+    // The band of the corridor pieces (their axes about parallel): across
+    // their mean axis, from the lowest to the highest of their extents. Is
+    // piece r's floor inside it, give or take corridor_touch_m / 2, and no
+    // wider than a corridor?
+    auto InCorridorBand = [&](int r, const std::vector<int>& pieces) {
+      Vec2 u(0, 0);
+      for (int q : pieces) u += shapes[q].axis.dot(shapes[pieces[0]].axis) < 0 ? Vec2(-shapes[q].axis) : shapes[q].axis;
+      if (u.norm() < 1e-9) return false;
+      u.normalize();
+      const Vec2 n(-u.y(), u.x());
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (int q : pieces) {
+        const double c = n.dot(shapes[q].centre), half = 0.5 * shapes[q].ExtentAlong(n);
+        lo = std::min(lo, c - half), hi = std::max(hi, c + half);
+      }
+      const double across = shapes[r].ExtentAlong(n), c = n.dot(shapes[r].centre);
+      const double slack = 0.5 * o.corridor_touch_m;
+      return across <= o.corridor_max_width_m && c - 0.5 * across >= lo - slack && c + 0.5 * across <= hi + slack;
+    };
     std::vector<std::set<int>> nb(n1);
     for (int u = 0; u < n_units; ++u)
       if (unit_room[u] >= 0)
@@ -1621,38 +1650,52 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       meets[pair.first].insert(pair.second), meets[pair.second].insert(pair.first);
       if (edges * g.cell >= o.corridor_touch_m) nb[pair.first].insert(pair.second), nb[pair.second].insert(pair.first);
     }
-    for (int r = 0; r < n1; ++r) {
-      if (in_corridor[r] || (narrow[r] && elongated[r]) || piece_path[r] <= 0) continue;
-      std::vector<int> pieces;
-      double sum = 0.0;
-      for (int q : nb[r])
-        if (in_corridor[q] || (narrow[q] && elongated[q])) pieces.push_back(q), sum += floor_per_m(q);
-      if (pieces.size() < 2 || floor_per_m(r) > o.corner_floor_ratio * sum / pieces.size()) continue;
-      // A corner turns: two of the pieces it joins run across each other
-      // (axes more than 45 degrees apart). A room the robot crossed between
-      // two pieces of one straight corridor joins nothing (a generated
-      // building's rooms off a straight corridor read as corners otherwise).
-      bool turns = false;
-      for (size_t a = 0; a < pieces.size() && !turns; ++a)
-        for (size_t b = a + 1; b < pieces.size() && !turns; ++b)
-          turns = std::abs(shapes[pieces[a]].axis.dot(shapes[pieces[b]].axis)) < std::cos(Deg(45.0));
-      if (!turns) continue;
-      // The joined corridor would be a loop when its pieces meet in a cycle:
-      // at least as many meeting pairs as pieces.
-      std::set<int> groups;
-      for (int q : pieces) groups.insert(corr.Find(q));
-      if (groups.size() < pieces.size()) continue;  // two of them are one corridor already
-      std::vector<char> member(n1, 0);
-      int members = 1, pairs = 0;
-      member[r] = 1;
-      for (int q = 0; q < n1; ++q)
-        if (groups.count(corr.Find(q))) member[q] = 1, ++members;
-      for (int q = 0; q < n1; ++q)
-        if (member[q])
-          for (int t : meets[q]) pairs += t > q && member[t];
-      if (pairs >= members) continue;
-      for (int q : pieces) corr.Unite(r, q), in_corridor[q] = 1;
-      in_corridor[r] = 1;
+    // First the corners, then (a second sweep, so that they do not change
+    // which corners close a ring) the pieces in a straight corridor's band.
+    for (const bool band_sweep : {false, true}) {
+      for (int r = 0; r < n1; ++r) {
+        if (in_corridor[r] || (narrow[r] && elongated[r]) || piece_path[r] <= 0) continue;
+        std::vector<int> pieces;
+        double sum = 0.0;
+        for (int q : nb[r])
+          if (in_corridor[q] || (narrow[q] && elongated[q])) pieces.push_back(q), sum += floor_per_m(q);
+        if (pieces.size() < 2 || floor_per_m(r) > o.corner_floor_ratio * sum / pieces.size()) continue;
+        // A corner turns: two of the pieces it joins run across each other
+        // (axes more than 45 degrees apart). A room the robot crossed between
+        // two pieces of one straight corridor joins nothing (a generated
+        // building's rooms off a straight corridor read as corners otherwise).
+        bool turns = false;
+        for (size_t a = 0; a < pieces.size() && !turns; ++a)
+          for (size_t b = a + 1; b < pieces.size() && !turns; ++b)
+            turns = std::abs(shapes[pieces[a]].axis.dot(shapes[pieces[b]].axis)) < std::cos(Deg(45.0));
+        if (!band_sweep) {
+          if (!turns) continue;
+          // The joined corridor would be a loop when its pieces meet in a cycle:
+          // at least as many meeting pairs as pieces.
+          std::set<int> groups;
+          for (int q : pieces) groups.insert(corr.Find(q));
+          if (groups.size() < pieces.size()) continue;  // two of them are one corridor already
+          std::vector<char> member(n1, 0);
+          int members = 1, pairs = 0;
+          member[r] = 1;
+          for (int q = 0; q < n1; ++q)
+            if (groups.count(corr.Find(q))) member[q] = 1, ++members;
+          for (int q = 0; q < n1; ++q)
+            if (member[q])
+              for (int t : meets[q]) pairs += t > q && member[t];
+          if (pairs >= members) continue;
+        } else {
+          // In the band of a straight corridor: a short piece the boundary
+          // detector cut out of the corridor itself (the robot stopped at a
+          // door and looked in), whose floor spans the corridor's width and
+          // no more, centred on it. A room off the corridor lies beside the
+          // band and reaches across it by its depth. Pieces of one straight
+          // band cannot run round a block: no ring test.
+          if (turns || !InCorridorBand(r, pieces)) continue;
+        }
+        for (int q : pieces) corr.Unite(r, q), in_corridor[q] = 1;
+        in_corridor[r] = 1;
+      }
     }
   }
   // Open plan. Two rooms the robot drove between (an exit joins them),

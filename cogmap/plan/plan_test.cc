@@ -657,6 +657,29 @@ TEST(BuildPlan, RoomExploredBetweenTwoPiecesOfAStraightCorridorStaysARoom) {
   ExpectRoomBetweenTwoCorridors(BuildPlan(RoomBetweenTwoCorridorPieces(explore), {}));
 }
 
+TEST(BuildPlan, ShortPieceCutOutOfAStraightCorridorJoinsIt) {
+  // The boundary detector cut 2 m out of a straight corridor (the robot
+  // stopped at a door and looked into the room below it: its grid saw
+  // 5 x 3 m of that room's floor, wider than a corridor, so the piece is not
+  // a narrow one). By floor per metre of path it is the corridor's (2 m2 per
+  // metre), its pieces run along one axis (no corner), but its floor lies in
+  // the corridor's band: the corridor's, one corridor of three pieces.
+  std::vector<asr::Asr> asrs = {CorridorPiece(0, {{0, 1}, {10, 1}}, 0.0, true)};
+  asrs[0].walls_local = {{{0, 0}, {10, 0}}, {{0, 2}, {10, 2}}, {{0, 0}, {0, 2}}};
+  asrs.push_back(MakeAsr(1, {{{10, 0}, {10.6, 0}}, {{11.4, 0}, {12, 0}}, {{10, 2}, {12, 2}}}, Line({10, 1}, {12, 1}), 10.0));
+  asrs[1].free_hull_local = {{8.5, -3}, {13.5, -3}, {13.5, 1.9}, {8.5, 1.9}};
+  asrs.push_back(CorridorPiece(2, {{12, 1}, {22, 1}}, 20.0, false, true));
+  asrs[2].walls_local = {{{12, 0}, {22, 0}}, {{12, 2}, {22, 2}}, {{22, 0}, {22, 2}}};
+  asrs[0].exits.push_back({{10, 1}, 2.0, 0, 1});
+  asrs[1].exits = {{{10, 1}, 2.0, 0, 1}, {{12, 1}, 2.0, 1, 2}};
+  asrs[2].exits.push_back({{12, 1}, 2.0, 1, 2});
+  const Plan plan = BuildPlan(asrs, {});
+  ASSERT_EQ(plan.rooms.size(), 1u);
+  EXPECT_TRUE(plan.rooms[0].corridor);
+  EXPECT_EQ(plan.rooms[0].asr_ids, (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(plan.rooms[0].graph_rooms.size(), 3u);
+}
+
 TEST(BuildPlan, OpenFloorBetweenTwoAsrsOfOneRoomIsOneRoom) {
   // One 12 x 6 m lab with a desk (5.5..6.5 x 1.5..3): the robot drove along
   // y = 0.75 between the wall and the desk, where the way narrowed to 1.5 m,
