@@ -795,8 +795,12 @@ struct DoorCand {
   Vec2 a, b;
   int from_asr = -1, to_asr = -1;
   bool in_wall = false;  // lies along walls: cut them
+  bool jambs = false;    // in a wall, its ends at the faces beside the gap (else the exit's width)
   Vec2 line_c{0, 0}, line_u{1, 0};
   double lo = 0, hi = 0;  // the gap along line_u from line_c
+  // How well it is placed: between jambs, then on a wall line, then across
+  // the robot's way.
+  int Rank() const { return jambs ? 2 : in_wall ? 1 : 0; }
 };
 
 
@@ -1352,6 +1356,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         }
         if (!covered && hi - lo >= o.min_door_m && hi - lo <= o.max_door_m) {
           d.lo = lo, d.hi = hi;
+          d.jambs = true;
         } else {
           d.lo = -0.5 * w, d.hi = 0.5 * w;
         }
@@ -1874,7 +1879,52 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   for (size_t i = 0; i < segs.size(); ++i)
     cut_hash.Add(segs[i].a.cwiseMin(segs[i].b), segs[i].a.cwiseMax(segs[i].b), static_cast<int>(i));
   std::map<int, std::vector<std::pair<double, double>>> cuts;  // segment -> cut spans (0..1)
-  for (const auto& d : door_cands) {
+  // One door per doorway: the robot goes in and comes out through the same
+  // door, two exits (and a revisit more). Two doors between the same two
+  // plan rooms whose lines lie within wall_thickness_m of each other and
+  // overlap along them are one: the better placed is kept (between jambs,
+  // then on a wall line, then the first); on a wall line but not between
+  // jambs, it spans both.
+  std::vector<char> merged(door_cands.size(), 0);
+  {
+    auto rooms_of = [&](const DoorCand& d) {
+      const int ra = plan_room_of_asr(d.from_asr), rb = plan_room_of_asr(d.to_asr);
+      return std::pair<int, int>(std::min(ra, rb), std::max(ra, rb));
+    };
+    auto same_doorway = [&](const DoorCand& d, const DoorCand& e) {
+      const Vec2 u = (d.b - d.a).normalized(), v = (e.b - e.a).normalized();
+      if (std::abs(u.dot(v)) < std::cos(Deg(o.face_angle_deg))) return false;
+      const double ea = u.dot(e.a - d.a), eb = u.dot(e.b - d.a), len = (d.b - d.a).norm();
+      if (std::max(ea, eb) <= 0.0 || std::min(ea, eb) >= len) return false;  // no overlap along d
+      const Vec2 n = Perp(u);
+      return std::abs(n.dot(0.5 * (e.a + e.b) - d.a)) <= o.wall_thickness_m ||
+             std::abs(n.dot(0.5 * (d.a + d.b) - e.a)) <= o.wall_thickness_m;
+    };
+    for (size_t i = 0; i < door_cands.size(); ++i) {
+      if (merged[i]) continue;
+      const auto ri = rooms_of(door_cands[i]);
+      if (ri.first == ri.second) continue;
+      for (size_t j = i + 1; j < door_cands.size(); ++j) {
+        if (merged[j] || rooms_of(door_cands[j]) != ri || !same_doorway(door_cands[i], door_cands[j])) continue;
+        if (door_cands[j].Rank() > door_cands[i].Rank()) {
+          std::swap(door_cands[i], door_cands[j]);  // the better one takes i's place, in i's order
+        }
+        DoorCand& keep = door_cands[i];
+        const DoorCand& drop = door_cands[j];
+        if (keep.in_wall && !keep.jambs && drop.in_wall) {
+          // Neither gap was measured between jambs: the door spans both
+          // exits' widths along its line (as both cut the wall before).
+          const double ta = keep.line_u.dot(drop.a - keep.line_c), tb = keep.line_u.dot(drop.b - keep.line_c);
+          keep.lo = std::min({keep.lo, ta, tb}), keep.hi = std::max({keep.hi, ta, tb});
+          keep.a = keep.line_c + keep.lo * keep.line_u, keep.b = keep.line_c + keep.hi * keep.line_u;
+        }
+        merged[j] = 1;
+      }
+    }
+  }
+  for (size_t k = 0; k < door_cands.size(); ++k) {
+    if (merged[k]) continue;
+    const DoorCand& d = door_cands[k];
     const int ra = plan_room_of_asr(d.from_asr), rb = plan_room_of_asr(d.to_asr);
     auto ia = index_of.find(d.from_asr), ib = index_of.find(d.to_asr);
     if (ia != index_of.end() && ib != index_of.end() &&

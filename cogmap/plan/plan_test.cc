@@ -323,6 +323,36 @@ TEST(BuildPlan, ExitCutsADoorInTheWall) {
   EXPECT_EQ(plan.rooms[1].doors, (std::vector<int>{0}));
 }
 
+TEST(BuildPlan, ADoorwayPassedTwiceIsOneDoor) {
+  // The robot goes from room A into room B through the door at x = 3 and
+  // comes back through it into A (a revisit of A: the store's room 0): two
+  // exits, placed 0.1 m apart and of different widths, one doorway. The
+  // plan keeps one door (and one edge); the room graph keeps both exits.
+  asr::Asr a = MakeAsr(0, {Box(0, 0, 6, 4)}, Line({3, 1}, {3, 3.5}));
+  asr::Asr b = MakeAsr(1, {Box(0, 4, 6, 8)}, Line({3, 4.5}, {3, 7}), 10.0);
+  asr::Asr a2 = MakeAsr(2, {Box(0, 0, 6, 4)}, Line({3.1, 3.5}, {3.1, 1}), 20.0);
+  a.exits.push_back({{3.0, 4.0}, 0.9, 0, 1});
+  b.exits = {{{3.0, 4.0}, 0.9, 0, 1}, {{3.1, 4.05}, 0.7, 1, 2}};
+  a2.exits.push_back({{3.1, 4.05}, 0.7, 1, 2});
+  const Plan plan = BuildPlan({a, b, a2}, {{0, 0}, {1, 1}, {2, 0}});
+  ASSERT_EQ(plan.rooms.size(), 2u);
+  ASSERT_EQ(plan.doors.size(), 1u);
+  // Both on the wall, neither between jambs: the door spans both gaps
+  // (2.55..3.45 and 2.75..3.45), on the first one's line.
+  EXPECT_NEAR(plan.doors[0].center().x(), 3.0, 1e-6);
+  EXPECT_NEAR(plan.doors[0].center().y(), 4.0, 1e-6);
+  EXPECT_NEAR(plan.doors[0].width_m(), 0.9, 1e-6);
+  ASSERT_EQ(plan.edges.size(), 1u);
+  EXPECT_EQ(plan.rooms[0].doors, (std::vector<int>{0}));
+  EXPECT_EQ(plan.rooms[1].doors, (std::vector<int>{0}));
+  // A second doorway between the same rooms, 2 m along the wall, stays a door of its own.
+  b.exits[1] = {{5.0, 4.0}, 0.7, 1, 2};
+  a2.exits[0] = {{5.0, 4.0}, 0.7, 1, 2};
+  a2.path.clear();
+  for (const Vec2& p : Line({5, 3.5}, {5, 1})) a2.path.push_back(Pose2{p.x(), p.y(), 0.0});
+  EXPECT_EQ(BuildPlan({a, b, a2}, {{0, 0}, {1, 1}, {2, 0}}).doors.size(), 2u);
+}
+
 TEST(BuildPlan, DoorGapAlreadyOpenIsKeptAtItsJambs) {
   // The walls already show a 1.0 m gap at x = 2.5..3.5; the exit lies in it.
   asr::Asr a = MakeAsr(0, {{{2.5, 4}, {0, 4}, {0, 0}, {6, 0}, {6, 4}, {3.5, 4}}}, Line({3, 1}, {3, 3.5}));
