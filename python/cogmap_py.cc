@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <memory>
 #include <string>
@@ -256,7 +257,10 @@ py::object MapLog(const std::string& path, const std::string& output, const std:
   job.world = world;
   auto log = io::OpenLog(path, format);
   const mapping::MapJobSummary s = mapping::RunMapJob(*log, job);
-  py::dict d = Json(s.report);
+  // report.json as the run wrote it (the job streams it, never holding it whole).
+  std::ifstream in((std::filesystem::path(output) / "report.json").string());
+  if (!in) throw std::runtime_error(output + "/report.json: cannot read the report the run wrote");
+  py::dict d = Json(nlohmann::json::parse(in));
   d["outputs"] = s.written;
   d["warnings"] = s.warnings;
   return d;

@@ -369,9 +369,8 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - octx.start).count();
   out.times_real_time = out.seconds > 0 ? run.duration_s() / out.seconds : 0.0;
   ctx.total_seconds = out.seconds;
-  out.report = MakeReport(ctx);
   io::WriteFileAtomically((fs::path(staging) / "report.json").string(),
-                          [&](std::ostream& o) { o << std::setw(2) << out.report << "\n"; });  // dump(2)'s text
+                          [&](std::ostream& o) { WriteReport(ctx, o); });
   out.run = run;
   out.warnings = run.graph.warnings;
   return out;

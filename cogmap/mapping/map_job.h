@@ -76,7 +76,8 @@ struct MapJobSummary {
   int plan_rooms = 0, plan_walls = 0, plan_doors = 0;  // the floor plan
   std::vector<std::string> written;  // file names in the output folder
   std::vector<std::string> warnings; // for the user (one line each)
-  nlohmann::json report;             // what report.json holds
+  // report.json is written as it is made (WriteReport), never held whole:
+  // read it from the output folder.
 };
 
 // Maps 'log' into job.output_dir. The folder is locked for the run, every file

@@ -151,7 +151,13 @@ TEST(MappingPipeline, StreamingEqualsTheJobOnTheSameLog) {
   auto log = io::OpenLog(job.log_path);
   const MapJobSummary s = RunMapJob(*log, job);
   EXPECT_EQ(s.asrs, static_cast<int>(closed.size()));
-  EXPECT_EQ(s.report["asr_count"].get<int>(), s.asrs);
+  {
+    std::ifstream in(job.output_dir + "/report.json");
+    const nlohmann::json report = nlohmann::json::parse(in);
+    EXPECT_EQ(report["asr_count"].get<int>(), s.asrs);
+    EXPECT_EQ(report["asrs"].size(), closed.size());
+    EXPECT_EQ(report["pose_graph"]["placements"].size(), closed.size());
+  }
   // The default outputs (issue 14's fast set).
   for (const char* f : {"map.sqlite", "plan.svg", "map.geojson", "map.map", "map.gpkg", "route_graph.geojson",
                         "plan.json", "walls.json", "report.json"})

@@ -5,35 +5,54 @@
 #include <filesystem>
 
 #include "cogmap/core/angles.h"
+#include "cogmap/io/json_stream.h"
 #include "cogmap/mapping/map_job.h"
 
 namespace cogmap::mapping {
 namespace {
 
+using io::JsonStreams;
+
 nlohmann::json OrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
-nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms) {
-  nlohmann::json closures = nlohmann::json::array(), uncertain = nlohmann::json::array(),
-                 placements = nlohmann::json::array();
+nlohmann::json ClosureJson(const graph::LoopClosure& c) {
+  return {{"from_asr", c.from_asr}, {"to_asr", c.to_asr}, {"accepted", c.accepted},
+          {"same_room", c.same_room}, {"agreement", c.agreement}, {"rmse_m", c.rmse_m},
+          {"mahalanobis2", c.mahalanobis2}, {"reason", c.reason},
+          {"relative", {c.relative.x, c.relative.y, RadToDeg(c.relative.theta)}}};
+}
+
+nlohmann::json PlacementJson(const graph::AsrEstimate& e) {
+  nlohmann::json j = {{"id", e.asr_id}, {"room", e.room_id}, {"uncertain", e.uncertain}};
+  if (e.has_covariance) {
+    j["sigma_x_m"] = std::sqrt(std::max(0.0, e.covariance(0, 0)));
+    j["sigma_y_m"] = std::sqrt(std::max(0.0, e.covariance(1, 1)));
+    j["sigma_theta_deg"] = RadToDeg(std::sqrt(std::max(0.0, e.covariance(2, 2))));
+  }
+  return j;
+}
+
+// The pose_graph section, its two per-ASR arrays (closure_candidates,
+// placements) left as streams of 'streams'.
+nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStreams* streams) {
+  nlohmann::json uncertain = nlohmann::json::array();
   int accepted = 0, same_room = 0;
   for (const auto& c : g.closures) {
     accepted += c.accepted ? 1 : 0;
     same_room += c.accepted && c.same_room ? 1 : 0;
-    closures.push_back({{"from_asr", c.from_asr}, {"to_asr", c.to_asr}, {"accepted", c.accepted},
-                        {"same_room", c.same_room}, {"agreement", c.agreement}, {"rmse_m", c.rmse_m},
-                        {"mahalanobis2", c.mahalanobis2}, {"reason", c.reason},
-                        {"relative", {c.relative.x, c.relative.y, RadToDeg(c.relative.theta)}}});
   }
-  for (const auto& e : g.asrs) {
-    nlohmann::json j = {{"id", e.asr_id}, {"room", e.room_id}, {"uncertain", e.uncertain}};
-    if (e.has_covariance) {
-      j["sigma_x_m"] = std::sqrt(std::max(0.0, e.covariance(0, 0)));
-      j["sigma_y_m"] = std::sqrt(std::max(0.0, e.covariance(1, 1)));
-      j["sigma_theta_deg"] = RadToDeg(std::sqrt(std::max(0.0, e.covariance(2, 2))));
-    }
-    placements.push_back(j);
+  for (const auto& e : g.asrs)
     if (e.uncertain) uncertain.push_back({{"id", e.asr_id}, {"why", e.why}});
-  }
+  const nlohmann::json closures = streams->Add([&g, k = size_t{0}](nlohmann::json* out) mutable {
+    if (k >= g.closures.size()) return false;
+    *out = ClosureJson(g.closures[k++]);
+    return true;
+  });
+  const nlohmann::json placements = streams->Add([&g, k = size_t{0}](nlohmann::json* out) mutable {
+    if (k >= g.asrs.size()) return false;
+    *out = PlacementJson(g.asrs[k++]);
+    return true;
+  });
   return {{"solution", g.solution},
           {"closures_accepted", accepted},
           {"revisits", same_room},
@@ -93,22 +112,25 @@ nlohmann::json AsrJson(const AsrSummary& s) {
           {"heading_estimate", heading}};
 }
 
-nlohmann::json MakeReport(const ReportContext& c) {
+void WriteReport(const ReportContext& c, std::ostream& out) {
   namespace fs = std::filesystem;
   const MapJob& job = *c.job;
   const RunResult& run = *c.run;
-  nlohmann::json per_asr = nlohmann::json::array();
-  for (const auto& s : run.asrs) per_asr.push_back(AsrJson(s));
-  // Per ASR of this run: its heading error against the truth (one global
-  // rotation removed), when the log has ground truth.
-  std::map<int, std::vector<size_t>> entries_of;  // ASR id -> its entries in per_asr
-  for (size_t k = 0; k < run.asrs.size(); ++k) entries_of[run.asrs[k].id].push_back(k);
-  for (const auto& e : c.heading->per_asr)
-    if (auto it = entries_of.find(e.asr_id); it != entries_of.end())
-      for (size_t k : it->second) {
-        per_asr[k]["heading_error_deg"] = RadToDeg(e.corrected_rad);
-        per_asr[k]["heading_error_raw_deg"] = RadToDeg(e.raw_rad);
-      }
+  JsonStreams streams;
+  // Per ASR of this run: its entry, with its heading error against the
+  // truth (one global rotation removed) when the log has ground truth.
+  std::map<int, const localize::AsrHeadingError*> heading_of;
+  for (const auto& e : c.heading->per_asr) heading_of[e.asr_id] = &e;
+  const nlohmann::json per_asr = streams.Add([&run, heading_of, k = size_t{0}](nlohmann::json* j) mutable {
+    if (k >= run.asrs.size()) return false;
+    const AsrSummary& s = run.asrs[k++];
+    *j = AsrJson(s);
+    if (auto it = heading_of.find(s.id); it != heading_of.end()) {
+      (*j)["heading_error_deg"] = RadToDeg(it->second->corrected_rad);
+      (*j)["heading_error_raw_deg"] = RadToDeg(it->second->raw_rad);
+    }
+    return true;
+  });
   asr::StageBytes bytes;
   nlohmann::json seconds_all = nlohmann::json::array();
   for (const auto& x : *c.all) {
@@ -164,7 +186,7 @@ nlohmann::json MakeReport(const ReportContext& c) {
     report["drift_filter_walk_deg_per_sqrt_m"] = RadToDeg(run.drift_walk_rad_per_sqrt_m);
     report["drift_filter_sigma_scale"] = run.drift_sigma_scale;
   }
-  if (run.correction == Correction::kPoseGraph) report["pose_graph"] = PoseGraphJson(run.graph, c.rooms);
+  if (run.correction == Correction::kPoseGraph) report["pose_graph"] = PoseGraphJson(run.graph, c.rooms, &streams);
   for (const auto& [k, v] : localize::HeadingErrorEvalKeys(*c.heading)) report[k] = v;
   if (c.room_metrics) {
     report["world"] = fs::absolute(job.world).string();
@@ -172,7 +194,8 @@ nlohmann::json MakeReport(const ReportContext& c) {
     report["room_recall"] = c.room_metrics->room_recall;
     report["asr_rooms"] = c.room_metrics->asr_room;
   }
-  return report;
+  streams.Write(out, report);
+  out << "\n";
 }
 
 }  // namespace cogmap::mapping

@@ -3,6 +3,7 @@
 // section).
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -31,7 +32,10 @@ struct ReportContext {
   std::optional<asr::RoomMetrics> room_metrics;
 };
 
-nlohmann::json MakeReport(const ReportContext& c);
+// report.json's text (nlohmann's dump(2) and a newline), written as it is
+// made: the per-ASR arrays (asrs, pose_graph.placements and
+// closure_candidates) one entry at a time (io::JsonStreams).
+void WriteReport(const ReportContext& c, std::ostream& out);
 // One ASR's entry of report.json's "asrs".
 nlohmann::json AsrJson(const AsrSummary& s);
 
