@@ -1900,25 +1900,34 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       return std::abs(n.dot(0.5 * (e.a + e.b) - d.a)) <= o.wall_thickness_m ||
              std::abs(n.dot(0.5 * (d.a + d.b) - e.a)) <= o.wall_thickness_m;
     };
+    // Compared only within each pair of rooms (in index order): linear in
+    // the doors of a building whose rooms have a door or two each.
+    std::map<std::pair<int, int>, std::vector<size_t>> by_rooms;
     for (size_t i = 0; i < door_cands.size(); ++i) {
-      if (merged[i]) continue;
       const auto ri = rooms_of(door_cands[i]);
-      if (ri.first == ri.second) continue;
-      for (size_t j = i + 1; j < door_cands.size(); ++j) {
-        if (merged[j] || rooms_of(door_cands[j]) != ri || !same_doorway(door_cands[i], door_cands[j])) continue;
-        if (door_cands[j].Rank() > door_cands[i].Rank()) {
-          std::swap(door_cands[i], door_cands[j]);  // the better one takes i's place, in i's order
+      if (ri.first != ri.second) by_rooms[ri].push_back(i);
+    }
+    for (const auto& [pair, members] : by_rooms) {
+      for (size_t mi = 0; mi < members.size(); ++mi) {
+        const size_t i = members[mi];
+        if (merged[i]) continue;
+        for (size_t mj = mi + 1; mj < members.size(); ++mj) {
+          const size_t j = members[mj];
+          if (merged[j] || !same_doorway(door_cands[i], door_cands[j])) continue;
+          if (door_cands[j].Rank() > door_cands[i].Rank()) {
+            std::swap(door_cands[i], door_cands[j]);  // the better one takes i's place, in i's order
+          }
+          DoorCand& keep = door_cands[i];
+          const DoorCand& drop = door_cands[j];
+          if (keep.in_wall && !keep.jambs && drop.in_wall) {
+            // Neither gap was measured between jambs: the door spans both
+            // exits' widths along its line (as both cut the wall before).
+            const double ta = keep.line_u.dot(drop.a - keep.line_c), tb = keep.line_u.dot(drop.b - keep.line_c);
+            keep.lo = std::min({keep.lo, ta, tb}), keep.hi = std::max({keep.hi, ta, tb});
+            keep.a = keep.line_c + keep.lo * keep.line_u, keep.b = keep.line_c + keep.hi * keep.line_u;
+          }
+          merged[j] = 1;
         }
-        DoorCand& keep = door_cands[i];
-        const DoorCand& drop = door_cands[j];
-        if (keep.in_wall && !keep.jambs && drop.in_wall) {
-          // Neither gap was measured between jambs: the door spans both
-          // exits' widths along its line (as both cut the wall before).
-          const double ta = keep.line_u.dot(drop.a - keep.line_c), tb = keep.line_u.dot(drop.b - keep.line_c);
-          keep.lo = std::min({keep.lo, ta, tb}), keep.hi = std::max({keep.hi, ta, tb});
-          keep.a = keep.line_c + keep.lo * keep.line_u, keep.b = keep.line_c + keep.hi * keep.line_u;
-        }
-        merged[j] = 1;
       }
     }
   }
