@@ -121,7 +121,7 @@ void WriteReport(const ReportContext& c, std::ostream& out) {
   // truth (one global rotation removed) when the log has ground truth.
   std::map<int, const localize::AsrHeadingError*> heading_of;
   for (const auto& e : c.heading->per_asr) heading_of[e.asr_id] = &e;
-  const nlohmann::json per_asr = streams.Add([&run, heading_of, k = size_t{0}](nlohmann::json* j) mutable {
+  const nlohmann::json per_asr = streams.Add([&run, &heading_of, k = size_t{0}](nlohmann::json* j) mutable {
     if (k >= run.asrs.size()) return false;
     const AsrSummary& s = run.asrs[k++];
     *j = AsrJson(s);

@@ -1628,7 +1628,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     // their mean axis, from the lowest to the highest of their extents. Is
     // piece r's floor inside it, give or take corridor_touch_m / 2, and no
     // wider than a corridor?
-    auto InCorridorBand = [&](int r, const std::vector<int>& pieces) {
+    auto in_corridor_band = [&](int r, const std::vector<int>& pieces) {
       Vec2 u(0, 0);
       for (int q : pieces) u += shapes[q].axis.dot(shapes[pieces[0]].axis) < 0 ? Vec2(-shapes[q].axis) : shapes[q].axis;
       if (u.norm() < 1e-9) return false;
@@ -1696,7 +1696,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
           // no more, centred on it. A room off the corridor lies beside the
           // band and reaches across it by its depth. Pieces of one straight
           // band cannot run round a block: no ring test.
-          if (turns || !InCorridorBand(r, pieces)) continue;
+          if (turns || !in_corridor_band(r, pieces)) continue;
         }
         for (int q : pieces) corr.Unite(r, q), in_corridor[q] = 1;
         in_corridor[r] = 1;
