@@ -349,10 +349,13 @@ struct RoomGrid {
   }
 };
 
-// Where a room may flood: the convex hull of the walls, the path and the floor
-// the grid saw (Asr::free_hull_local) of each of its units (a room with its
-// revisits and absorbed slivers), not of them all: the
-// pieces of a corridor turning a corner would span the block it runs around.
+// Where a room may flood: convex hulls of the walls, the path and the floor
+// the grid saw (Asr::free_hull_local). Pass 1 (the shapes that tell corridors
+// from rooms) takes one hull per unit (a room with its revisits and absorbed
+// slivers), not one for them all: the pieces of a corridor turning a corner
+// would span the block it runs around. Pass 2 (the plan's footprints) takes
+// one per ASR: a unit whose visits go round a corner (a corridor driven
+// twice, a ring's revisits merged into one room) would span it too.
 using RoomHulls = std::vector<std::vector<Vec2>>;
 
 // Multi-source breadth-first flood: each seed cell's label spreads through free
@@ -1477,11 +1480,14 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // Seeds and allowed regions per working room.
   // 'free_floor' (per room; empty: none) lets a room reach the floor its
   // ASRs' grids saw, not only the hull of its walls and path.
+  // 'per_asr_hulls': one hull per ASR instead of one per unit.
   auto build_regions = [&](const std::vector<int>& room_of_unit, int n_rooms, const std::vector<char>& free_floor,
-                           std::vector<std::vector<size_t>>* seeds, std::vector<RoomHulls>* hulls) {
+                           bool per_asr_hulls, std::vector<std::vector<size_t>>* seeds,
+                           std::vector<RoomHulls>* hulls) {
     seeds->assign(n_rooms, {});
     hulls->assign(n_rooms, {});
     std::vector<std::vector<Vec2>> hull_pts(n_units);
+    std::vector<RoomHulls> asr_hulls(n_units);  // per unit, one per ASR
     std::vector<std::vector<size_t>> all_path(n_rooms);
     std::map<int, std::vector<const DoorCand*>> doors_of_asr;
     for (const auto& d : door_cands) {
@@ -1492,12 +1498,18 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       const auto& own_doors = doors_of_asr[asrs[i].id];
       const int u = unit_root(unit_of[i]);
       const int r = room_of_unit[u];
+      std::vector<Vec2> pts;
       for (const auto& l : walls[i])
-        for (const auto& p : l) hull_pts[u].push_back(g.ToFrame(p));
+        for (const auto& p : l) pts.push_back(g.ToFrame(p));
       if (!free_floor.empty() && free_floor[r])
-        for (const auto& p : free_hull[i]) hull_pts[u].push_back(g.ToFrame(p));
+        for (const auto& p : free_hull[i]) pts.push_back(g.ToFrame(p));
+      for (const auto& p : path[i]) pts.push_back(g.ToFrame(p));
+      if (per_asr_hulls) {
+        if (!pts.empty()) asr_hulls[u].push_back(ConvexHull(std::move(pts)));
+      } else {
+        hull_pts[u].insert(hull_pts[u].end(), pts.begin(), pts.end());
+      }
       for (const auto& p : path[i]) {
-        hull_pts[u].push_back(g.ToFrame(p));
         int cx, cy;
         if (!g.Cell(p, &cx, &cy)) continue;
         // A cell repeated next in one room's list would flood nothing more: once.
@@ -1509,8 +1521,10 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         if (!near_door && ((*seeds)[r].empty() || (*seeds)[r].back() != idx)) (*seeds)[r].push_back(idx);
       }
     }
-    for (int u = 0; u < n_units; ++u)
+    for (int u = 0; u < n_units; ++u) {
+      for (auto& h : asr_hulls[u]) (*hulls)[room_of_unit[u]].push_back(std::move(h));
       if (!hull_pts[u].empty()) (*hulls)[room_of_unit[u]].push_back(ConvexHull(hull_pts[u]));
+    }
     for (int r = 0; r < n_rooms; ++r)
       if ((*seeds)[r].empty()) (*seeds)[r] = all_path[r];
   };
@@ -1536,7 +1550,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // Pass 1 bounds every unit by its walls and path: a corridor's grid sees
   // through doors and wall gaps into the rooms beside it, and the shapes
   // below tell corridors from rooms.
-  build_regions(unit_room, n1, {}, &seeds, &hulls);
+  build_regions(unit_room, n1, {}, false, &seeds, &hulls);
   std::vector<Shape> shapes;
   std::map<std::pair<int, int>, int> touching;  // pairs of units -> cell edges their regions share
   // The same contacts split by the direction of the step (x, y): a straight
@@ -1752,7 +1766,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     if (in_corridor[r]) is_corridor[plan_of_r1[r]] = 1;
   std::vector<char> free_floor(n_plan, 0);
   for (int r = 0; r < n_plan; ++r) free_floor[r] = !is_corridor[r];
-  build_regions(plan_of_unit, n_plan, free_floor, &seeds, &hulls);
+  build_regions(plan_of_unit, n_plan, free_floor, true, &seeds, &hulls);
   // The paths and walls have served (the seeds and hulls carry what the flood
   // needs), then the seeds and hulls: freed before the polygons are traced.
   std::vector<std::vector<Vec2>>().swap(path);

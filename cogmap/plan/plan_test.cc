@@ -501,6 +501,24 @@ TEST(BuildPlan, CorridorTurningACornerDoesNotFillTheCorner) {
   EXPECT_FALSE(Inside({4, 6}, plan.rooms[0].polygon));  // the open corner
 }
 
+// The same corner when the pose graph took the second leg for a revisit of
+// the first (one room id for both ASRs, as on intel's and aces' corridor
+// rings): the room's footprint is the union of what each ASR saw, not the
+// convex hull of both legs.
+TEST(BuildPlan, OneRoomSeenRoundACornerDoesNotFillTheCorner) {
+  asr::Asr a = MakeAsr(0, {{{0, 2}, {0, 0}, {10, 0}}, {{0, 2}, {3, 2}}, {{5, 2}, {8, 2}}}, Line({0.5, 1}, {9, 1}));
+  asr::Asr b = MakeAsr(1, {{{10, 0}, {10, 12}, {8, 12}}, {{8, 2}, {8, 6}}, {{8, 8}, {8, 12}}},
+                       Line({9, 2.2}, {9, 11.5}), 10.0);
+  b.exits.push_back({{9, 2}, 2.0, 0, 1});
+  const Plan plan = BuildPlan({a, b}, {{0, 0}, {1, 0}});
+  ASSERT_EQ(plan.rooms.size(), 1u);
+  EXPECT_EQ(plan.rooms[0].asr_ids, (std::vector<int>{0, 1}));
+  EXPECT_NEAR(plan.rooms[0].area_m2, 40.0, 2.0);
+  EXPECT_FALSE(Inside({4, 6}, plan.rooms[0].polygon));  // the open corner
+  EXPECT_TRUE(Inside({5, 1}, plan.rooms[0].polygon));
+  EXPECT_TRUE(Inside({9, 7}, plan.rooms[0].polygon));
+}
+
 TEST(BuildPlan, SliverIsAbsorbedByItsNeighbour) {
   asr::Asr a = MakeAsr(0, {Box(0, 0, 4, 4)}, Line({1, 2}, {3.6, 2}));
   asr::Asr s = MakeAsr(1, {{{4, 0}, {4, 4}}}, Line({3.7, 2}, {3.9, 2}), 5.0);  // 0.2 m of path
