@@ -769,10 +769,11 @@ OptimizerResult MapOptimizer::Finish() {
     }
   res.drift_rate_rad_per_m = rate_n ? rate_sum / rate_n : 0.0;
   // Covariances scaled by the a-posteriori variance factor chi2 / dof (the
-  // variance of unit weight of least-squares adjustment): the factors'
-  // sigmas are priors for robots in general, the residuals say how good this
-  // run's were. Shrinking is limited to a factor of 2 in sigma and needs at
-  // least min_dof_to_shrink degrees of freedom.
+  // variance of unit weight of least-squares adjustment) when it exceeds 1:
+  // the factors disagree more than their sigmas allow. Below 1 they are kept
+  // (by default; min_variance_factor): small residuals say the random part
+  // of the noise was small, not that a systematic one (the wheels' distance
+  // scale) was, which no residual of a graph without loops can see.
   t0 = std::chrono::steady_clock::now();
   std::vector<Eigen::Matrix3d> cov;
   double cov_chi2 = res.chi2;  // chi-square of the model the covariances come from
