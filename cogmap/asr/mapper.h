@@ -81,6 +81,10 @@ std::vector<Vec2> SimplifyConvex(std::vector<Vec2> poly, double max_area_loss);
 // Run-state keys written with every ASR (so --resume can continue).
 constexpr const char* kMetaLastRawPose = "last_raw_pose";  // "x y theta"
 constexpr const char* kMetaNextId = "next_asr_id";
+// The footprint radius (m) of the robot of the store's last run, shortest
+// round-trip decimal: the floor plan's small-room size scales with it
+// (plan::PlanOptions::robot_radius_m).
+constexpr const char* kMetaRobotRadius = "robot_radius_m";
 // The largest ASR id of a run that finished (-1: none yet), written by
 // mapping::MappingPipeline when it creates a store and at Finish(). ASRs after
 // it were stored by a run that stopped before its end (a kill); absent in

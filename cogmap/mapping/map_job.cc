@@ -1,5 +1,6 @@
 #include "cogmap/mapping/map_job.h"
 
+#include <charconv>
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -144,6 +145,11 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   std::unique_ptr<asr::SqliteAsrStore> store = OpenStore(*folder, job.resume);
   // report.json carries the same id: a reader can check that they belong together.
   store->SetMeta("run_id", folder->run_id());
+  {
+    char buf[32];
+    const auto end = std::to_chars(buf, buf + sizeof buf, robot.radius_m).ptr;
+    store->SetMeta(asr::kMetaRobotRadius, std::string(buf, end));
+  }
 
   MappingPipeline pipeline(robot, job.mapping, store.get());
   if (job.resume) pipeline.Resume();
@@ -303,7 +309,9 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   // floor (walls.json and report.json take their counts, sizes and times):
   // the plan releases them as soon as it has read them, before it floods its
   // rooms; the exits go after it.
-  const plan::Plan floor_plan = plan::BuildPlanReleasing(&all, room_of, {}, &placed_paths);
+  plan::PlanOptions plan_options;
+  plan_options.robot_radius_m = robot.radius_m;
+  const plan::Plan floor_plan = plan::BuildPlanReleasing(&all, room_of, plan_options, &placed_paths);
   for (auto& x : all) std::vector<asr::Exit>().swap(x.exits);
   io::WriteFileAtomically((fs::path(staging) / "plan.json").string(),
                           [&](std::ostream& o) { plan::WritePlanJson(o, floor_plan); });

@@ -1747,26 +1747,87 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   for (size_t i = 0; i < asrs.size(); ++i) order.push_back(static_cast<int>(i));
   std::sort(order.begin(), order.end(), [&](int a, int b) { return asrs[a].id < asrs[b].id; });
   int n_plan = 0;
-  std::vector<int> root_plan(n1, -1);
-  for (int i : order) {
-    const int r1 = unit_room[unit_root(unit_of[i])];
-    const int root = corr.Find(r1);
-    if (root_plan[root] < 0) root_plan[root] = n_plan++;
-  }
-  for (int r = 0; r < n1; ++r) plan_of_r1[r] = root_plan[corr.Find(r)];
   std::vector<int> plan_of_unit(n_units, -1);
-  for (int u = 0; u < n_units; ++u) plan_of_unit[u] = plan_of_r1[unit_room[unit_root(u)]];
-
-  // Pass 2: the plan rooms; the rooms (not the corridors) reach the floor
-  // their grids saw. A room the robot only looked into has few walls: the
-  // hull of walls and path is a thin fan from the door, the floor seen is
-  // most of the room (docs/floor-plan.md, "Rooms").
-  std::vector<char> is_corridor(n_plan, 0);
-  for (int r = 0; r < n1; ++r)
-    if (in_corridor[r]) is_corridor[plan_of_r1[r]] = 1;
-  std::vector<char> free_floor(n_plan, 0);
-  for (int r = 0; r < n_plan; ++r) free_floor[r] = !is_corridor[r];
+  std::vector<char> is_corridor, free_floor;
+  auto number_plan_rooms = [&] {
+    n_plan = 0;
+    std::vector<int> root_plan(n1, -1);
+    for (int i : order) {
+      const int root = corr.Find(unit_room[unit_root(unit_of[i])]);
+      if (root_plan[root] < 0) root_plan[root] = n_plan++;
+    }
+    for (int r = 0; r < n1; ++r) plan_of_r1[r] = root_plan[corr.Find(r)];
+    for (int u = 0; u < n_units; ++u) plan_of_unit[u] = plan_of_r1[unit_room[unit_root(u)]];
+    // Pass 2: the plan rooms; the rooms (not the corridors) reach the floor
+    // their grids saw. A room the robot only looked into has few walls: the
+    // hull of walls and path is a thin fan from the door, the floor seen is
+    // most of the room (docs/floor-plan.md, "Rooms").
+    is_corridor.assign(n_plan, 0);
+    for (int r = 0; r < n1; ++r)
+      if (in_corridor[r]) is_corridor[plan_of_r1[r]] = 1;
+    free_floor.assign(n_plan, 0);
+    for (int r = 0; r < n_plan; ++r) free_floor[r] = !is_corridor[r];
+  };
+  number_plan_rooms();
   build_regions(plan_of_unit, n_plan, free_floor, true, &seeds, &hulls);
+  std::optional<Labels> label2 = Flood(g, door_mask(plan_of_unit), seeds, hulls);
+
+  // Small rooms (small_room_radii) join the neighbour they meet along the
+  // most border; then the plan rooms flood again. A merge can leave another
+  // room small only by taking floor from it, so a few rounds settle it.
+  const double small_m2 = std::pow(o.small_room_radii * o.robot_radius_m, 2);
+  for (int round = 0; round < 3 && small_m2 > 0.0; ++round) {
+    std::vector<long> cells(n_plan, 0);
+    label2->ForEachStored([&](int, int, int r) {
+      if (r >= 0) ++cells[r];
+    });
+    std::vector<char> small(n_plan, 0);
+    bool any = false;
+    for (int r = 0; r < n_plan; ++r)
+      any |= (small[r] = cells[r] > 0 && cells[r] * g.cell * g.cell < small_m2) != 0;
+    if (!any) break;
+    // Contacts of each small room: cell pairs along a row or a column, next
+    // to each other or across door-line cells (not wall cells) and unclaimed
+    // floor, up to corridor_touch_m apart.
+    const Mask doors = door_mask(plan_of_unit);
+    const int reach = std::max(1, static_cast<int>(std::lround(o.corridor_touch_m / g.cell)));
+    std::map<std::pair<int, int>, long> contact;  // (small room, neighbour) -> cell pairs
+    label2->ForEachStored([&](int x, int y, int r) {
+      if (r < 0) return;
+      for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{-1, 0}, std::pair{0, -1}})
+        for (int k = 1; k <= reach; ++k) {
+          const int nx = x + k * dx, ny = y + k * dy;
+          if (nx < 0 || ny < 0 || nx >= g.w || ny >= g.h || wall_mask.Get(nx, ny)) break;
+          if (doors.Get(nx, ny)) continue;
+          const int q = label2->Get(nx, ny);
+          if (q < 0) continue;
+          if (q != r && small[r]) ++contact[{r, q}];
+          break;
+        }
+    });
+    std::vector<int> into(n_plan, -1);
+    std::vector<long> best(n_plan, 0);
+    for (const auto& [pair, n] : contact)
+      if (n > best[pair.first]) best[pair.first] = n, into[pair.first] = pair.second;
+    std::vector<int> r1_of_plan(n_plan, -1);
+    for (int r = 0; r < n1; ++r) r1_of_plan[plan_of_r1[r]] = r;
+    bool merged = false;
+    for (int r = 0; r < n_plan; ++r)
+      if (into[r] >= 0) {
+        const int a = r1_of_plan[r], b = r1_of_plan[into[r]];
+        // A small corridor piece joining a room stays a corridor only where
+        // the room it joins is one.
+        if (!is_corridor[into[r]])
+          for (int q = 0; q < n1; ++q)
+            if (corr.Find(q) == corr.Find(a)) in_corridor[q] = 0;
+        merged |= corr.Unite(a, b);
+      }
+    if (!merged) break;
+    number_plan_rooms();
+    build_regions(plan_of_unit, n_plan, free_floor, true, &seeds, &hulls);
+    label2.reset();
+    label2 = Flood(g, door_mask(plan_of_unit), seeds, hulls);
+  }
   // The paths and walls have served (the seeds and hulls carry what the flood
   // needs), then the seeds and hulls: freed before the polygons are traced.
   std::vector<std::vector<Vec2>>().swap(path);
@@ -1784,7 +1845,8 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   std::vector<BPoly> polys(n_plan);
   std::vector<Vec2> inner(n_plan, Vec2(0, 0));
   {
-    Labels label = Flood(g, door_mask(plan_of_unit), seeds, hulls);
+    Labels label = std::move(*label2);
+    label2.reset();
     std::vector<std::vector<size_t>>().swap(seeds);
     std::vector<RoomHulls>().swap(hulls);
     // Each room is a set of sites of the half-cell lattice (HalfCells: disjoint

@@ -117,6 +117,15 @@ struct PlanOptions {
   // where clutter narrowed it).
   double open_border_m = 2.5;
   double sliver_path_m = 0.5;          // a store room with less path than this is absorbed by a neighbour
+  // A plan room whose floor, once the rooms have split the free space, is
+  // smaller than a square of small_room_radii robot radii on a side (three
+  // robot diameters: 2.4 m2 for a Pioneer, 0.36 m2 for an EV3 rover) joins
+  // the neighbour it meets along the most border (through a door line or
+  // open floor, never through a wall): a space the robot drove into and out
+  // of holds its turn, so the piece is what was left of a room or corridor
+  // between its neighbours' floods. The room graph keeps it. 0: off.
+  double small_room_radii = 6.0;
+  double robot_radius_m = 0.26;        // the robot's footprint radius (sensors::RobotDescription)
   double min_room_area_m2 = 0.25;      // smaller rooms are dropped
 };
 

@@ -535,6 +535,33 @@ TEST(BuildPlan, SliverIsAbsorbedByItsNeighbour) {
   EXPECT_EQ(plan.rooms[holder].asr_ids.size(), 2u);
 }
 
+// An alcove of 1.2 m2 the robot drove into through a door (more path than a
+// sliver) is smaller than a Pioneer's turn (a square of 6 radii, 2.4 m2): it
+// joins the room it opens from, and the door between them goes. The room
+// graph keeps both ASRs.
+TEST(BuildPlan, RoomSmallerThanTheRobotsTurnJoinsItsNeighbour) {
+  auto build = [](double small_room_radii, double alcove_m) {
+    const double y0 = 2.0 - alcove_m / 2, y1 = 2.0 + alcove_m / 2, x1 = 4.0 + alcove_m;
+    asr::Asr a = MakeAsr(0, {{{4, y1}, {4, 4}, {0, 4}, {0, 0}, {4, 0}, {4, y0}}}, Line({1, 2}, {3.7, 2}));
+    asr::Asr s = MakeAsr(1, {{{4, y0}, {x1, y0}, {x1, y1}, {4, y1}}}, Line({4.1, 2}, {x1 - 0.2, 2}), 10.0);
+    a.exits.push_back({{4.0, 2.0}, alcove_m, 0, 1});
+    PlanOptions o;
+    o.small_room_radii = small_room_radii;
+    return BuildPlan({a, s}, {}, o);
+  };
+  const Plan merged = build(6.0, 1.1);
+  ASSERT_EQ(merged.rooms.size(), 1u);
+  EXPECT_EQ(merged.rooms[0].asr_ids, (std::vector<int>{0, 1}));
+  EXPECT_NEAR(merged.rooms[0].area_m2, 16.0 + 1.1 * 1.1, 0.6);
+  EXPECT_TRUE(Inside({4.5, 2.0}, merged.rooms[0].polygon));
+  EXPECT_TRUE(merged.doors.empty());
+  const Plan off = build(0.0, 1.1);  // the rule off: two rooms and their door
+  EXPECT_EQ(off.rooms.size(), 2u);
+  EXPECT_EQ(off.doors.size(), 1u);
+  const Plan large = build(6.0, 1.8);  // 3.2 m2: a room of its own
+  EXPECT_EQ(large.rooms.size(), 2u);
+}
+
 TEST(BuildPlan, RevisitsShareOneRoom) {
   std::vector<asr::Asr> asrs = {
       MakeAsr(0, {Box(0, 0, 4, 4)}, Line({1, 1}, {3, 1})),
