@@ -794,6 +794,8 @@ struct UnionFind {
 };
 
 // A door found for an exit, before the plan rooms are known.
+constexpr double kWayReach = 2.5;  // m: the path kept with a door (DoorCand::way)
+
 struct DoorCand {
   Vec2 a, b;
   int from_asr = -1, to_asr = -1;
@@ -801,6 +803,9 @@ struct DoorCand {
   bool jambs = false;    // in a wall, its ends at the faces beside the gap (else the exit's width)
   Vec2 line_c{0, 0}, line_u{1, 0};
   double lo = 0, hi = 0;  // the gap along line_u from line_c
+  // The robot's way through it: each of the two ASRs' paths within
+  // kWayReach of the exit (where a door that moves crosses the rooms' border).
+  std::vector<std::vector<Vec2>> way;
   // How well it is placed: between jambs, then on a wall line, then across
   // the robot's way.
   int Rank() const { return jambs ? 2 : in_wall ? 1 : 0; }
@@ -1386,6 +1391,14 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         d.lo = -0.5 * w, d.hi = 0.5 * w;
         d.a = c + d.lo * u, d.b = c + d.hi * u;
       }
+      for (int id : {e.from, e.to}) {
+        auto it = index_of.find(id);
+        if (it == index_of.end()) continue;
+        std::vector<Vec2> piece;
+        for (const Vec2& q : path[it->second])
+          if ((q - c).norm() <= kWayReach) piece.push_back(q);
+        if (piece.size() >= 2) d.way.push_back(std::move(piece));
+      }
       door_cands.push_back(d);
     }
   }
@@ -1955,6 +1968,85 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   for (size_t i = 0; i < segs.size(); ++i)
     cut_hash.Add(segs[i].a.cwiseMin(segs[i].b), segs[i].a.cwiseMax(segs[i].b), static_cast<int>(i));
   std::map<int, std::vector<std::pair<double, double>>> cuts;  // segment -> cut spans (0..1)
+  // A door away from where its two rooms meet (the boundary detector fires
+  // a metre or so inside a room; a sonar's stray wall by the door took it)
+  // moves onto their shared border: to where the robot's way crossed it
+  // (nearest the door), along the border there, with the door's width,
+  // cutting the walls along it.
+  // The rooms' outlines share their common edges exactly (traced on one
+  // lattice, vertices kept where three labels meet).
+  // The smaller outline's edges go in a sorted list, the larger's are looked
+  // up in it: linear in the larger (a corridor's outline), per door.
+  auto shared_border = [&](int ra, int rb) {
+    using Key = std::array<long long, 4>;
+    auto key = [](const Vec2& p, const Vec2& q) {
+      const long long a[2] = {std::llround(p.x() * 1e6), std::llround(p.y() * 1e6)};
+      const long long b[2] = {std::llround(q.x() * 1e6), std::llround(q.y() * 1e6)};
+      return std::pair(a[0], a[1]) < std::pair(b[0], b[1]) ? Key{a[0], a[1], b[0], b[1]} : Key{b[0], b[1], a[0], a[1]};
+    };
+    const auto* small = &plan.rooms[ra].polygon;
+    const auto* large = &plan.rooms[rb].polygon;
+    if (small->size() > large->size()) std::swap(small, large);
+    std::vector<Key> keys;
+    for (size_t i = 0; i < small->size(); ++i) keys.push_back(key((*small)[i], (*small)[(i + 1) % small->size()]));
+    std::sort(keys.begin(), keys.end());
+    std::vector<std::pair<Vec2, Vec2>> out;
+    for (size_t i = 0; i < large->size(); ++i) {
+      const Vec2& p = (*large)[i];
+      const Vec2& q = (*large)[(i + 1) % large->size()];
+      if (std::binary_search(keys.begin(), keys.end(), key(p, q))) out.push_back({p, q});
+    }
+    return out;
+  };
+  for (DoorCand& m : door_cands) {
+    const int ra = plan_room_of_asr(m.from_asr), rb = plan_room_of_asr(m.to_asr);
+    if (ra < 0 || rb < 0 || ra == rb || m.jambs) continue;
+    const std::vector<std::pair<Vec2, Vec2>> border = shared_border(ra, rb);
+    const Vec2 c = 0.5 * (m.a + m.b);
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& [p, q] : border) best = std::min(best, PointSegmentDistance(c, p, q));
+    if (!std::isfinite(best) || best <= o.door_border_m) continue;
+    // Where the robot's way crosses the border, nearest the door; without a
+    // crossing (the way ends short of it) the door stays.
+    // The steps of the way: each ASR's path, and the step from the one's
+    // last pose by the door to the other's first when under a metre (the
+    // robot went from one ASR into the next there).
+    std::vector<std::pair<Vec2, Vec2>> steps;
+    for (const auto& piece : m.way)
+      for (size_t k = 1; k < piece.size(); ++k) steps.push_back({piece[k - 1], piece[k]});
+    if (m.way.size() == 2 && (m.way[1].front() - m.way[0].back()).norm() < 1.0)
+      steps.push_back({m.way[0].back(), m.way[1].front()});
+    double cross = std::numeric_limits<double>::infinity();
+    Vec2 at(0, 0);
+    for (const auto& [a0, a1] : steps)
+      for (const auto& [p, q] : border) {
+        const Vec2 r = a1 - a0, e = q - p;
+        const double den = r.x() * e.y() - r.y() * e.x();
+        if (std::abs(den) < 1e-12) continue;
+        const Vec2 w0 = p - a0;
+        const double t = (w0.x() * e.y() - w0.y() * e.x()) / den, v = (w0.x() * r.y() - w0.y() * r.x()) / den;
+        if (t < 0.0 || t > 1.0 || v < 0.0 || v > 1.0) continue;
+        const Vec2 x = a0 + t * r;
+        if ((x - c).norm() < cross) cross = (x - c).norm(), at = x;
+      }
+    if (!std::isfinite(cross)) continue;
+    // The border's direction there: its edges within a door width of the
+    // point, by length (doubled angles: a lattice border is a staircase).
+    const double w = std::clamp((m.b - m.a).norm(), o.min_door_m, o.max_door_m);
+    double sc = 0.0, ss = 0.0;
+    for (const auto& [p, q] : border) {
+      const double len = (q - p).norm();
+      if (len < 1e-9 || PointSegmentDistance(at, p, q) > w) continue;
+      const double ang = 2.0 * std::atan2(q.y() - p.y(), q.x() - p.x());
+      sc += len * std::cos(ang), ss += len * std::sin(ang);
+    }
+    const double half = 0.5 * std::atan2(ss, sc);
+    const Vec2 along(std::cos(half), std::sin(half));
+    m.line_c = at, m.line_u = along;
+    m.lo = -0.5 * w, m.hi = 0.5 * w;
+    m.a = at + m.lo * along, m.b = at + m.hi * along;
+    m.in_wall = true;
+  }
   // One door per doorway: the robot goes in and comes out through the same
   // door, two exits (and a revisit more). Two doors between the same two
   // plan rooms whose lines lie within wall_thickness_m of each other and

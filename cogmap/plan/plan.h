@@ -91,6 +91,10 @@ struct PlanOptions {
   // Doors: each exit (asr::Exit) is a gap in the walls near it.
   double door_search_m = 0.8;          // the exit's centre within this of a wall line
   double wall_thickness_m = 0.4;       // faces within this of the door line are cut
+  // A door (not between jambs) farther than this from the border its two
+  // rooms share moves onto that border, where the robot's way crossed it
+  // (docs/floor-plan.md, "Room graph").
+  double door_border_m = 0.4;
   double min_door_m = 0.5;             // door widths are clamped into [min, max]
   double max_door_m = 2.5;
   // Rooms: a flood fill of a grid from each room's path, walls and doors blocking.

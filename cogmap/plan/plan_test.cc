@@ -353,6 +353,33 @@ TEST(BuildPlan, ADoorwayPassedTwiceIsOneDoor) {
   EXPECT_EQ(BuildPlan({a, b, a2}, {{0, 0}, {1, 1}, {2, 0}}).doors.size(), 2u);
 }
 
+// The boundary detector fired 1.3 m inside the second room, by a stray
+// wall (a sonar's, across the room at x = 5.2): the door first goes on that
+// wall line, then moves onto the border the two rooms share (the gap in
+// x = 4), along it, with the exit's width.
+TEST(BuildPlan, DoorAwayFromTheRoomsBorderMovesOntoIt) {
+  auto build = [](double door_border_m) {
+    asr::Asr a = MakeAsr(0, {{{4, 2.5}, {4, 4}, {0, 4}, {0, 0}, {4, 0}, {4, 1.5}}}, Line({1, 2}, {3.9, 2}));
+    asr::Asr b = MakeAsr(1, {{{4, 2.5}, {4, 4}, {8, 4}, {8, 0}, {4, 0}, {4, 1.5}}, {{5.2, 0.8}, {5.2, 3.2}}},
+                         Line({4.1, 2}, {7, 2}), 10.0);
+    a.exits.push_back({{5.3, 2.0}, 1.0, 0, 1});
+    PlanOptions o;
+    o.door_border_m = door_border_m;
+    return BuildPlan({a, b}, {}, o);
+  };
+  const Plan plan = build(0.4);
+  ASSERT_EQ(plan.rooms.size(), 2u);
+  ASSERT_EQ(plan.doors.size(), 1u);
+  const Door& d = plan.doors[0];
+  EXPECT_NEAR(d.a.x(), 4.0, 0.15);
+  EXPECT_NEAR(d.b.x(), 4.0, 0.15);
+  EXPECT_NEAR(d.center().y(), 2.0, 0.3);
+  EXPECT_NEAR(d.width_m(), 1.0, 0.05);
+  const Plan kept = build(1e9);  // the rule off: the door stays on the stray wall
+  ASSERT_EQ(kept.doors.size(), 1u);
+  EXPECT_NEAR(kept.doors[0].center().x(), 5.2, 0.05);
+}
+
 TEST(BuildPlan, DoorGapAlreadyOpenIsKeptAtItsJambs) {
   // The walls already show a 1.0 m gap at x = 2.5..3.5; the exit lies in it.
   asr::Asr a = MakeAsr(0, {{{2.5, 4}, {0, 4}, {0, 0}, {6, 0}, {6, 4}, {3.5, 4}}}, Line({3, 1}, {3, 3.5}));
