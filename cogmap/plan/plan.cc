@@ -1394,9 +1394,14 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       for (int id : {e.from, e.to}) {
         auto it = index_of.find(id);
         if (it == index_of.end()) continue;
+        // Every 0.1 m or so (a cell): the poses come every few centimetres.
         std::vector<Vec2> piece;
-        for (const Vec2& q : path[it->second])
-          if ((q - c).norm() <= kWayReach) piece.push_back(q);
+        const auto& pp = path[it->second];
+        for (size_t k = 0; k < pp.size(); ++k) {
+          if ((pp[k] - c).norm() > kWayReach) continue;
+          const bool last = k + 1 == pp.size() || (pp[k + 1] - c).norm() > kWayReach;
+          if (piece.empty() || last || (pp[k] - piece.back()).norm() >= 0.1) piece.push_back(pp[k]);
+        }
         if (piece.size() >= 2) d.way.push_back(std::move(piece));
       }
       door_cands.push_back(d);
