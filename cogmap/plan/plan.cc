@@ -2059,6 +2059,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // then on a wall line, then the first); on a wall line but not between
   // jambs, it spans both.
   std::vector<char> merged(door_cands.size(), 0);
+  std::vector<std::vector<std::pair<int, int>>> also_joins(door_cands.size());  // more room pairs per kept door
   {
     auto rooms_of = [&](const DoorCand& d) {
       const int ra = plan_room_of_asr(d.from_asr), rb = plan_room_of_asr(d.to_asr);
@@ -2080,7 +2081,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       const auto ri = rooms_of(door_cands[i]);
       if (ri.first != ri.second) by_rooms[ri].push_back(i);
     }
-    for (const auto& [pair, members] : by_rooms) {
+    auto merge_within = [&](const std::vector<size_t>& members) {
       for (size_t mi = 0; mi < members.size(); ++mi) {
         const size_t i = members[mi];
         if (merged[i]) continue;
@@ -2099,10 +2100,27 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
             keep.lo = std::min({keep.lo, ta, tb}), keep.hi = std::max({keep.hi, ta, tb});
             keep.a = keep.line_c + keep.lo * keep.line_u, keep.b = keep.line_c + keep.hi * keep.line_u;
           }
+          // The dropped door's rooms stay joined, through the kept door.
+          auto& also = also_joins[i];
+          also.push_back(rooms_of(drop));
+          also.insert(also.end(), also_joins[j].begin(), also_joins[j].end());
           merged[j] = 1;
         }
       }
+    };
+    for (const auto& [pair, members] : by_rooms) merge_within(members);
+    // Then doors that share one room: the robot went into a room and back
+    // out through the one doorway into another piece of the corridor (its
+    // pieces 1 and 3 meet at the door of room 2): one door, both edges.
+    std::map<int, std::vector<size_t>> by_room;
+    for (size_t i = 0; i < door_cands.size(); ++i) {
+      if (merged[i]) continue;
+      const auto ri = rooms_of(door_cands[i]);
+      if (ri.first == ri.second) continue;
+      for (int r : {ri.first, ri.second})
+        if (r >= 0) by_room[r].push_back(i);
     }
+    for (const auto& [room, members] : by_room) merge_within(members);
   }
   for (size_t k = 0; k < door_cands.size(); ++k) {
     if (merged[k]) continue;
@@ -2139,6 +2157,15 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     if (ra >= 0) plan.rooms[ra].doors.push_back(door.id);
     if (rb >= 0 && rb != ra) plan.rooms[rb].doors.push_back(door.id);
     if (ra >= 0 && rb >= 0 && ra != rb) plan.edges.push_back({ra, rb, door.id});
+    // The room pairs of the doors merged into this one (the same doorway).
+    std::set<std::pair<int, int>> joined = {{std::min(ra, rb), std::max(ra, rb)}};
+    for (const auto& [xa, xb] : also_joins[k]) {
+      if (xa < 0 || xb < 0 || xa == xb || !joined.insert({xa, xb}).second) continue;
+      for (int x : {xa, xb})
+        if (std::find(plan.rooms[x].doors.begin(), plan.rooms[x].doors.end(), door.id) == plan.rooms[x].doors.end())
+          plan.rooms[x].doors.push_back(door.id);
+      plan.edges.push_back({xa, xb, door.id});
+    }
     plan.doors.push_back(door);
   }
 

@@ -380,6 +380,30 @@ TEST(BuildPlan, DoorAwayFromTheRoomsBorderMovesOntoIt) {
   EXPECT_NEAR(kept.doors[0].center().x(), 5.2, 0.05);
 }
 
+// The robot went from room A into room B and back out through the same
+// doorway into C (a second ASR on A's side that the map keeps apart, as the
+// pieces of a corridor cut at a door): one door, and both edges through it.
+TEST(BuildPlan, ADoorwayBetweenThreeRoomsIsOneDoorWithTwoEdges) {
+  // A above and C below a partition (y = 2) that stops 0.6 m short of the door.
+  asr::Asr a = MakeAsr(0, {{{4, 2.5}, {4, 4}, {0, 4}, {0, 2}, {3.4, 2}}}, Line({0.6, 3.2}, {3.8, 2.3}));
+  asr::Asr b = MakeAsr(1, {{{4, 2.5}, {4, 4}, {8, 4}, {8, 0}, {4, 0}, {4, 1.5}}}, Line({4.2, 2.1}, {7, 2}), 10.0);
+  for (const Vec2& p : Line({7, 1.8}, {4.2, 1.9})) b.path.push_back(Pose2{p.x(), p.y(), 0.0});
+  asr::Asr c = MakeAsr(2, {{{3.4, 2}, {0, 2}, {0, 0}, {4, 0}, {4, 1.5}}}, Line({3.8, 1.7}, {0.6, 0.8}), 20.0);
+  a.exits.push_back({{4.0, 2.05}, 1.0, 0, 1});
+  b.exits.push_back({{4.0, 1.95}, 1.0, 1, 2});
+  const Plan plan = BuildPlan({a, b, c}, {});
+  ASSERT_EQ(plan.rooms.size(), 3u);
+  ASSERT_EQ(plan.doors.size(), 1u);
+  ASSERT_EQ(plan.edges.size(), 2u);
+  EXPECT_EQ(plan.edges[0].door, 0);
+  EXPECT_EQ(plan.edges[1].door, 0);
+  int in_b = -1;
+  for (const Room& r : plan.rooms)
+    if (r.asr_ids == std::vector<int>{1}) in_b = r.id;
+  ASSERT_GE(in_b, 0);
+  EXPECT_EQ(plan.rooms[in_b].doors, (std::vector<int>{0}));
+}
+
 TEST(BuildPlan, DoorGapAlreadyOpenIsKeptAtItsJambs) {
   // The walls already show a 1.0 m gap at x = 2.5..3.5; the exit lies in it.
   asr::Asr a = MakeAsr(0, {{{2.5, 4}, {0, 4}, {0, 0}, {6, 0}, {6, 4}, {3.5, 4}}}, Line({3, 1}, {3, 3.5}));
