@@ -1,5 +1,6 @@
 #include "cogmap/asr/mapper.h"
 
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -21,6 +22,21 @@ std::string PoseText(const Pose2& p) {
 }
 
 }  // namespace
+
+void SetRobotRadius(AsrStore* store, double radius_m) {
+  char buf[32];
+  const auto end = std::to_chars(buf, buf + sizeof buf, radius_m).ptr;
+  store->SetMeta(kMetaRobotRadius, std::string(buf, end));
+}
+
+std::optional<double> RobotRadius(const AsrStore& store) {
+  const auto r = store.GetMeta(kMetaRobotRadius);
+  if (!r) return std::nullopt;
+  double v = 0.0;
+  const auto [end, ec] = std::from_chars(r->data(), r->data() + r->size(), v);
+  if (ec != std::errc() || end != r->data() + r->size() || !std::isfinite(v) || v <= 0.0) return std::nullopt;
+  return v;
+}
 
 Pose2 BestRigidFit(const std::vector<Pose2>& from, const std::vector<Pose2>& to) {
   const size_t n = std::min(from.size(), to.size());

@@ -85,6 +85,9 @@ constexpr const char* kMetaNextId = "next_asr_id";
 // round-trip decimal: the floor plan's small-room size scales with it
 // (plan::PlanOptions::robot_radius_m).
 constexpr const char* kMetaRobotRadius = "robot_radius_m";
+void SetRobotRadius(AsrStore* store, double radius_m);
+// The stored radius; none when absent or not a positive finite number.
+std::optional<double> RobotRadius(const AsrStore& store);
 // The largest ASR id of a run that finished (-1: none yet), written by
 // mapping::MappingPipeline when it creates a store and at Finish(). ASRs after
 // it were stored by a run that stopped before its end (a kill); absent in

@@ -356,5 +356,19 @@ TEST(BestRigidFit, RecoversARigidTransform) {
   EXPECT_EQ(BestRigidFit({}, {}).theta, 0.0);
 }
 
+// The robot radius the floor plan scales its small rooms by: written in
+// shortest round-trip form, read back exactly; junk reads as none.
+TEST(RobotRadiusMeta, RoundTripsAndRefusesJunk) {
+  MemoryAsrStore store;
+  EXPECT_FALSE(RobotRadius(store));
+  SetRobotRadius(&store, 0.1234567890123);
+  ASSERT_TRUE(RobotRadius(store));
+  EXPECT_EQ(*RobotRadius(store), 0.1234567890123);
+  for (const char* bad : {"", "abc", "0.2x", "-0.3", "0", "nan", "inf"}) {
+    store.SetMeta(kMetaRobotRadius, bad);
+    EXPECT_FALSE(RobotRadius(store)) << bad;
+  }
+}
+
 }  // namespace
 }  // namespace cogmap::asr

@@ -1,7 +1,5 @@
 #include "cogmap/mapping/floor_plan.h"
 
-#include <charconv>
-#include <cmath>
 #include <map>
 #include <vector>
 
@@ -11,11 +9,7 @@ namespace cogmap::mapping {
 
 plan::Plan FloorPlanOfStore(const asr::AsrStore& store, const plan::PlanOptions& options) {
   plan::PlanOptions o = options;
-  if (const auto r = store.GetMeta(asr::kMetaRobotRadius)) {
-    double v = 0.0;
-    const auto [end, ec] = std::from_chars(r->data(), r->data() + r->size(), v);
-    if (ec == std::errc() && end == r->data() + r->size() && std::isfinite(v) && v > 0.0) o.robot_radius_m = v;
-  }
+  if (const auto r = asr::RobotRadius(store)) o.robot_radius_m = *r;
   std::vector<asr::Asr> all;
   std::map<int, int> room_of;
   std::map<int, std::vector<Pose2>> placed_paths;

@@ -1,6 +1,5 @@
 #include "cogmap/mapping/map_job.h"
 
-#include <charconv>
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -145,11 +144,7 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   std::unique_ptr<asr::SqliteAsrStore> store = OpenStore(*folder, job.resume);
   // report.json carries the same id: a reader can check that they belong together.
   store->SetMeta("run_id", folder->run_id());
-  {
-    char buf[32];
-    const auto end = std::to_chars(buf, buf + sizeof buf, robot.radius_m).ptr;
-    store->SetMeta(asr::kMetaRobotRadius, std::string(buf, end));
-  }
+  asr::SetRobotRadius(store.get(), robot.radius_m);
 
   MappingPipeline pipeline(robot, job.mapping, store.get());
   if (job.resume) pipeline.Resume();

@@ -2026,10 +2026,9 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     for (const auto& [a0, a1] : steps)
       for (const auto& [p, q] : border) {
         const Vec2 r = a1 - a0, e = q - p;
-        const double den = r.x() * e.y() - r.y() * e.x();
+        const double den = Cross(r, e);
         if (std::abs(den) < 1e-12) continue;
-        const Vec2 w0 = p - a0;
-        const double t = (w0.x() * e.y() - w0.y() * e.x()) / den, v = (w0.x() * r.y() - w0.y() * r.x()) / den;
+        const double t = Cross(p - a0, e) / den, v = Cross(p - a0, r) / den;
         if (t < 0.0 || t > 1.0 || v < 0.0 || v > 1.0) continue;
         const Vec2 x = a0 + t * r;
         if ((x - c).norm() < cross) cross = (x - c).norm(), at = x;
