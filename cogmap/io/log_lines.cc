@@ -303,6 +303,7 @@ bool LineSource::NextFromStream(std::string* line) {
   Stream& s = *stream_;
   line->clear();
   bool got = false;
+  terminated_ = false;
   while (true) {
     if (s.pos == s.len) {
       std::string error;
@@ -319,6 +320,7 @@ bool LineSource::NextFromStream(std::string* line) {
     s.pos = static_cast<size_t>(nl - s.out.data());
     if (nl != end) {
       ++s.pos;
+      terminated_ = true;
       break;
     }
     if (line->size() > kMaxLineBytes)
@@ -366,6 +368,7 @@ bool LineSource::Next(std::string* line) {
     return false;
   }
   ++line_;
+  terminated_ = complete;
   while (!line->empty() && (line->back() == '\n' || line->back() == '\r')) line->pop_back();
   return true;
 }

@@ -36,6 +36,10 @@ class LineSource {
   bool Next(std::string* line);
   // 1-based number of the line last returned (0 before the first).
   long line_number() const { return line_; }
+  // Whether the line last returned ended with an end of line. Only the file's
+  // last line can lack one: a file cut while it was written (a recorder
+  // killed, a copy interrupted) ends in the middle of a line.
+  bool line_terminated() const { return terminated_; }
   // Fraction of the file's bytes consumed (compressed bytes for .gz; a stream
   // of unknown length stays at 0 until its end).
   double progress() const;
@@ -51,6 +55,7 @@ class LineSource {
   void* gz_ = nullptr;  // gzFile
   std::unique_ptr<Stream> stream_;
   long line_ = 0;
+  bool terminated_ = true;
   double size_bytes_ = 0;
   bool done_ = false;
 };

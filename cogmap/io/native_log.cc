@@ -87,6 +87,12 @@ class NativeLogReader : public LogReader {
       if (f.empty() || f[0][0] == '#') continue;
       const long n = src_.line_number();
       const std::string& p = src_.path();
+      // cogmap ends every line it writes: a last line without its end of
+      // line is a log cut while it was written, whose last numbers may be
+      // cut short and still parse (a range of 2.3 read as 2.).
+      if (!src_.line_terminated())
+        throw InputError(p, n, "the last line has no end of line: the log is truncated (cut while it was "
+                               "written?); delete that line to map the rest");
       if (f[0] == "ODOM" || f[0] == "TRUTH") {
         if (f.size() != 5)
           throw InputError(p, n, std::string(f[0]) + ": expected 5 fields (" + std::string(f[0]) +

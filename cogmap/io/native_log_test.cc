@@ -180,8 +180,20 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"empty", "# cogmap-log 1\nrobot pioneer8\n", "empty.log: empty log: no range readings"},
         BadCase{"odom_only", "# cogmap-log 1\nrobot pioneer8\nODOM 0 0 0 0\n",
                 "odom_only.log: empty log: no range readings"},
-        BadCase{"zero_bytes", "", "zero_bytes.log: empty log: no range readings"}),
+        BadCase{"zero_bytes", "", "zero_bytes.log: empty log: no range readings"},
+        // A log cut while it was written: its last numbers may parse ("2." for 2.3).
+        BadCase{"cut_mid_line", "# cogmap-log 1\nrobot pioneer8\nODOM 0 0 0 0\nSWEEP 0 1 0 2.3\nSWEEP 0.1 1 0 2.",
+                "cut_mid_line.log:5: the last line has no end of line: the log is truncated"}),
     [](const auto& info) { return std::string(info.param.name); });
+
+TEST(NativeLog, GzipCutMidLineIsTruncated) {
+  // The same check through zlib's reader: a whole gzip stream whose text ends
+  // in the middle of a line.
+  const std::string path = WriteTemp("cut.log.gz", GzipBytes("# cogmap-log 1\nrobot pioneer8\nODOM 0 0 0 0\nSWEEP 0 1 0 2."));
+  EXPECT_THAT(ErrorReading(path, "native"), HasSubstr("cut.log.gz:4: the last line has no end of line"));
+  const std::string whole = WriteTemp("whole.log.gz", GzipBytes("# cogmap-log 1\nrobot pioneer8\nODOM 0 0 0 0\nSWEEP 0 1 0 2.\n"));
+  EXPECT_EQ(ReadAll(whole, "native").size(), 1u);
+}
 
 TEST(NativeLog, FixtureFileReads) {
   const auto rs = ReadAll(std::string(COGMAP_SOURCE_DIR) + "/tests/data/logs/tiny.log", "auto");
