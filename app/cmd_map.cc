@@ -112,8 +112,8 @@ std::function<int()> SetupMap(CLI::App& sub) {
   sub.add_option("--direction-split", a->job.mapping.direction_split_m,
                  "Default mode, pose graph, laser walls: one wall-direction factor per this many metres of an "
                  "ASR's path where the directions turn with the distance driven, so drift inside a long ASR is "
-                 "seen (0 = one per ASR; docs/pose-graph.md, 'Drift inside an ASR': 3 helps at 1 deg/m and "
-                 "hurts at 2 deg/m)")
+                 "seen; tried after the solve with one direction per ASR and kept when it finds a drift and the "
+                 "map stays as consistent (0 = one per ASR; docs/pose-graph.md, 'Drift inside an ASR')")
       ->capture_default_str();
   sub.add_option("--walls", a->walls,
                  "Default mode: how each room's walls are found: chains (the thesis's chain simplify and fit; "

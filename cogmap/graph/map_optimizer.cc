@@ -178,12 +178,13 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
       len += (node.path_raw[k].translation() - node.path_raw[k - 1].translation()).norm();
     const int whole = graph_.AddDirection(idx, node.direction_local, node.direction_sigma, 0.5 * len);
     if (split.size() >= 2) {
-      // The groups replace the whole; if the run turns out to have no drift
-      // (Finish), the whole comes back.
-      graph_.SetFactorEnabled(whole, false);
+      // The groups are tried in Finish in place of the whole; until then
+      // they wait, disabled.
       Split sp{whole, {}};
-      for (const SplitDirection& d : split)
+      for (const SplitDirection& d : split) {
         sp.groups.push_back(graph_.AddDirection(idx, d.direction_local, d.sigma, d.s_mean_m));
+        graph_.SetFactorEnabled(sp.groups.back(), false);
+      }
       splits_.push_back(std::move(sp));
     }
   }
@@ -242,18 +243,31 @@ std::vector<MapOptimizer::SplitDirection> MapOptimizer::SplitDirections(const No
       const Vec2 e = line[i] - line[i - 1];
       const double len = e.norm();
       if (!(len > 1e-6) || !std::isfinite(len)) continue;
+      // Where along the path the edge was seen from: the grid holds every
+      // reading of it, so its direction is the mean of the headings of all
+      // the path points within sight (split_sight_m), not of the nearest
+      // one (a wall passed twice, or seen while driving towards it, was
+      // drawn from several; the nearest alone compressed the slope: 2 deg/m
+      // read as 0.6-1.6). None within sight: the nearest.
       const Vec2 mid = 0.5 * (line[i] + line[i - 1]);
       size_t best = 0;
-      double best_d2 = std::numeric_limits<double>::infinity();
+      double best_d2 = std::numeric_limits<double>::infinity(), s_sum = 0.0;
+      int seen = 0;
+      const double sight2 = options_.split_sight_m * options_.split_sight_m;
       for (size_t k = 0; k < n.path_local.size(); ++k) {
         const double d2 = (n.path_local[k] - mid).squaredNorm();
         if (d2 < best_d2) {
           best_d2 = d2;
           best = k;
         }
+        if (d2 <= sight2) {
+          s_sum += s[k];
+          ++seen;
+        }
       }
-      const int b = std::min(bins - 1, static_cast<int>(s[best] / (length / bins)));
-      by_bin[b].push_back({{localize::FoldToQuarterTurn(std::atan2(e.y(), e.x())), len}, s[best]});
+      const double s_edge = seen > 0 ? s_sum / seen : s[best];
+      const int b = std::clamp(static_cast<int>(s_edge / (length / bins)), 0, bins - 1);
+      by_bin[b].push_back({{localize::FoldToQuarterTurn(std::atan2(e.y(), e.x())), len}, s_edge});
     }
   }
   // Walls in local raw coordinates: the local frame's axes are the raw
@@ -581,93 +595,98 @@ bool MapOptimizer::LessConsistent(const Consistency& a, const Consistency& b) {
   return a.crossings > expected + 3.0 * std::sqrt(expected);
 }
 
-OptimizerResult MapOptimizer::Finish() {
-  OptimizerResult res;
+MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
+  DriftDecision out;
   const int N = static_cast<int>(nodes_.size());
-  if (N == 0) return res;
-  auto t0 = std::chrono::steady_clock::now();
-  FitVarianceComponents();
+  graph_.SetRatesFixedAtZero(false);
   const PoseGraph::SolveSummary with_drift = graph_.Solve(0, options_.full_iterations);
   // Is there drift at all? The graph with every rate held at zero is the
   // nested model; the rates stay only if they lower the (robust) cost by
   // more than the 99 % chi-square quantile of one degree of freedom
   // (likelihood-ratio test). A few wall directions far apart, each known
   // modulo a quarter turn, can otherwise fit a confident wrong drift.
-  {
-    const PoseGraph::State drift_state = graph_.Save();
-    graph_.SetRatesFixedAtZero(true);
-    const PoseGraph::SolveSummary no_drift = graph_.Solve(0, options_.full_iterations);
-    const PoseGraph::State no_drift_state = graph_.Save();
-    res.drift_test_chi2 = 2.0 * (no_drift.final_cost - with_drift.final_cost);
-    res.drift_detected = res.drift_test_chi2 > ChiSquareQuantile(options_.drift_test_probability, 1);
-    if (res.drift_detected) {
-      // Aliasing: wall directions known modulo 90 degrees and far apart are
-      // fitted as well by a rate that turns the heading by a quarter turn
-      // more between them (the start of the run counts as a direction: its
-      // heading is known).
-      double s = 0.0, last = 0.0, gap = 0.0, rate_sum = 0.0;
-      int rates_n = 0;
-      for (int i = 0; i < N; ++i) {
-        if (nodes_[i].stored) continue;
-        if (nodes_[i].direction) {
-          gap = std::max(gap, s - last);
-          last = s;
-        }
-        for (size_t t = 1; t < nodes_[i].path_local.size(); ++t)
-          s += (nodes_[i].path_local[t] - nodes_[i].path_local[t - 1]).norm();
-        rate_sum += drift_state.rates[i];
-        ++rates_n;
-      }
+  const PoseGraph::State drift_state = graph_.Save();
+  graph_.SetRatesFixedAtZero(true);
+  const PoseGraph::SolveSummary no_drift = graph_.Solve(0, options_.full_iterations);
+  const PoseGraph::State no_drift_state = graph_.Save();
+  out.chi2 = 2.0 * (no_drift.final_cost - with_drift.final_cost);
+  out.detected = out.chi2 > ChiSquareQuantile(options_.drift_test_probability, 1);
+  if (!out.detected) return out;
+  // Aliasing: wall directions known modulo 90 degrees and far apart are
+  // fitted as well by a rate that turns the heading by a quarter turn
+  // more between them (the start of the run counts as a direction: its
+  // heading is known).
+  double s = 0.0, last = 0.0, gap = 0.0, rate_sum = 0.0;
+  int rates_n = 0;
+  for (int i = 0; i < N; ++i) {
+    if (nodes_[i].stored) continue;
+    if (nodes_[i].direction) {
       gap = std::max(gap, s - last);
-      const double rate = rates_n ? rate_sum / rates_n : 0.0;
-      // The aliases: the rates that turn the heading by a quarter turn more or
-      // less over the longest stretch without a wall direction, each solved
-      // from its own dead-reckoned start. One that fits about as well (within
-      // the test's quantile) makes the drift ambiguous.
-      if (gap > 1.0) {
-        graph_.SetRatesFixedAtZero(false);
-        for (double sign : {-1.0, 1.0}) {
-          const double alias = rate + sign * (kPi / 2.0) / gap;
-          if (std::abs(alias) > 3.0 * options_.odometry.rate_prior_sigma_rad_per_m) continue;
-          graph_.ChainWithRate(alias);
-          const PoseGraph::SolveSummary a = graph_.Solve(0, options_.full_iterations);
-          if (2.0 * (a.final_cost - with_drift.final_cost) < ChiSquareQuantile(options_.drift_test_probability, 1))
-            res.drift_alias_risk = true;
-        }
-      }
-      // With aliases, three hypotheses were tried: the drift must beat no
-      // drift at the test's level divided among them (Bonferroni).
-      const double strict = ChiSquareQuantile(1.0 - (1.0 - options_.drift_test_probability) / 3.0, 1);
-      const bool keep = !res.drift_alias_risk || res.drift_test_chi2 > strict;
-      if (keep) {
-        graph_.SetRatesFixedAtZero(false);
-        graph_.Restore(drift_state);
-      } else {
-        graph_.SetRatesFixedAtZero(true);
-        graph_.Restore(no_drift_state);
-      }
-      if (res.drift_alias_risk)
-        res.warnings.push_back("the drift rate is ambiguous: " + std::to_string(RadToDeg(rate)).substr(0, 5) +
-                               " deg/m and its quarter-turn aliases fit the wall directions about as well (" +
-                               std::to_string(static_cast<int>(gap)) + " m without one); " +
-                               (keep ? "kept the most likely" : "not corrected (no drift is about as likely)"));
-      res.drift_detected = keep;
+      last = s;
     }
-    // No drift: an ASR's walls cannot have turned along its path, so the
-    // groups' directions that did (noise, or walls not parallel) would bend
-    // it for nothing: one factor per ASR again, and the no-drift solve redone.
-    if (!res.drift_detected && !splits_.empty()) {
-      for (const Split& sp : splits_) {
-        graph_.SetFactorEnabled(sp.whole, true);
-        for (int g : sp.groups) graph_.SetFactorEnabled(g, false);
-      }
-      graph_.Solve(0, options_.full_iterations);
+    for (size_t t = 1; t < nodes_[i].path_local.size(); ++t)
+      s += (nodes_[i].path_local[t] - nodes_[i].path_local[t - 1]).norm();
+    rate_sum += drift_state.rates[i];
+    ++rates_n;
+  }
+  gap = std::max(gap, s - last);
+  const double rate = rates_n ? rate_sum / rates_n : 0.0;
+  // The aliases: the rates that turn the heading by a quarter turn more or
+  // less over the longest stretch without a wall direction, each solved
+  // from its own dead-reckoned start. One that fits about as well (within
+  // the test's quantile) makes the drift ambiguous.
+  if (gap > 1.0) {
+    graph_.SetRatesFixedAtZero(false);
+    for (double sign : {-1.0, 1.0}) {
+      const double alias = rate + sign * (kPi / 2.0) / gap;
+      if (std::abs(alias) > 3.0 * options_.odometry.rate_prior_sigma_rad_per_m) continue;
+      graph_.ChainWithRate(alias);
+      const PoseGraph::SolveSummary a = graph_.Solve(0, options_.full_iterations);
+      if (2.0 * (a.final_cost - with_drift.final_cost) < ChiSquareQuantile(options_.drift_test_probability, 1))
+        out.alias_risk = true;
     }
   }
-  res.odometry_sigma_factor = graph_.SigmaFactor(FactorKind::kOdometry);
-  res.direction_sigma_factor = graph_.SigmaFactor(FactorKind::kDirection);
-  res.registration_sigma_factor = graph_.SigmaFactor(FactorKind::kRegistration);
-    // A closure the whole graph contradicts is dropped and the graph re-solved.
+  // With aliases, three hypotheses were tried: the drift must beat no
+  // drift at the test's level divided among them (Bonferroni).
+  const double strict = ChiSquareQuantile(1.0 - (1.0 - options_.drift_test_probability) / 3.0, 1);
+  const bool keep = !out.alias_risk || out.chi2 > strict;
+  if (keep) {
+    graph_.SetRatesFixedAtZero(false);
+    graph_.Restore(drift_state);
+  } else {
+    graph_.SetRatesFixedAtZero(true);
+    graph_.Restore(no_drift_state);
+  }
+  if (out.alias_risk)
+    out.warning = "the drift rate is ambiguous: " + std::to_string(RadToDeg(rate)).substr(0, 5) +
+                  " deg/m and its quarter-turn aliases fit the wall directions about as well (" +
+                  std::to_string(static_cast<int>(gap)) + " m without one); " +
+                  (keep ? "kept the most likely" : "not corrected (no drift is about as likely)");
+  out.detected = keep;
+  return out;
+}
+
+void MapOptimizer::SetSplitsEnabled(bool on) {
+  for (const Split& sp : splits_) {
+    graph_.SetFactorEnabled(sp.whole, !on);
+    for (int g : sp.groups) graph_.SetFactorEnabled(g, on);
+  }
+}
+
+std::vector<Pose2> MapOptimizer::CurrentPoses() const {
+  std::vector<Pose2> out(nodes_.size());
+  for (size_t i = 0; i < nodes_.size(); ++i) out[i] = graph_.pose(static_cast<int>(i));
+  return out;
+}
+
+std::vector<double> MapOptimizer::CurrentRates() const {
+  std::vector<double> out(nodes_.size());
+  for (size_t i = 0; i < nodes_.size(); ++i) out[i] = graph_.rate(static_cast<int>(i));
+  return out;
+}
+
+void MapOptimizer::DropContradictedClosures() {
+  // A closure the whole graph contradicts is dropped and the graph re-solved.
   const double gate3 = ChiSquareQuantile(options_.gate_probability, 3);
   for (int round = 0; round < 3; ++round) {
     bool dropped = false;
@@ -686,6 +705,58 @@ OptimizerResult MapOptimizer::Finish() {
     if (!dropped) break;
     graph_.Solve(0, options_.full_iterations);
   }
+}
+
+OptimizerResult MapOptimizer::Finish() {
+  OptimizerResult res;
+  const int N = static_cast<int>(nodes_.size());
+  if (N == 0) return res;
+  auto t0 = std::chrono::steady_clock::now();
+  FitVarianceComponents();
+  DriftDecision drift = TestDrift();
+  DropContradictedClosures();
+  // Drift inside long ASRs (direction_split_m): the walls grouped along the
+  // path replace each such ASR's one direction, tried from the solution
+  // with one direction per ASR (a good start: the groups of 3 m are bent by
+  // the very drift they measure and, solved on their own, settled in wrong
+  // minima at 2 deg/m). They are kept when they find a drift and leave the
+  // map at least as consistent (robot path through walls) as without them.
+  res.split_asrs = static_cast<int>(splits_.size());
+  if (!splits_.empty()) {
+    const PoseGraph::State whole_state = graph_.Save();
+    const bool whole_fixed = graph_.RatesFixedAtZero();
+    const FactorKind kinds[] = {FactorKind::kOdometry, FactorKind::kDirection, FactorKind::kRegistration,
+                                FactorKind::kLoopClosure};
+    std::vector<double> whole_sigma;
+    for (FactorKind k : kinds) whole_sigma.push_back(graph_.SigmaFactor(k));
+    const std::vector<LoopClosure> whole_closures = closures_;
+    const Consistency c_whole = MapConsistency(CurrentPoses(), CurrentRates());
+    SetSplitsEnabled(true);
+    graph_.SetRatesFixedAtZero(false);
+    FitVarianceComponents();
+    const DriftDecision split = TestDrift();
+    DropContradictedClosures();
+    const Consistency c_split = MapConsistency(CurrentPoses(), CurrentRates());
+    if (split.detected && !LessConsistent(c_split, c_whole)) {
+      drift = split;
+      res.split_used = true;
+    } else {
+      SetSplitsEnabled(false);
+      for (size_t k = 0; k < whole_sigma.size(); ++k) graph_.SetSigmaFactor(kinds[k], whole_sigma[k]);
+      closures_ = whole_closures;
+      for (size_t k = 0; k < closure_factor_.size(); ++k)
+        graph_.SetRelativeEnabled(closure_factor_[k], closures_[closure_index_[k]].accepted);
+      graph_.SetRatesFixedAtZero(whole_fixed);
+      graph_.Restore(whole_state);
+    }
+  }
+  res.drift_test_chi2 = drift.chi2;
+  res.drift_detected = drift.detected;
+  res.drift_alias_risk = drift.alias_risk;
+  if (!drift.warning.empty()) res.warnings.push_back(drift.warning);
+  res.odometry_sigma_factor = graph_.SigmaFactor(FactorKind::kOdometry);
+  res.direction_sigma_factor = graph_.SigmaFactor(FactorKind::kDirection);
+  res.registration_sigma_factor = graph_.SigmaFactor(FactorKind::kRegistration);
   std::vector<Pose2> graph_poses(N), odo_poses(N);
   for (int i = 0; i < N; ++i) {
     graph_poses[i] = graph_.pose(i);

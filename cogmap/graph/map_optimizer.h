@@ -25,18 +25,21 @@ struct MapOptimizerOptions {
   double direction_sigma_scale = 2.0;
   double direction_sigma_floor_rad = DegToRad(1.0);
   // Drift inside an ASR: an ASR whose path is at least twice this long has its
-  // walls grouped by where along the path they were seen from (the nearest
-  // path point: the grid takes readings within the MHIMM window, 3 m, of the
-  // robot, so a group spans about one window), each group's dominant
-  // direction a factor at its own mean distance driven. Used when two or more
-  // groups give a direction and their directions turn with the distance
-  // driven (the weighted slope differs from zero at drift_test_probability);
-  // else one factor for the whole ASR. Not for walls whose direction needs
-  // the grid (sonar). 0 = one factor per ASR (the default: at 2 deg/m the
-  // groups' directions, each bent by 6 deg inside its 3 m, gave a drift of
-  // 1 deg/m and 2 of 5 nine_rooms laser runs fell back to odometry;
-  // docs/pose-graph.md). `cogmap map --direction-split 3` turns it on.
-  double direction_split_m = 0.0;
+  // walls grouped by where along the path they were seen from (the mean
+  // distance driven over the path points within split_sight_m), each
+  // group's dominant direction a factor at its own mean distance driven.
+  // Made when two or more groups give a direction and their directions turn
+  // with the distance driven (the weighted slope differs from zero at
+  // drift_test_probability); not for walls whose direction needs the grid
+  // (sonar). The groups wait until Finish, which tries them in place of
+  // their ASRs' whole directions from the solution with one direction per
+  // ASR, and keeps them when they find a drift and the map stays as
+  // consistent (docs/pose-graph.md). 0 = one factor per ASR.
+  double direction_split_m = 3.0;
+  // ... where along the path a wall edge was seen from: the mean distance
+  // driven over the path points within this range of it (the MHIMM window:
+  // the grid takes readings within 3 m of the robot).
+  double split_sight_m = 3.0;
   // Local solve when an ASR closes: the last 'window' nodes move. A full
   // solve once the graph has grown by full_solve_growth (and at least
   // 'window' nodes) since the last one: the full solves cost O(N) each, so
@@ -139,6 +142,8 @@ struct OptimizerResult {
   // Likelihood-ratio test of a drift rate against none (Finish).
   bool drift_detected = false;
   bool drift_alias_risk = false;  // detected, but the wall directions are too sparse to trust it
+  int split_asrs = 0;             // ASRs whose walls were grouped along the path (direction_split_m)
+  bool split_used = false;        // ... and the groups kept (Finish)
   double drift_test_chi2 = 0.0;
   // Fitted sigma factors per kind of factor (variance components).
   double odometry_sigma_factor = 1.0, direction_sigma_factor = 1.0, registration_sigma_factor = 1.0;
@@ -213,6 +218,22 @@ class MapOptimizer {
     std::vector<int> groups;  // the groups' factors
   };
   std::vector<Split> splits_;
+  // Finish's likelihood-ratio test of a drift rate against none; leaves the
+  // graph solved under the hypothesis kept.
+  struct DriftDecision {
+    double chi2 = 0.0;
+    bool detected = false;
+    bool alias_risk = false;
+    std::string warning;
+  };
+  DriftDecision TestDrift();
+  // The groups in place of their ASRs' whole direction (true) or not.
+  void SetSplitsEnabled(bool on);
+  std::vector<Pose2> CurrentPoses() const;
+  std::vector<double> CurrentRates() const;
+  // Closures the solved graph contradicts (chi-square over the gate) are
+  // disabled and the graph re-solved, up to 3 rounds.
+  void DropContradictedClosures();
   void TryLoopClosures(int n);
   // The points (in n's local frame) inside n's box, 0.5 m margin.
   std::vector<FacedPoint> InBox(const std::vector<FacedPoint>& pts, const Node& n) const;

@@ -476,6 +476,8 @@ void PoseGraph::SetRatesFixedAtZero(bool fixed) {
     for (double& r : impl_->rates) r = 0.0;
 }
 
+bool PoseGraph::RatesFixedAtZero() const { return impl_->rates_zero; }
+
 PoseGraph::State PoseGraph::Save() const {
   State s;
   for (int i = 0; i < size(); ++i) s.poses.push_back(pose(i));

@@ -122,6 +122,7 @@ class PoseGraph {
   void ChainWithRate(double rate_rad_per_m);
   // Holds every drift rate at zero (true) or lets them move again (false).
   void SetRatesFixedAtZero(bool fixed);
+  bool RatesFixedAtZero() const;
   // Snapshot of all poses and rates, and its restoration.
   struct State {
     std::vector<Pose2> poses;

@@ -67,6 +67,8 @@ nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStr
           {"variance_factor", g.variance_factor},
           {"drift_detected", g.drift_detected},
           {"drift_alias_risk", g.drift_alias_risk},
+          {"direction_split_asrs", g.split_asrs},
+          {"direction_split_used", g.split_used},
           {"drift_test_chi2", g.drift_test_chi2},
           {"sigma_factors", {{"odometry", g.odometry_sigma_factor},
                              {"wall_direction", g.direction_sigma_factor},
