@@ -358,10 +358,47 @@ struct RoomGrid {
 // twice, a ring's revisits merged into one room) would span it too.
 using RoomHulls = std::vector<std::vector<Vec2>>;
 
+// Values of a room-grid mask.
+constexpr uint8_t kBlocked = 1;  // a wall or a door line
+constexpr uint8_t kTight = 2;    // free, but within the robot's radius of a wall (TightCells)
+
+// Marks kTight the free cells of 'walls' within radius_m of a wall (walls
+// only: door lines are openings the robot took): where the robot's centre
+// cannot be. A gap narrower than the robot (a window, a jamb's return, two
+// wall pieces that do not meet) is all tight cells. Kept in the wall mask
+// itself (and so in the door masks copied from it): no second lattice.
+// Returns the 4-connected steps that reach every tight cell from the open
+// floor beside it (0: nothing marked, the cells are larger than the radius).
+int TightCells(const RoomGrid& g, Mask* walls, double radius_m) {
+  const int k = static_cast<int>(std::floor(radius_m / g.cell));
+  if (k < 1) return 0;
+  std::vector<std::pair<int, int>> disk;
+  for (int dy = -k; dy <= k; ++dy)
+    for (int dx = -k; dx <= k; ++dx)
+      if (dx * dx + dy * dy <= k * k && (dx || dy)) disk.push_back({dx, dy});
+  // Marked while the walls are visited: a cell marked before its visit reads
+  // kTight, not kBlocked, and a tile allocated on the way holds no wall.
+  walls->ForEachStored([&](int x, int y, uint8_t v) {
+    if (v != kBlocked) return;
+    for (const auto& [dx, dy] : disk) {
+      const int nx = x + dx, ny = y + dy;
+      if (nx >= 0 && ny >= 0 && nx < g.w && ny < g.h && walls->Get(nx, ny) == 0) walls->Set(nx, ny, kTight);
+    }
+  });
+  // A tight cell is within k cells (Euclidean) of the open floor beside its
+  // wall, so within ceil(sqrt(2) k) 4-connected steps.
+  return static_cast<int>(std::ceil(std::sqrt(2.0) * k));
+}
+
 // Multi-source breadth-first flood: each seed cell's label spreads through free
 // cells its region allows, first come first served (a geodesic Voronoi split).
+// With grow_steps > 0 (TightCells marked the mask), the rooms first split
+// the floor the robot's centre can reach, then each fills the tight cells
+// beside its own floor (at most grow_steps deep): a room spreads through a
+// gap in its walls only if the robot could have driven through it, instead
+// of flooding whatever lies behind it within its hull.
 Labels Flood(const RoomGrid& g, const Mask& blocked, const std::vector<std::vector<size_t>>& seeds,
-             const std::vector<RoomHulls>& hulls_frame) {
+             const std::vector<RoomHulls>& hulls_frame, int grow_steps = 0) {
   Labels label(g.w, g.h, static_cast<int>(seeds.size()));
   std::deque<size_t> q;
   auto allowed = [&](int r, int cx, int cy) {
@@ -370,26 +407,58 @@ Labels Flood(const RoomGrid& g, const Mask& blocked, const std::vector<std::vect
       if (InConvex(hull, p)) return true;
     return false;
   };
+  const bool two_phases = grow_steps > 0 && static_cast<uint64_t>(g.w) * static_cast<uint64_t>(g.h) <= UINT32_MAX;
   for (size_t r = 0; r < seeds.size(); ++r)
     for (size_t idx : seeds[r]) {
       const int cx = static_cast<int>(idx % g.w), cy = static_cast<int>(idx / g.w);
-      if (!blocked.Get(cx, cy) && label.Get(cx, cy) < 0) {
+      if (blocked.Get(cx, cy) != kBlocked && label.Get(cx, cy) < 0) {
         label.Set(cx, cy, static_cast<int>(r));
         q.push_back(idx);
       }
     }
+  // Phase 2 starts from the labelled cells beside a tight one (the rim of
+  // each room's open floor, and tight seeds), not from every labelled cell.
+  std::vector<uint32_t> rim;  // cell indices: the grid holds at most max_cells (3e7)
   while (!q.empty()) {
     const size_t idx = q.front();
     q.pop_front();
     const int cx = static_cast<int>(idx % g.w), cy = static_cast<int>(idx / g.w);
     const int r = label.Get(cx, cy);
     const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+    bool rim_cell = false;
     for (int k = 0; k < 4; ++k) {
       if (nx[k] < 0 || ny[k] < 0 || nx[k] >= g.w || ny[k] >= g.h) continue;
-      if (blocked.Get(nx[k], ny[k]) || label.Get(nx[k], ny[k]) >= 0 || !allowed(r, nx[k], ny[k])) continue;
+      const uint8_t m = blocked.Get(nx[k], ny[k]);
+      if (m == kBlocked || label.Get(nx[k], ny[k]) >= 0 || !allowed(r, nx[k], ny[k])) continue;
+      if (m == kTight && two_phases) {
+        rim_cell = true;
+        continue;
+      }
       label.Set(nx[k], ny[k], r);
       q.push_back(g.Idx(nx[k], ny[k]));
     }
+    if (rim_cell) rim.push_back(static_cast<uint32_t>(idx));
+  }
+  if (!two_phases) return label;
+  // Phase 2: the tight cells, breadth first from the rims, at most
+  // grow_steps deep (one frontier per step).
+  std::deque<size_t>().swap(q);
+  std::vector<uint32_t> next;
+  for (int depth = 0; depth < grow_steps && !rim.empty(); ++depth) {
+    next.clear();
+    for (uint32_t idx : rim) {
+      const int cx = static_cast<int>(idx % g.w), cy = static_cast<int>(idx / g.w);
+      const int r = label.Get(cx, cy);
+      const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+      for (int k = 0; k < 4; ++k) {
+        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= g.w || ny[k] >= g.h) continue;
+        if (blocked.Get(nx[k], ny[k]) != kTight || label.Get(nx[k], ny[k]) >= 0 || !allowed(r, nx[k], ny[k]))
+          continue;
+        label.Set(nx[k], ny[k], r);
+        next.push_back(static_cast<uint32_t>(g.Idx(nx[k], ny[k])));
+      }
+    }
+    rim.swap(next);
   }
   return label;
 }
@@ -1434,6 +1503,32 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   }
   Mask wall_mask(g.w, g.h, 0);
   for (const auto& s : segs) g.Block(s.a, s.b, &wall_mask);
+  const int grow_steps = TightCells(g, &wall_mask, o.gap_closing ? o.robot_radius_m : 0.0);
+  if (grow_steps > 0) {
+    // Where the robot drove, its body was: the cells within its radius of the
+    // path are not tight, whatever walls the map put beside them (sonar
+    // walls pulled in by a wide cone, a wall drawn across the path by a pose
+    // error), so no room is walled in around its own path.
+    const int k = static_cast<int>(std::floor(o.robot_radius_m / g.cell));
+    auto clear_around = [&](int cx, int cy) {
+      for (int dy = -k; dy <= k; ++dy)
+        for (int dx = -k; dx <= k; ++dx) {
+          const int nx = cx + dx, ny = cy + dy;
+          if (dx * dx + dy * dy <= k * k && nx >= 0 && ny >= 0 && nx < g.w && ny < g.h &&
+              wall_mask.Get(nx, ny) == kTight)
+            wall_mask.Set(nx, ny, 0);
+        }
+    };
+    for (const auto& pts : path)
+      for (size_t j = 0; j < pts.size(); ++j) {
+        const Vec2 a = j ? pts[j - 1] : pts[j], b = pts[j];
+        const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / g.cell)));
+        for (int t = 1; t <= steps; ++t) {
+          int cx, cy;
+          if (g.Cell(a + (b - a) * (static_cast<double>(t) / steps), &cx, &cy)) clear_around(cx, cy);
+        }
+      }
+  }
   // A door across an open space reaches from wall to wall (up to 3 m each way).
   auto door_span = [&](DoorCand* d) {
     if (d->in_wall) return;
@@ -1441,7 +1536,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       double t = 0.0;
       for (; t < 3.0; t += 0.5 * g.cell) {
         int cx, cy;
-        if (!g.Cell(d->line_c + side * t * d->line_u, &cx, &cy) || wall_mask.Get(cx, cy)) break;
+        if (!g.Cell(d->line_c + side * t * d->line_u, &cx, &cy) || wall_mask.Get(cx, cy) == kBlocked) break;
       }
       if (side < 0) d->lo = -t; else d->hi = t;
     }
@@ -1577,7 +1672,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   std::map<std::pair<int, int>, std::pair<int, int>> touching_xy;
   {  // pass 1's labels go before pass 2 floods
     const Mask blocked1 = door_mask(unit_room);
-    const Labels label1 = Flood(g, blocked1, seeds, hulls);
+    const Labels label1 = Flood(g, blocked1, seeds, hulls, grow_steps);
     shapes = RegionShapes(g, label1, n1);
     // Two regions meet where a row or column of cells goes from one to the
     // other, directly or across unclaimed floor no wider than
@@ -1590,7 +1685,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}})
         for (int k = 1; k <= reach; ++k) {
           const int nx = x + k * dx, ny = y + k * dy;
-          if (nx >= g.w || ny >= g.h || blocked1.Get(nx, ny)) break;
+          if (nx >= g.w || ny >= g.h || blocked1.Get(nx, ny) == kBlocked) break;
           const int q = label1.Get(nx, ny);
           if (q < 0) continue;
           if (q != r) {
@@ -1788,7 +1883,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   };
   number_plan_rooms();
   build_regions(plan_of_unit, n_plan, free_floor, true, &seeds, &hulls);
-  std::optional<Labels> label2 = Flood(g, door_mask(plan_of_unit), seeds, hulls);
+  std::optional<Labels> label2 = Flood(g, door_mask(plan_of_unit), seeds, hulls, grow_steps);
 
   // Small rooms (small_room_radii) join the neighbour they meet along the
   // most border; then the plan rooms flood again. A merge can leave another
@@ -1815,8 +1910,8 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{-1, 0}, std::pair{0, -1}})
         for (int k = 1; k <= reach; ++k) {
           const int nx = x + k * dx, ny = y + k * dy;
-          if (nx < 0 || ny < 0 || nx >= g.w || ny >= g.h || wall_mask.Get(nx, ny)) break;
-          if (doors.Get(nx, ny)) continue;
+          if (nx < 0 || ny < 0 || nx >= g.w || ny >= g.h || wall_mask.Get(nx, ny) == kBlocked) break;
+          if (doors.Get(nx, ny) == kBlocked) continue;
           const int q = label2->Get(nx, ny);
           if (q < 0) continue;
           if (q != r && small[r]) ++contact[{r, q}];
@@ -1844,7 +1939,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     number_plan_rooms();
     build_regions(plan_of_unit, n_plan, free_floor, true, &seeds, &hulls);
     label2.reset();
-    label2 = Flood(g, door_mask(plan_of_unit), seeds, hulls);
+    label2 = Flood(g, door_mask(plan_of_unit), seeds, hulls, grow_steps);
   }
   // The paths and walls have served (the seeds and hulls carry what the flood
   // needs), then the seeds and hulls: freed before the polygons are traced.

@@ -130,6 +130,12 @@ struct PlanOptions {
   // between its neighbours' floods. The room graph keeps it. 0: off.
   double small_room_radii = 6.0;
   double robot_radius_m = 0.26;        // the robot's footprint radius (sensors::RobotDescription)
+  // The rooms split the floor the robot's centre can reach (farther than
+  // robot_radius_m from every wall), then each fills the cells beside its
+  // walls next to its own floor: a room does not spread through a gap in
+  // its walls narrower than the robot (docs/floor-plan.md, "Rooms"). False:
+  // every free cell floods alike.
+  bool gap_closing = true;
   double min_room_area_m2 = 0.25;      // smaller rooms are dropped
 };
 

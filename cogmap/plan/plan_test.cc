@@ -613,6 +613,36 @@ TEST(BuildPlan, RoomSmallerThanTheRobotsTurnJoinsItsNeighbour) {
   EXPECT_EQ(large.rooms.size(), 2u);
 }
 
+// A 4 x 4 m room whose right wall has a gap, and behind it a closed 2 x 4 m
+// space the robot never entered, its walls seen through the gap (so inside
+// the room's hull). Through a gap narrower than the robot (0.45 m for a
+// Pioneer's 0.52 m; wall pieces on one line closer than join_gap_m, 0.4 m,
+// are one wall anyway) the room does not take the space behind; through
+// one it could drive (0.8 m) it does, as it did before.
+TEST(BuildPlan, RoomDoesNotSpreadThroughAGapNarrowerThanTheRobot) {
+  auto build = [](double gap_m, bool gap_closing) {
+    const double y0 = 2.0 - gap_m / 2, y1 = 2.0 + gap_m / 2;
+    asr::Asr a = MakeAsr(0,
+                         {{{4, y1}, {4, 4}, {0, 4}, {0, 0}, {4, 0}, {4, y0}},
+                          {{4, 0}, {6, 0}, {6, 4}, {4, 4}}},
+                         Line({1, 2}, {3, 2}));
+    PlanOptions o;
+    o.gap_closing = gap_closing;
+    return BuildPlan({a}, {}, o);
+  };
+  const Plan narrow = build(0.45, true);
+  ASSERT_EQ(narrow.rooms.size(), 1u);
+  EXPECT_NEAR(narrow.rooms[0].area_m2, 16.0, 0.8);
+  EXPECT_FALSE(Inside({5.0, 2.0}, narrow.rooms[0].polygon));
+  const Plan off = build(0.45, false);  // every free cell alike: through the gap
+  ASSERT_EQ(off.rooms.size(), 1u);
+  EXPECT_NEAR(off.rooms[0].area_m2, 24.0, 0.8);
+  const Plan wide = build(0.8, true);  // a gap the robot fits through
+  ASSERT_EQ(wide.rooms.size(), 1u);
+  EXPECT_NEAR(wide.rooms[0].area_m2, 24.0, 0.8);
+  EXPECT_TRUE(Inside({5.0, 2.0}, wide.rooms[0].polygon));
+}
+
 TEST(BuildPlan, RevisitsShareOneRoom) {
   std::vector<asr::Asr> asrs = {
       MakeAsr(0, {Box(0, 0, 4, 4)}, Line({1, 1}, {3, 1})),
