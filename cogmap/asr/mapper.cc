@@ -23,20 +23,28 @@ std::string PoseText(const Pose2& p) {
 
 }  // namespace
 
-void SetRobotRadius(AsrStore* store, double radius_m) {
+namespace {
+// A positive number in the store's meta, shortest round-trip decimal.
+void SetPositiveMeta(AsrStore* store, const char* key, double v) {
   char buf[32];
-  const auto end = std::to_chars(buf, buf + sizeof buf, radius_m).ptr;
-  store->SetMeta(kMetaRobotRadius, std::string(buf, end));
+  const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;
+  store->SetMeta(key, std::string(buf, end));
 }
 
-std::optional<double> RobotRadius(const AsrStore& store) {
-  const auto r = store.GetMeta(kMetaRobotRadius);
+std::optional<double> PositiveMeta(const AsrStore& store, const char* key) {
+  const auto r = store.GetMeta(key);
   if (!r) return std::nullopt;
   double v = 0.0;
   const auto [end, ec] = std::from_chars(r->data(), r->data() + r->size(), v);
   if (ec != std::errc() || end != r->data() + r->size() || !std::isfinite(v) || v <= 0.0) return std::nullopt;
   return v;
 }
+}  // namespace
+
+void SetRobotRadius(AsrStore* store, double radius_m) { SetPositiveMeta(store, kMetaRobotRadius, radius_m); }
+std::optional<double> RobotRadius(const AsrStore& store) { return PositiveMeta(store, kMetaRobotRadius); }
+void SetSensorReach(AsrStore* store, double reach_m) { SetPositiveMeta(store, kMetaSensorReach, reach_m); }
+std::optional<double> SensorReach(const AsrStore& store) { return PositiveMeta(store, kMetaSensorReach); }
 
 Pose2 BestRigidFit(const std::vector<Pose2>& from, const std::vector<Pose2>& to) {
   const size_t n = std::min(from.size(), to.size());

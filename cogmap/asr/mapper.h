@@ -88,6 +88,13 @@ constexpr const char* kMetaRobotRadius = "robot_radius_m";
 void SetRobotRadius(AsrStore* store, double radius_m);
 // The stored radius; none when absent or not a positive finite number.
 std::optional<double> RobotRadius(const AsrStore& store);
+// How far from the robot the ASR grids of the store's last run took
+// readings (m): the largest of min(max range, MHIMM window) over its
+// sensors. Nothing in a grid lies farther from the path, so the floor plan's
+// rooms reach no farther (plan::PlanOptions::reach_m). Same format.
+constexpr const char* kMetaSensorReach = "sensor_reach_m";
+void SetSensorReach(AsrStore* store, double reach_m);
+std::optional<double> SensorReach(const AsrStore& store);
 // The largest ASR id of a run that finished (-1: none yet), written by
 // mapping::MappingPipeline when it creates a store and at Finish(). ASRs after
 // it were stored by a run that stopped before its end (a kill); absent in

@@ -358,6 +358,19 @@ TEST(BestRigidFit, RecoversARigidTransform) {
 
 // The robot radius the floor plan scales its small rooms by: written in
 // shortest round-trip form, read back exactly; junk reads as none.
+TEST(SensorReachMeta, RoundTripsAndRefusesJunk) {
+  MemoryAsrStore store;
+  EXPECT_FALSE(SensorReach(store));
+  SetSensorReach(&store, 3.0000000001);
+  ASSERT_TRUE(SensorReach(store));
+  EXPECT_EQ(*SensorReach(store), 3.0000000001);
+  EXPECT_FALSE(RobotRadius(store));  // its own key
+  for (const char* bad : {"", "3 m", "-3", "0"}) {
+    store.SetMeta(kMetaSensorReach, bad);
+    EXPECT_FALSE(SensorReach(store)) << bad;
+  }
+}
+
 TEST(RobotRadiusMeta, RoundTripsAndRefusesJunk) {
   MemoryAsrStore store;
   EXPECT_FALSE(RobotRadius(store));

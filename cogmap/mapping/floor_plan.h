@@ -9,7 +9,8 @@ namespace cogmap::mapping {
 
 // plan::BuildPlan over every ASR of 'store', with the store's room ids and
 // each ASR's path as placed (asr::Placement::corrected_path), and the robot
-// radius of its last run (asr::kMetaRobotRadius; options' otherwise). Equals
+// radius and sensor reach of its last run (asr::kMetaRobotRadius,
+// asr::kMetaSensorReach; options' otherwise). Equals
 // the plan.json that `cogmap map` wrote with the same store.
 plan::Plan FloorPlanOfStore(const asr::AsrStore& store, const plan::PlanOptions& options = {});
 

@@ -81,6 +81,15 @@ std::unique_ptr<asr::SqliteAsrStore> OpenStore(io::OutputFolder& folder, bool re
   return asr::SqliteAsrStore::Open(folder.Staged("map.sqlite"), asr::SqliteAsrStore::OpenMode::kReplace);
 }
 
+// How far from the robot its ASR grids took readings: the largest of
+// min(max range, MHIMM window) over its sensors, from the robot's centre.
+double SensorReach(const sensors::RobotDescription& robot, double window_m) {
+  double reach = 0.0;
+  for (const auto& s : robot.sensors)
+    reach = std::max(reach, s.robot_from_sensor.translation().norm() + std::min(s.max_range_m, window_m));
+  return reach > 0.0 ? reach : window_m;
+}
+
 }  // namespace
 
 OutputChoice OutputChoice::All() {
@@ -145,6 +154,7 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   // report.json carries the same id: a reader can check that they belong together.
   store->SetMeta("run_id", folder->run_id());
   asr::SetRobotRadius(store.get(), robot.radius_m);
+  asr::SetSensorReach(store.get(), SensorReach(robot, job.mapping.window_m));
 
   MappingPipeline pipeline(robot, job.mapping, store.get());
   if (job.resume) pipeline.Resume();
@@ -306,6 +316,7 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   // rooms; the exits go after it.
   plan::PlanOptions plan_options;
   plan_options.robot_radius_m = robot.radius_m;
+  plan_options.reach_m = SensorReach(robot, job.mapping.window_m);
   const plan::Plan floor_plan = plan::BuildPlanReleasing(&all, room_of, plan_options, &placed_paths);
   for (auto& x : all) std::vector<asr::Exit>().swap(x.exits);
   io::WriteFileAtomically((fs::path(staging) / "plan.json").string(),

@@ -398,7 +398,7 @@ int TightCells(const RoomGrid& g, Mask* walls, double radius_m) {
 // gap in its walls only if the robot could have driven through it, instead
 // of flooding whatever lies behind it within its hull.
 Labels Flood(const RoomGrid& g, const Mask& blocked, const std::vector<std::vector<size_t>>& seeds,
-             const std::vector<RoomHulls>& hulls_frame, int grow_steps = 0) {
+             const std::vector<RoomHulls>& hulls_frame, int grow_steps = 0, int max_depth = 0) {
   Labels label(g.w, g.h, static_cast<int>(seeds.size()));
   std::deque<size_t> q;
   auto allowed = [&](int r, int cx, int cy) {
@@ -419,9 +419,17 @@ Labels Flood(const RoomGrid& g, const Mask& blocked, const std::vector<std::vect
   // Phase 2 starts from the labelled cells beside a tight one (the rim of
   // each room's open floor, and tight seeds), not from every labelled cell.
   std::vector<uint32_t> rim;  // cell indices: the grid holds at most max_cells (3e7)
+  size_t left_in_level = q.size();
+  int depth = 0;
   while (!q.empty()) {
+    if (left_in_level == 0) {
+      ++depth;
+      left_in_level = q.size();
+    }
+    --left_in_level;
     const size_t idx = q.front();
     q.pop_front();
+    if (max_depth > 0 && depth >= max_depth) continue;
     const int cx = static_cast<int>(idx % g.w), cy = static_cast<int>(idx / g.w);
     const int r = label.Get(cx, cy);
     const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
@@ -1504,6 +1512,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   Mask wall_mask(g.w, g.h, 0);
   for (const auto& s : segs) g.Block(s.a, s.b, &wall_mask);
   const int grow_steps = TightCells(g, &wall_mask, o.gap_closing ? o.robot_radius_m : 0.0);
+  const int reach_steps = o.reach_m > 0.0 ? static_cast<int>(std::ceil(std::sqrt(2.0) * o.reach_m / g.cell)) : 0;
   if (grow_steps > 0) {
     // Where the robot drove, its body was: the cells within its radius of the
     // path are not tight, whatever walls the map put beside them (sonar
@@ -1672,7 +1681,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   std::map<std::pair<int, int>, std::pair<int, int>> touching_xy;
   {  // pass 1's labels go before pass 2 floods
     const Mask blocked1 = door_mask(unit_room);
-    const Labels label1 = Flood(g, blocked1, seeds, hulls, grow_steps);
+    const Labels label1 = Flood(g, blocked1, seeds, hulls, grow_steps, reach_steps);
     shapes = RegionShapes(g, label1, n1);
     // Two regions meet where a row or column of cells goes from one to the
     // other, directly or across unclaimed floor no wider than
@@ -1883,7 +1892,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   };
   number_plan_rooms();
   build_regions(plan_of_unit, n_plan, free_floor, true, &seeds, &hulls);
-  std::optional<Labels> label2 = Flood(g, door_mask(plan_of_unit), seeds, hulls, grow_steps);
+  std::optional<Labels> label2 = Flood(g, door_mask(plan_of_unit), seeds, hulls, grow_steps, reach_steps);
 
   // Small rooms (small_room_radii) join the neighbour they meet along the
   // most border; then the plan rooms flood again. A merge can leave another
@@ -1939,7 +1948,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     number_plan_rooms();
     build_regions(plan_of_unit, n_plan, free_floor, true, &seeds, &hulls);
     label2.reset();
-    label2 = Flood(g, door_mask(plan_of_unit), seeds, hulls, grow_steps);
+    label2 = Flood(g, door_mask(plan_of_unit), seeds, hulls, grow_steps, reach_steps);
   }
   // The paths and walls have served (the seeds and hulls carry what the flood
   // needs), then the seeds and hulls: freed before the polygons are traced.

@@ -136,6 +136,11 @@ struct PlanOptions {
   // its walls narrower than the robot (docs/floor-plan.md, "Rooms"). False:
   // every free cell floods alike.
   bool gap_closing = true;
+  // A room floods at most this far (geodesic, 4-connected steps, so up to
+  // sqrt(2) times it across) from its path: its ASR grids took no reading
+  // farther (`cogmap map` sets the robot's sensor reach, min(max range,
+  // MHIMM window); asr::kMetaSensorReach). 0: no bound but the hulls.
+  double reach_m = 0.0;
   double min_room_area_m2 = 0.25;      // smaller rooms are dropped
 };
 

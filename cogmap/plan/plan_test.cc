@@ -643,6 +643,27 @@ TEST(BuildPlan, RoomDoesNotSpreadThroughAGapNarrowerThanTheRobot) {
   EXPECT_TRUE(Inside({5.0, 2.0}, wide.rooms[0].polygon));
 }
 
+// A 12 x 3 m hall whose far end the robot never came near: its path runs
+// from x = 1 to 2, its walls reach x = 12 (the hull spans them). With the
+// sensors' reach (3 m) the room ends within sqrt(2) x 3 m of the path
+// (geodesic steps); without it the whole hall.
+TEST(BuildPlan, RoomReachesNoFartherThanItsSensorsFromItsPath) {
+  auto build = [](double reach_m) {
+    asr::Asr a = MakeAsr(0, {Box(0, 0, 12, 3)}, Line({1, 1.5}, {2, 1.5}));
+    PlanOptions o;
+    o.reach_m = reach_m;
+    return BuildPlan({a}, {}, o);
+  };
+  const Plan near = build(3.0);
+  ASSERT_EQ(near.rooms.size(), 1u);
+  EXPECT_TRUE(Inside({4.5, 1.5}, near.rooms[0].polygon));
+  EXPECT_FALSE(Inside({8.0, 1.5}, near.rooms[0].polygon));
+  EXPECT_LT(near.rooms[0].area_m2, 3.0 * (2.0 + 3.0 * std::sqrt(2.0)) + 0.5);
+  const Plan all = build(0.0);
+  ASSERT_EQ(all.rooms.size(), 1u);
+  EXPECT_NEAR(all.rooms[0].area_m2, 36.0, 1.0);
+}
+
 TEST(BuildPlan, RevisitsShareOneRoom) {
   std::vector<asr::Asr> asrs = {
       MakeAsr(0, {Box(0, 0, 4, 4)}, Line({1, 1}, {3, 1})),
