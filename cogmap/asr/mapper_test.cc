@@ -358,28 +358,28 @@ TEST(BestRigidFit, RecoversARigidTransform) {
 
 // The robot radius the floor plan scales its small rooms by: written in
 // shortest round-trip form, read back exactly; junk reads as none.
-TEST(SensorReachMeta, RoundTripsAndRefusesJunk) {
-  MemoryAsrStore store;
-  EXPECT_FALSE(SensorReach(store));
-  SetSensorReach(&store, 3.0000000001);
-  ASSERT_TRUE(SensorReach(store));
-  EXPECT_EQ(*SensorReach(store), 3.0000000001);
-  EXPECT_FALSE(RobotRadius(store));  // its own key
-  for (const char* bad : {"", "3 m", "-3", "0"}) {
-    store.SetMeta(kMetaSensorReach, bad);
-    EXPECT_FALSE(SensorReach(store)) << bad;
-  }
-}
-
-TEST(RobotRadiusMeta, RoundTripsAndRefusesJunk) {
-  MemoryAsrStore store;
-  EXPECT_FALSE(RobotRadius(store));
-  SetRobotRadius(&store, 0.1234567890123);
-  ASSERT_TRUE(RobotRadius(store));
-  EXPECT_EQ(*RobotRadius(store), 0.1234567890123);
-  for (const char* bad : {"", "abc", "0.2x", "-0.3", "0", "nan", "inf"}) {
-    store.SetMeta(kMetaRobotRadius, bad);
-    EXPECT_FALSE(RobotRadius(store)) << bad;
+// The positive numbers of the store's meta: the robot radius and the sensor
+// reach, each under its own key, shortest round-trip decimals.
+TEST(PositiveMeta, RoundTripsAndRefusesJunk) {
+  struct Key {
+    const char* key;
+    void (*set)(AsrStore*, double);
+    std::optional<double> (*get)(const AsrStore&);
+    double value;
+  };
+  for (const Key& k : {Key{kMetaRobotRadius, SetRobotRadius, RobotRadius, 0.1234567890123},
+                       Key{kMetaSensorReach, SetSensorReach, SensorReach, 3.0000000001}}) {
+    SCOPED_TRACE(k.key);
+    MemoryAsrStore store;
+    EXPECT_FALSE(k.get(store));
+    k.set(&store, k.value);
+    ASSERT_TRUE(k.get(store));
+    EXPECT_EQ(*k.get(store), k.value);
+    EXPECT_EQ(store.GetMeta(k.key == kMetaRobotRadius ? kMetaSensorReach : kMetaRobotRadius), std::nullopt);
+    for (const char* bad : {"", "abc", "0.2x", "3 m", "-0.3", "0", "nan", "inf"}) {
+      store.SetMeta(k.key, bad);
+      EXPECT_FALSE(k.get(store)) << bad;
+    }
   }
 }
 
