@@ -16,6 +16,10 @@ struct Segment2 {
 // vertex at the end.
 using Polyline = std::vector<Vec2>;
 
+// The z component of the 2D cross product a x b: positive when b turns
+// counter-clockwise from a.
+inline double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
 // Distance from p to the segment [a, b].
 inline double PointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b) {
   const Vec2 ab = b - a;

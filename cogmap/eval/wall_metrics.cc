@@ -9,7 +9,6 @@
 namespace cogmap::eval {
 namespace {
 
-double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 // Proper or touching intersection of segments [p, q] and [a, b].
 bool SegmentsIntersect(const Vec2& p, const Vec2& q, const Vec2& a, const Vec2& b) {

@@ -32,7 +32,6 @@ using BMulti = bg::model::multi_polygon<BPoly>;
 constexpr double kPi = 3.14159265358979323846;
 double Deg(double d) { return d * kPi / 180.0; }
 Vec2 Perp(const Vec2& v) { return {-v.y(), v.x()}; }
-double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 // Wraps an angle into [-pi/4, pi/4): its offset from the nearest quarter turn.
 double QuarterOffset(double a) {

@@ -8,7 +8,6 @@
 namespace cogmap::sim {
 namespace {
 
-double Cross(const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); }
 
 }  // namespace
 

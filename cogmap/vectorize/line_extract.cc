@@ -11,7 +11,6 @@
 namespace cogmap::vectorize {
 namespace {
 
-double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 Vec2 Perp(const Vec2& v) { return {-v.y(), v.x()}; }
 
 // Sequential Hough: an accumulator that points can leave.
