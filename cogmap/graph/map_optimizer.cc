@@ -757,18 +757,15 @@ OptimizerResult MapOptimizer::Finish() {
   res.odometry_sigma_factor = graph_.SigmaFactor(FactorKind::kOdometry);
   res.direction_sigma_factor = graph_.SigmaFactor(FactorKind::kDirection);
   res.registration_sigma_factor = graph_.SigmaFactor(FactorKind::kRegistration);
-  std::vector<Pose2> graph_poses(N), odo_poses(N);
-  for (int i = 0; i < N; ++i) {
-    graph_poses[i] = graph_.pose(i);
-    // Odometry: stored nodes stay where they were; new ones by dead reckoning
-    // from the first new node's anchor.
-    odo_poses[i] = nodes_[i].stored ? graph_.pose(i) : nodes_[i].raw;
-  }
+  const std::vector<Pose2> graph_poses = CurrentPoses();
+  std::vector<Pose2> odo_poses(N);
+  // Odometry: stored nodes stay where they were; new ones by dead reckoning
+  // from the first new node's anchor.
+  for (int i = 0; i < N; ++i) odo_poses[i] = nodes_[i].stored ? graph_poses[i] : nodes_[i].raw;
   // Consistency: how often the robot's path runs through another ASR's
   // walls. Counts are noisy (sonar walls, door jambs): the graph is rejected
   // only when its count exceeds odometry's by more than 3 Poisson sigmas.
-  std::vector<double> rates(N, 0.0);
-  for (int i = 0; i < N; ++i) rates[i] = graph_.rate(i);
+  std::vector<double> rates = CurrentRates();
   const Consistency c_graph = MapConsistency(graph_poses, rates);
   const Consistency c_odo = MapConsistency(odo_poses, {});
   res.crossings_graph = c_graph.crossings;
@@ -783,9 +780,8 @@ OptimizerResult MapOptimizer::Finish() {
     for (size_t k = 0; k < closure_factor_.size(); ++k)
       if (closures_[closure_index_[k]].accepted) graph_.SetRelativeEnabled(closure_factor_[k], false);
     graph_.Solve(0, options_.full_iterations);
-    std::vector<Pose2> no_loop(N);
-    for (int i = 0; i < N; ++i) no_loop[i] = graph_.pose(i);
-    for (int i = 0; i < N; ++i) rates[i] = graph_.rate(i);
+    const std::vector<Pose2> no_loop = CurrentPoses();
+    rates = CurrentRates();
     const Consistency c_nl = MapConsistency(no_loop, rates);
     const int total_nl = c_nl.crossings;
     if (!LessConsistent(c_nl, c_odo)) {

@@ -7,10 +7,15 @@
 
 namespace cogmap::mapping {
 
-plan::Plan FloorPlanOfStore(const asr::AsrStore& store, const plan::PlanOptions& options) {
+plan::PlanOptions PlanOptionsOfStore(const asr::AsrStore& store, const plan::PlanOptions& options) {
   plan::PlanOptions o = options;
   if (const auto r = asr::RobotRadius(store)) o.robot_radius_m = *r;
   if (const auto r = asr::SensorReach(store)) o.reach_m = *r;
+  return o;
+}
+
+plan::Plan FloorPlanOfStore(const asr::AsrStore& store, const plan::PlanOptions& options) {
+  const plan::PlanOptions o = PlanOptionsOfStore(store, options);
   std::vector<asr::Asr> all;
   std::map<int, int> room_of;
   std::map<int, std::vector<Pose2>> placed_paths;

@@ -27,6 +27,7 @@
 #include "cogmap/io/world_io.h"
 #include "cogmap/localize/heading_corrector.h"
 #include "cogmap/localize/heading_error.h"
+#include "cogmap/mapping/floor_plan.h"
 #include "cogmap/mapping/report.h"
 #include "cogmap/plan/plan.h"
 #include "cogmap/plan/plan_json.h"
@@ -314,10 +315,8 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   // floor (walls.json and report.json take their counts, sizes and times):
   // the plan releases them as soon as it has read them, before it floods its
   // rooms; the exits go after it.
-  plan::PlanOptions plan_options;
-  plan_options.robot_radius_m = robot.radius_m;
-  plan_options.reach_m = SensorReach(robot, job.mapping.window_m);
-  const plan::Plan floor_plan = plan::BuildPlanReleasing(&all, room_of, plan_options, &placed_paths);
+  const plan::Plan floor_plan =
+      plan::BuildPlanReleasing(&all, room_of, PlanOptionsOfStore(*store), &placed_paths);
   for (auto& x : all) std::vector<asr::Exit>().swap(x.exits);
   io::WriteFileAtomically((fs::path(staging) / "plan.json").string(),
                           [&](std::ostream& o) { plan::WritePlanJson(o, floor_plan); });

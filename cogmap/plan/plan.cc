@@ -362,28 +362,46 @@ constexpr uint8_t kBlocked = 1;  // a wall or a door line
 constexpr uint8_t kTight = 2;    // free, but within the robot's radius of a wall (TightCells)
 
 // Marks kTight the free cells of 'walls' within radius_m of a wall (walls
-// only: door lines are openings the robot took): where the robot's centre
-// cannot be. A gap narrower than the robot (a window, a jamb's return, two
+// only: door lines are openings the robot took), except within radius_m of
+// the robot's 'paths' (map frame): where the robot's centre cannot be. A gap narrower than the robot (a window, a jamb's return, two
 // wall pieces that do not meet) is all tight cells. Kept in the wall mask
 // itself (and so in the door masks copied from it): no second lattice.
 // Returns the 4-connected steps that reach every tight cell from the open
 // floor beside it (0: nothing marked, the cells are larger than the radius).
-int TightCells(const RoomGrid& g, Mask* walls, double radius_m) {
+int TightCells(const RoomGrid& g, Mask* walls, double radius_m, const std::vector<std::vector<Vec2>>& paths) {
   const int k = static_cast<int>(std::floor(radius_m / g.cell));
   if (k < 1) return 0;
   std::vector<std::pair<int, int>> disk;
   for (int dy = -k; dy <= k; ++dy)
     for (int dx = -k; dx <= k; ++dx)
       if (dx * dx + dy * dy <= k * k && (dx || dy)) disk.push_back({dx, dy});
+  // 'from' -> 'to' on the cells of the disk around (x, y).
+  auto around = [&](int x, int y, uint8_t from, uint8_t to) {
+    for (const auto& [dx, dy] : disk) {
+      const int nx = x + dx, ny = y + dy;
+      if (nx >= 0 && ny >= 0 && nx < g.w && ny < g.h && walls->Get(nx, ny) == from) walls->Set(nx, ny, to);
+    }
+  };
   // Marked while the walls are visited: a cell marked before its visit reads
   // kTight, not kBlocked, and a tile allocated on the way holds no wall.
   walls->ForEachStored([&](int x, int y, uint8_t v) {
-    if (v != kBlocked) return;
-    for (const auto& [dx, dy] : disk) {
-      const int nx = x + dx, ny = y + dy;
-      if (nx >= 0 && ny >= 0 && nx < g.w && ny < g.h && walls->Get(nx, ny) == 0) walls->Set(nx, ny, kTight);
-    }
+    if (v == kBlocked) around(x, y, 0, kTight);
   });
+  // Where the robot drove, its body was: the cells within its radius of the
+  // path are not tight, whatever walls the map put beside them (sonar walls
+  // pulled in by a wide cone, a wall drawn across the path by a pose error),
+  // so no room is walled in around its own path.
+  for (const auto& pts : paths)
+    for (size_t j = 0; j < pts.size(); ++j) {
+      const Vec2 a = j ? pts[j - 1] : pts[j], b = pts[j];
+      const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / g.cell)));
+      for (int t = 1; t <= steps; ++t) {
+        int cx, cy;
+        if (!g.Cell(a + (b - a) * (static_cast<double>(t) / steps), &cx, &cy)) continue;
+        if (walls->Get(cx, cy) == kTight) walls->Set(cx, cy, 0);
+        around(cx, cy, kTight, 0);
+      }
+    }
   // A tight cell is within k cells (Euclidean) of the open floor beside its
   // wall, so within ceil(sqrt(2) k) 4-connected steps.
   return static_cast<int>(std::ceil(std::sqrt(2.0) * k));
@@ -1510,33 +1528,8 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   }
   Mask wall_mask(g.w, g.h, 0);
   for (const auto& s : segs) g.Block(s.a, s.b, &wall_mask);
-  const int grow_steps = TightCells(g, &wall_mask, o.gap_closing ? o.robot_radius_m : 0.0);
+  const int grow_steps = TightCells(g, &wall_mask, o.gap_closing ? o.robot_radius_m : 0.0, path);
   const int reach_steps = o.reach_m > 0.0 ? static_cast<int>(std::ceil(std::sqrt(2.0) * o.reach_m / g.cell)) : 0;
-  if (grow_steps > 0) {
-    // Where the robot drove, its body was: the cells within its radius of the
-    // path are not tight, whatever walls the map put beside them (sonar
-    // walls pulled in by a wide cone, a wall drawn across the path by a pose
-    // error), so no room is walled in around its own path.
-    const int k = static_cast<int>(std::floor(o.robot_radius_m / g.cell));
-    auto clear_around = [&](int cx, int cy) {
-      for (int dy = -k; dy <= k; ++dy)
-        for (int dx = -k; dx <= k; ++dx) {
-          const int nx = cx + dx, ny = cy + dy;
-          if (dx * dx + dy * dy <= k * k && nx >= 0 && ny >= 0 && nx < g.w && ny < g.h &&
-              wall_mask.Get(nx, ny) == kTight)
-            wall_mask.Set(nx, ny, 0);
-        }
-    };
-    for (const auto& pts : path)
-      for (size_t j = 0; j < pts.size(); ++j) {
-        const Vec2 a = j ? pts[j - 1] : pts[j], b = pts[j];
-        const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / g.cell)));
-        for (int t = 1; t <= steps; ++t) {
-          int cx, cy;
-          if (g.Cell(a + (b - a) * (static_cast<double>(t) / steps), &cx, &cy)) clear_around(cx, cy);
-        }
-      }
-  }
   // A door across an open space reaches from wall to wall (up to 3 m each way).
   auto door_span = [&](DoorCand* d) {
     if (d->in_wall) return;
