@@ -121,8 +121,8 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
   if (est.accepted && std::isfinite(est.uncertainty_rad)) {
     node.direction = true;
     node.direction_local = est.direction_rad - a.world_from_local_raw.theta;
-    node.direction_sigma =
-        std::max(options_.direction_sigma_floor_rad, options_.direction_sigma_scale * est.uncertainty_rad);
+    node.direction_sigma_measured = options_.direction_sigma_scale * est.uncertainty_rad;
+    node.direction_sigma = std::max(options_.direction_sigma_floor_rad, node.direction_sigma_measured);
   }
   if (idx == 0) {
     graph_.AddNode(a.world_from_local_raw, /*fixed=*/true);
@@ -176,13 +176,15 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
     double len = 0.0;
     for (size_t k = 1; k < node.path_raw.size(); ++k)
       len += (node.path_raw[k].translation() - node.path_raw[k - 1].translation()).norm();
-    const int whole = graph_.AddDirection(idx, node.direction_local, node.direction_sigma, 0.5 * len);
+    const int whole = graph_.AddDirection(idx, node.direction_local, node.direction_sigma_measured, 0.5 * len,
+                                         options_.direction_sigma_floor_rad);
     if (split.size() >= 2) {
       // The groups are tried in Finish in place of the whole; until then
       // they wait, disabled.
       Split sp{whole, {}};
       for (const SplitDirection& d : split) {
-        sp.groups.push_back(graph_.AddDirection(idx, d.direction_local, d.sigma, d.s_mean_m));
+        sp.groups.push_back(
+            graph_.AddDirection(idx, d.direction_local, d.sigma_measured, d.s_mean_m, options_.direction_sigma_floor_rad));
         graph_.SetFactorEnabled(sp.groups.back(), false);
       }
       splits_.push_back(std::move(sp));
@@ -285,9 +287,9 @@ std::vector<MapOptimizer::SplitDirection> MapOptimizer::SplitDirections(const No
     if (dirs.empty()) continue;
     const localize::DirectionEstimate est = localize::EstimateDirectionRobust(dirs, estimator_.options().robust);
     if (!est.accepted || !std::isfinite(est.uncertainty_rad)) continue;
+    const double measured = options_.direction_sigma_scale * est.uncertainty_rad;
     out.push_back({est.direction_rad - a.world_from_local_raw.theta,
-                   std::max(options_.direction_sigma_floor_rad, options_.direction_sigma_scale * est.uncertainty_rad),
-                   sw / w});
+                   std::max(options_.direction_sigma_floor_rad, measured), sw / w, measured});
   }
   // Only when the groups' directions turn with the distance driven beyond
   // their uncertainties: the weighted least-squares slope of direction over
@@ -755,6 +757,7 @@ OptimizerResult MapOptimizer::Finish() {
   res.drift_alias_risk = drift.alias_risk;
   if (!drift.warning.empty()) res.warnings.push_back(drift.warning);
   res.odometry_sigma_factor = graph_.SigmaFactor(FactorKind::kOdometry);
+
   res.direction_sigma_factor = graph_.SigmaFactor(FactorKind::kDirection);
   res.registration_sigma_factor = graph_.SigmaFactor(FactorKind::kRegistration);
   const std::vector<Pose2> graph_poses = CurrentPoses();
@@ -930,22 +933,24 @@ void MapOptimizer::FitVarianceComponents() {
   for (int round = 0; round < options_.variance_rounds; ++round) {
     graph_.Solve(0, options_.full_iterations);
     const auto rs = graph_.Residuals();
-    int dims = 0;
-    for (const auto& r : rs) dims += r.enabled ? r.dof : 0;
-    // Parameters: 3 per moving node, a rate per node, phi.
-    int params = 1;
-    for (const auto& n : nodes_) params += n.stored ? 0 : 4;
-    const double redundancy = std::clamp(static_cast<double>(dims - params) / std::max(1, dims), 0.1, 1.0);
+    const auto red = graph_.Redundancies();
+    if (red.size() != rs.size()) break;  // singular information: the sigmas stay as they are
     bool changed = false;
     for (FactorKind kind : kinds) {
-      std::vector<double> q;
-      for (const auto& r : rs) {
+      // Foerstner's estimate: the kind's robustly weighted chi^2 over the
+      // part of its dof that the rest of the graph checks.
+      double chi2 = 0.0, redundancy = 0.0;
+      int count = 0;
+      for (size_t k = 0; k < rs.size(); ++k) {
+        const auto& r = rs[k];
         const bool match = r.kind == kind || (kind == FactorKind::kRegistration && r.kind == FactorKind::kLoopClosure);
-        if (r.enabled && match) q.push_back(r.chi2 / ChiSquareQuantile(0.5, r.dof));
+        if (!r.enabled || !match) continue;
+        chi2 += red[k].weight * r.chi2;
+        redundancy += red[k].redundancy;
+        ++count;
       }
-      if (static_cast<int>(q.size()) < options_.min_factors_for_variance) continue;
-      std::nth_element(q.begin(), q.begin() + q.size() / 2, q.end());
-      const double s2 = std::max(1e-6, q[q.size() / 2] / redundancy);
+      if (count < options_.min_factors_for_variance || redundancy < options_.min_redundancy_for_variance) continue;
+      const double s2 = std::max(1e-6, chi2 / redundancy);
       const double now = graph_.SigmaFactor(kind);
       const double next = std::clamp(now * std::sqrt(s2), 0.1, 10.0);
       if (std::abs(next / now - 1.0) > 0.05) changed = true;

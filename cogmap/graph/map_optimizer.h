@@ -76,12 +76,15 @@ struct MapOptimizerOptions {
   double uncertain_position_m = 0.5;
   // Variance components (Finish): the sigmas of the odometry, wall-direction
   // and registration factors are priors for robots in general; at the end of
-  // a run each kind's sigmas are scaled by the median of its whitened
-  // residuals (robust), corrected by the graph's redundancy, iterated this
-  // many rounds, each factor within [1/10, 10] of the prior. A kind needs
-  // min_factors_for_variance factors to be fitted.
-  int variance_rounds = 4;
+  // a run each kind's sigmas are scaled by the square root of its robustly
+  // weighted chi^2 over its redundancy (the part of its dof the rest of the
+  // graph checks: PoseGraph::Redundancies), re-solved and iterated this many
+  // rounds, each factor within [1/10, 10] of the prior. A kind needs
+  // min_factors_for_variance factors and min_redundancy_for_variance
+  // redundancy to be fitted.
+  int variance_rounds = 12;
   int min_factors_for_variance = 10;
+  double min_redundancy_for_variance = 3.0;
   // A-posteriori variance factor on the covariances (see Finish): it may
   // shrink them down to min_variance_factor (in variance) with at least
   // min_dof_to_shrink degrees of freedom. 1: never shrunk (the default; the
@@ -194,6 +197,7 @@ class MapOptimizer {
     bool stored = false;
     bool direction = false;
     double direction_local = 0.0, direction_sigma = 0.0;
+    double direction_sigma_measured = 0.0;  // without the floor (the part variance components scale)
     double var_prefix = 0.0;         // accumulated position variance from the first node
     double heading_var = 0.0;        // heading variance since the last direction factor
     int room_id = -1;
@@ -209,8 +213,9 @@ class MapOptimizer {
   // (direction_split_m); fewer than two: use one for the whole ASR.
   struct SplitDirection {
     double direction_local;
-    double sigma;
+    double sigma;           // with the floor
     double s_mean_m;
+    double sigma_measured;  // without it (the part variance components scale)
   };
   std::vector<SplitDirection> SplitDirections(const Node& n, const asr::Asr& a) const;
   struct Split {

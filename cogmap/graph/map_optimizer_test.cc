@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 namespace cogmap::graph {
 namespace {
 
@@ -204,6 +206,51 @@ TEST(MapOptimizer, FittedSigmaFactorsNeverShrinkTheCovariances) {
     EXPECT_GE(std::sqrt(f.asrs[i].covariance(2, 2)), 0.999 * std::sqrt(p.asrs[i].covariance(2, 2))) << i;
   }
   EXPECT_LT(sigma(u.asrs.back()), 0.9 * sigma(p.asrs.back()));
+}
+
+// A corridor of 14 pieces of 12 m, each ASR's walls straight and axis-aligned
+// in truth; the odometry's heading takes a random step per piece of the
+// size the noise model expects (0.35 deg per sqrt(m): 1.2 deg), no drift.
+// Only the wall directions can correct the heading: the translation of such
+// a chain is checked by nothing, and its odometry's fitted sigma must not
+// collapse on that (the old median-over-global-redundancy fit went to 1/10
+// here and left the headings uncorrected, as on the hallway loop).
+TEST(MapOptimizer, CorridorHeadingsAreCorrectedAndOdometrySigmaIsNotCollapsed) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> step(0.0, DegToRad(0.35) * std::sqrt(12.0));
+  std::vector<asr::Asr> asrs;
+  Pose2 raw{0.0, 0.0, 0.0};
+  std::vector<double> raw_error;
+  for (int i = 0; i < 14; ++i) {
+    const Pose2 truth{12.0 * i, 0.0, 0.0};
+    asr::Asr a;
+    a.id = i;
+    a.world_from_local_raw = raw;
+    a.world_from_local_corrected = raw;
+    // Both walls with a door gap and a cabinet: straight in the local frame.
+    a.walls_local = {{Vec2(0, -1.2), Vec2(5.5, -1.2)}, {Vec2(6.5, -1.2), Vec2(12, -1.2)},
+                     {Vec2(0, 1.2), Vec2(3.0, 1.2), Vec2(3.0, 0.7), Vec2(4.0, 0.7), Vec2(4.0, 1.2), Vec2(12, 1.2)}};
+    for (int k = 0; k <= 120; ++k) {
+      a.path.push_back(raw * Pose2{0.1 * k, 0.0, 0.0});
+      a.true_path.push_back(truth * Pose2{0.1 * k, 0.0, 0.0});
+    }
+    raw_error.push_back(std::abs(raw.theta));
+    raw = raw * Pose2{12.0, 0.0, step(rng)};
+    asrs.push_back(a);
+  }
+  MapOptimizer opt;
+  for (const auto& a : asrs) opt.Place(a);
+  const OptimizerResult r = opt.Finish();
+  ASSERT_EQ(r.asrs.size(), asrs.size());
+  std::vector<double> corrected_error;
+  for (const auto& e : r.asrs) corrected_error.push_back(std::abs(NormalizeAngle(e.pose.theta)));
+  auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  };
+  EXPECT_GT(median(raw_error), DegToRad(0.5));
+  EXPECT_LT(median(corrected_error), 0.7 * median(raw_error));
+  EXPECT_GT(r.odometry_sigma_factor, 0.4);
 }
 
 TEST(MapOptimizer, IdenticalRoomsFarApartAreNotMerged) {

@@ -3,10 +3,13 @@
 #include <ceres/ceres.h>
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <unordered_map>
 
 namespace cogmap::graph {
 namespace {
@@ -144,8 +147,8 @@ struct BentRelativeCost {
 };
 
 struct DirectionCost {
-  double d = 0.0, inv_sigma = 1.0, s_mean = 0.0;
-  double scale = 1.0;
+  double d = 0.0, sigma = 1.0, s_mean = 0.0, floor = 0.0;
+  double scale = 1.0;  // 1 / the variance components' factor on sigma
   template <typename T>
   bool operator()(const T* pi, const T* phi, const T* rate, T* r) const {
     // Walls seen after driving s from the ASR's origin were placed with a
@@ -153,7 +156,7 @@ struct DirectionCost {
     // ASR's frame. The measured direction is corrected by the mean.
     const T v = pi[2] + T(d) - rate[0] * T(s_mean) - phi[0];
     const double k = std::round(Value(v) / kQuarter);  // nearest of the four branches
-    r[0] = (v - T(k * kQuarter)) * T(inv_sigma * scale);
+    r[0] = (v - T(k * kQuarter)) / T(std::max(floor, sigma / scale));
     return true;
   }
 };
@@ -357,7 +360,7 @@ void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const Od
 
 void PoseGraph::SetFactorEnabled(int handle, bool enabled) { impl_->factors[handle].enabled = enabled; }
 
-int PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, double cauchy_scale) {
+int PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, double floor_rad, double cauchy_scale) {
   if (!impl_->has_phi) {
     // The building direction starts at this first room's wall direction.
     impl_->phi = impl_->nodes[i][2] + d;
@@ -367,7 +370,7 @@ int PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, doub
   f.kind = FactorKind::kDirection;
   f.i = i;
   f.dof = 1;
-  auto* c = new DirectionCost{d, 1.0 / sigma, s_mean_m};
+  auto* c = new DirectionCost{d, sigma, s_mean_m, floor_rad};
   f.scale = &c->scale;
   f.cost.reset(new ceres::AutoDiffCostFunction<DirectionCost, 1, 3, 1, 1>(c));
   f.loss.reset(new ceres::CauchyLoss(cauchy_scale));
@@ -541,6 +544,127 @@ std::vector<PoseGraph::FactorResidual> PoseGraph::Residuals() const {
     double chi2 = 0.0;
     for (int a = 0; a < f.dof; ++a) chi2 += r[a] * r[a];
     out.push_back({f.kind, f.i, f.j, rel_of[k], chi2, f.dof, f.enabled});
+  }
+  return out;
+}
+
+std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
+  const auto& factors = impl_->factors;
+  std::vector<FactorRedundancy> out(factors.size(), FactorRedundancy{0.0, 0.0});
+  // The free parameter blocks: nodes not held, rates unless held at zero, phi.
+  std::unordered_map<const double*, bool> is_free;
+  for (size_t n = 0; n < impl_->nodes.size(); ++n) {
+    is_free[impl_->nodes[n].data()] = !impl_->fixed[n];
+    is_free[&impl_->rates[n]] = !impl_->rates_zero;
+  }
+  is_free[&impl_->phi] = true;
+  std::unordered_map<const double*, int> first_col;
+  int cols = 0;
+  // Each enabled factor's weighted whitened Jacobian over its free columns.
+  struct Rows {
+    std::vector<int> col;       // global column of each free entry
+    Eigen::MatrixXd J;          // dof x col.size()
+  };
+  std::vector<Rows> rows(factors.size());
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (size_t k = 0; k < factors.size(); ++k) {
+    const auto& f = factors[k];
+    if (!f.enabled) continue;
+    const std::vector<int32_t>& sizes = f.cost->parameter_block_sizes();
+    std::vector<std::vector<double>> jac(sizes.size());
+    std::vector<double*> jp(sizes.size());
+    for (size_t b = 0; b < sizes.size(); ++b) {
+      jac[b].assign(static_cast<size_t>(f.dof) * sizes[b], 0.0);
+      jp[b] = jac[b].data();
+    }
+    double r[3] = {0, 0, 0};
+    if (!f.cost->Evaluate(f.params.data(), r, jp.data())) continue;
+    double s = 0.0;
+    for (int a = 0; a < f.dof; ++a) s += r[a] * r[a];
+    double w = 1.0;
+    if (f.loss) {
+      double rho[3];
+      f.loss->Evaluate(s, rho);
+      w = rho[1];
+    }
+    out[k].weight = w;
+    Rows& R = rows[k];
+    std::vector<std::pair<size_t, int>> entries;  // (block, offset) of each free column
+    for (size_t b = 0; b < sizes.size(); ++b) {
+      const double* p = f.params[b];
+      auto it = is_free.find(p);
+      if (it == is_free.end() || !it->second) continue;
+      auto [c, added] = first_col.emplace(p, cols);
+      if (added) cols += sizes[b];
+      for (int o = 0; o < sizes[b]; ++o) {
+        R.col.push_back(c->second + o);
+        entries.emplace_back(b, o);
+      }
+    }
+    R.J.resize(f.dof, static_cast<int>(R.col.size()));
+    const double sw = std::sqrt(w);
+    for (int a = 0; a < f.dof; ++a)
+      for (size_t e = 0; e < entries.size(); ++e)
+        R.J(a, static_cast<int>(e)) = sw * jac[entries[e].first][a * sizes[entries[e].first] + entries[e].second];
+    const Eigen::MatrixXd H = R.J.transpose() * R.J;
+    for (size_t a = 0; a < R.col.size(); ++a)
+      for (size_t b = 0; b < R.col.size(); ++b) triplets.emplace_back(R.col[a], R.col[b], H(a, b));
+  }
+  if (cols == 0) {
+    for (size_t k = 0; k < factors.size(); ++k)
+      if (factors[k].enabled) out[k].redundancy = factors[k].dof;
+    return out;
+  }
+  Eigen::SparseMatrix<double> H(cols, cols);
+  H.setFromTriplets(triplets.begin(), triplets.end());
+  // A parameter nothing determines would make H singular: a relative
+  // regularisation far below any factor's information keeps it invertible.
+  double max_diag = 0.0;
+  for (int c = 0; c < cols; ++c) max_diag = std::max(max_diag, H.coeff(c, c));
+  for (int c = 0; c < cols; ++c) H.coeffRef(c, c) += 1e-12 * std::max(1.0, max_diag);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(H);
+  if (ldlt.info() != Eigen::Success) return {};
+  const Eigen::SparseMatrix<double>& L = ldlt.matrixL().nestedExpression();  // strictly lower, unit diagonal
+  const Eigen::VectorXd D = ldlt.vectorD();
+  // The selected inverse S = (P H P^T)^-1 on the pattern of L (Takahashi):
+  // from the last column back, S_ij = -sum_k L_kj S_ik and
+  // S_jj = 1/D_j - sum_k L_kj S_kj over the rows k of column j.
+  std::vector<double> sdiag(cols, 0.0);
+  std::vector<double> sval(L.nonZeros(), 0.0);
+  const int* outer = L.outerIndexPtr();
+  const int* inner = L.innerIndexPtr();
+  const int* nnz = L.innerNonZeroPtr();
+  auto col_end = [&](int c) { return nnz ? outer[c] + nnz[c] : outer[c + 1]; };
+  auto S = [&](int i, int k) -> double {
+    if (i == k) return sdiag[i];
+    const int c = std::min(i, k), r = std::max(i, k);
+    const int* b = inner + outer[c];
+    const int* e = inner + col_end(c);
+    const int* p = std::lower_bound(b, e, r);
+    return (p != e && *p == r) ? sval[p - inner] : 0.0;
+  };
+  const double* lval = L.valuePtr();
+  for (int j = cols - 1; j >= 0; --j) {
+    const int b = outer[j], e = col_end(j);
+    for (int t = b; t < e; ++t) {
+      double z = 0.0;
+      for (int u = b; u < e; ++u) z -= lval[u] * S(inner[t], inner[u]);
+      sval[t] = z;
+    }
+    double d = 1.0 / D(j);
+    for (int t = b; t < e; ++t) d -= lval[t] * sval[t];
+    sdiag[j] = d;
+  }
+  const auto& perm = ldlt.permutationP().indices();
+  for (size_t k = 0; k < factors.size(); ++k) {
+    if (!factors[k].enabled) continue;
+    const Rows& R = rows[k];
+    const int m = static_cast<int>(R.col.size());
+    Eigen::MatrixXd Sf(m, m);
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b < m; ++b) Sf(a, b) = S(perm(R.col[a]), perm(R.col[b]));
+    const double tr = m == 0 ? 0.0 : (R.J * Sf * R.J.transpose()).trace();
+    out[k].redundancy = std::clamp(factors[k].dof - tr, 0.0, static_cast<double>(factors[k].dof));
   }
   return out;
 }

@@ -82,8 +82,13 @@ class PoseGraph {
   // 's_mean_m': mean distance driven from the node's origin while its walls
   // were seen (the node's drift rate times it leans them).
   // Returns the factor's handle for SetFactorEnabled.
+  // 'floor_rad': the least sigma of the factor whatever SetSigmaFactor says.
+  // The sigma has two parts: the measurement's (sigma_rad, which variance
+  // components scale) and how square real buildings are (the floor: walls a
+  // few tenths of a degree off the building's grid, seen alike by
+  // neighbouring ASRs, an error their residuals cannot reveal).
   int AddDirection(int i, double local_direction_rad, double sigma_rad, double s_mean_m = 0.0,
-                   double cauchy_scale = 2.0);
+                   double floor_rad = 0.0, double cauchy_scale = 2.0);
   // Any factor by the handle AddDirection returned (disabled factors are left
   // out of solves, residuals and covariances).
   void SetFactorEnabled(int handle, bool enabled);
@@ -153,6 +158,24 @@ class PoseGraph {
     bool enabled = true;
   };
   std::vector<FactorResidual> Residuals() const;
+
+  // Per factor (aligned with Residuals()): its redundancy number and its
+  // robust weight at the current estimate. The weight w is the robust loss's
+  // slope rho'(chi2) (1 without a loss); the redundancy is the part of the
+  // factor's dof that the other factors check, r = dof - w tr(J S J^T), J the
+  // factor's whitened Jacobian over the free parameters and S the covariance
+  // of all free parameters under the weighted information; sum(dof - r) over
+  // the enabled factors = the number of free parameters. Variance component
+  // estimation divides each kind's weighted chi^2 by its summed redundancy
+  // (Foerstner): a kind whose residuals nothing checks (the translation of
+  // an odometry chain without registrations) has none and is not shrunk by
+  // them. Computed by sparse LDL^T and the selected inverse (Takahashi) on
+  // its pattern. Empty when the information is singular.
+  struct FactorRedundancy {
+    double redundancy = 0.0;
+    double weight = 1.0;
+  };
+  std::vector<FactorRedundancy> Redundancies() const;
 
  private:
   struct Impl;

@@ -137,6 +137,55 @@ TEST(PoseGraph, BendIsTheIdentityWithoutDrift) {
   EXPECT_NEAR(b.theta, 0.0, 1e-12);
 }
 
+TEST(PoseGraph, RedundancyOfTwoMeasurementsOfOnePoseIsSharedByTheirVariances) {
+  // Node 1 measured twice from the fixed node 0, sigmas 0.1 and 0.2: the
+  // three parameters take 3 of the 6 dof; each measurement keeps the share
+  // of its own variance, 3 x 0.01 / 0.05 = 0.6 and 3 x 0.04 / 0.05 = 2.4.
+  PoseGraph g;
+  g.AddNode({0, 0, 0}, true);
+  g.AddNode({1.0, 0.5, 0.3});
+  const Pose2 z{1.0, 0.5, 0.3};
+  g.AddRelative(0, 1, z, 0.01 * Eigen::Matrix3d::Identity(), FactorKind::kRegistration, 0.0);
+  g.AddRelative(0, 1, z, 0.04 * Eigen::Matrix3d::Identity(), FactorKind::kLoopClosure, 0.0);
+  const auto red = g.Redundancies();
+  ASSERT_EQ(red.size(), 2u);
+  EXPECT_NEAR(red[0].redundancy, 0.6, 1e-6);
+  EXPECT_NEAR(red[1].redundancy, 2.4, 1e-6);
+  EXPECT_DOUBLE_EQ(red[0].weight, 1.0);
+}
+
+TEST(PoseGraph, RedundanciesSumToTheDofLeftOverByTheParameters) {
+  // A chain of 8 rooms with wall directions and one loop closure, held
+  // rates: the free parameters are 7 poses and the building direction.
+  PoseGraph g;
+  Pose2 raw;
+  g.AddNode(raw, true);
+  g.AddDirection(0, 0.01, DegToRad(1.0));
+  for (int i = 1; i < 8; ++i) {
+    const auto m = TurningOdometry(4.0, DegToRad(0.5));
+    raw = raw * m.delta;
+    g.AddNode(raw);
+    g.AddOdometry(i - 1, i, m);
+    g.AddDirection(i, 0.02 * (i % 3), DegToRad(1.0));
+  }
+  g.AddRelative(0, 7, Pose2{27.5, 1.0, 0.1}, 0.05 * Eigen::Matrix3d::Identity(), FactorKind::kLoopClosure);
+  g.SetRatesFixedAtZero(true);
+  g.Solve(0);
+  const auto rs = g.Residuals();
+  const auto red = g.Redundancies();
+  ASSERT_EQ(red.size(), rs.size());
+  double used = 0.0;
+  for (size_t k = 0; k < rs.size(); ++k) {
+    if (!rs[k].enabled) continue;
+    EXPECT_GE(red[k].redundancy, 0.0);
+    EXPECT_LE(red[k].redundancy, rs[k].dof);
+    EXPECT_GT(red[k].weight, 0.0);
+    EXPECT_LE(red[k].weight, 1.0);
+    used += rs[k].dof - red[k].redundancy;
+  }
+  EXPECT_NEAR(used, 7 * 3 + 1, 1e-6);
+}
+
 TEST(PoseGraph, ChiSquareQuantileMatchesTables) {
   EXPECT_NEAR(ChiSquareQuantile(0.999, 3), 16.27, 0.15);
   EXPECT_NEAR(ChiSquareQuantile(0.95, 1), 3.84, 0.15);
