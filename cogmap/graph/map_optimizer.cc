@@ -946,7 +946,7 @@ void MapOptimizer::FitVarianceComponents() {
         const bool match = r.kind == kind || (kind == FactorKind::kRegistration && r.kind == FactorKind::kLoopClosure);
         if (!r.enabled || !match) continue;
         chi2 += red[k].weight * r.chi2;
-        redundancy += red[k].redundancy;
+        redundancy += red[k].consistency * red[k].redundancy;
         ++count;
       }
       if (count < options_.min_factors_for_variance || redundancy < options_.min_redundancy_for_variance) continue;

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <map>
 #include <unordered_map>
 
 namespace cogmap::graph {
@@ -276,6 +277,7 @@ struct PoseGraph::Impl {
     int dof = 0;
     std::unique_ptr<ceres::CostFunction> cost;
     std::unique_ptr<ceres::LossFunction> loss;  // may be null
+    double cauchy_scale = 0.0;                  // the loss's scale (0: none)
     std::vector<double*> params;
     bool enabled = true;
     double* scale = nullptr;  // the functor's scale (variance components), when it has one
@@ -374,6 +376,7 @@ int PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, doub
   f.scale = &c->scale;
   f.cost.reset(new ceres::AutoDiffCostFunction<DirectionCost, 1, 3, 1, 1>(c));
   f.loss.reset(new ceres::CauchyLoss(cauchy_scale));
+  f.cauchy_scale = cauchy_scale;
   f.params = {impl_->nodes[i].data(), &impl_->phi, &impl_->rates[i]};
   impl_->factors.push_back(std::move(f));
   return static_cast<int>(impl_->factors.size()) - 1;
@@ -401,7 +404,10 @@ int PoseGraph::AddRelative(int i, int j, const Pose2& z, const Eigen::Matrix3d& 
     f.cost.reset(new ceres::AutoDiffCostFunction<RelativeCost, 3, 3, 3>(c));
     f.params = {impl_->nodes[i].data(), impl_->nodes[j].data()};
   }
-  if (cauchy_scale > 0) f.loss.reset(new ceres::CauchyLoss(cauchy_scale));
+  if (cauchy_scale > 0) {
+    f.loss.reset(new ceres::CauchyLoss(cauchy_scale));
+    f.cauchy_scale = cauchy_scale;
+  }
   impl_->factors.push_back(std::move(f));
   impl_->relative_index.push_back(static_cast<int>(impl_->factors.size()) - 1);
   return static_cast<int>(impl_->relative_index.size()) - 1;
@@ -548,6 +554,27 @@ std::vector<PoseGraph::FactorResidual> PoseGraph::Residuals() const {
   return out;
 }
 
+namespace {
+// E[w(x) x] / dof for x ~ chi^2(dof) and the Cauchy weight w(x) = 1 / (1 + x /
+// a^2): what a factor's weighted chi^2 is worth per unit of redundancy when
+// its sigma is right (1 without a loss). By x = t^2 and Simpson's rule on
+// t in [0, 12 + sqrt(dof)].
+double CauchyConsistency(int dof, double a) {
+  if (!(a > 0.0)) return 1.0;
+  const double b = a * a, k = dof;
+  const double norm = 2.0 / (std::pow(2.0, 0.5 * k) * std::tgamma(0.5 * k));
+  const int n = 2000;
+  const double hi = 12.0 + std::sqrt(k), h = hi / n;
+  double sum = 0.0;
+  for (int i = 0; i <= n; ++i) {
+    const double t = i * h, x = t * t;
+    const double f = norm * std::pow(t, k - 1.0) * std::exp(-0.5 * x) * x / (1.0 + x / b);
+    sum += (i == 0 || i == n ? 1.0 : (i % 2 ? 4.0 : 2.0)) * f;
+  }
+  return sum * h / 3.0 / k;
+}
+}  // namespace
+
 std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
   const auto& factors = impl_->factors;
   std::vector<FactorRedundancy> out(factors.size(), FactorRedundancy{0.0, 0.0});
@@ -665,6 +692,14 @@ std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
       for (int b = 0; b < m; ++b) Sf(a, b) = S(perm(R.col[a]), perm(R.col[b]));
     const double tr = m == 0 ? 0.0 : (R.J * Sf * R.J.transpose()).trace();
     out[k].redundancy = std::clamp(factors[k].dof - tr, 0.0, static_cast<double>(factors[k].dof));
+  }
+  std::map<std::pair<int, double>, double> kappa;
+  for (size_t k = 0; k < factors.size(); ++k) {
+    if (!factors[k].enabled) continue;
+    const std::pair<int, double> key{factors[k].dof, factors[k].cauchy_scale};
+    auto it = kappa.find(key);
+    if (it == kappa.end()) it = kappa.emplace(key, CauchyConsistency(key.first, key.second)).first;
+    out[k].consistency = it->second;
   }
   return out;
 }

@@ -152,6 +152,7 @@ TEST(PoseGraph, RedundancyOfTwoMeasurementsOfOnePoseIsSharedByTheirVariances) {
   EXPECT_NEAR(red[0].redundancy, 0.6, 1e-6);
   EXPECT_NEAR(red[1].redundancy, 2.4, 1e-6);
   EXPECT_DOUBLE_EQ(red[0].weight, 1.0);
+  EXPECT_NEAR(red[0].consistency, 1.0, 1e-9);  // no robust loss
 }
 
 TEST(PoseGraph, RedundanciesSumToTheDofLeftOverByTheParameters) {
@@ -182,6 +183,11 @@ TEST(PoseGraph, RedundanciesSumToTheDofLeftOverByTheParameters) {
     EXPECT_GT(red[k].weight, 0.0);
     EXPECT_LE(red[k].weight, 1.0);
     used += rs[k].dof - red[k].redundancy;
+    // E[w chi2] / dof under chi^2(dof) with the Cauchy loss of scale 2 (by
+    // an independent quadrature: 0.6290 for 1 dof, 0.4946 for 3).
+    if (rs[k].kind == FactorKind::kDirection) EXPECT_NEAR(red[k].consistency, 0.6290, 1e-3);
+    if (rs[k].kind == FactorKind::kLoopClosure) EXPECT_NEAR(red[k].consistency, 0.4946, 1e-3);
+    if (rs[k].kind == FactorKind::kOdometry) EXPECT_DOUBLE_EQ(red[k].consistency, 1.0);
   }
   EXPECT_NEAR(used, 7 * 3 + 1, 1e-6);
 }
