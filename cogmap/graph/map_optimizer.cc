@@ -757,7 +757,6 @@ OptimizerResult MapOptimizer::Finish() {
   res.drift_alias_risk = drift.alias_risk;
   if (!drift.warning.empty()) res.warnings.push_back(drift.warning);
   res.odometry_sigma_factor = graph_.SigmaFactor(FactorKind::kOdometry);
-
   res.direction_sigma_factor = graph_.SigmaFactor(FactorKind::kDirection);
   res.registration_sigma_factor = graph_.SigmaFactor(FactorKind::kRegistration);
   const std::vector<Pose2> graph_poses = CurrentPoses();
@@ -938,7 +937,8 @@ void MapOptimizer::FitVarianceComponents() {
     bool changed = false;
     for (FactorKind kind : kinds) {
       // Foerstner's estimate: the kind's robustly weighted chi^2 over the
-      // part of its dof that the rest of the graph checks.
+      // part of its dof that the rest of the graph checks, each part worth
+      // what a weighted chi^2 is at the right sigma (the loss's consistency).
       double chi2 = 0.0, redundancy = 0.0;
       int count = 0;
       for (size_t k = 0; k < rs.size(); ++k) {

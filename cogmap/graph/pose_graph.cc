@@ -157,7 +157,7 @@ struct DirectionCost {
     // ASR's frame. The measured direction is corrected by the mean.
     const T v = pi[2] + T(d) - rate[0] * T(s_mean) - phi[0];
     const double k = std::round(Value(v) / kQuarter);  // nearest of the four branches
-    r[0] = (v - T(k * kQuarter)) / T(std::max(floor, sigma / scale));
+    r[0] = (v - T(k * kQuarter)) / T(std::max({floor, sigma / scale, 1e-9}));
     return true;
   }
 };
