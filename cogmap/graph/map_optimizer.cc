@@ -122,7 +122,6 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
     node.direction = true;
     node.direction_local = est.direction_rad - a.world_from_local_raw.theta;
     node.direction_sigma_measured = options_.direction_sigma_scale * est.uncertainty_rad;
-    node.direction_sigma = std::max(options_.direction_sigma_floor_rad, node.direction_sigma_measured);
   }
   if (idx == 0) {
     graph_.AddNode(a.world_from_local_raw, /*fixed=*/true);
@@ -144,8 +143,9 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
     graph_.AddOdometry(idx - 1, idx, m, options_.odometry);
     // Uncertainty accumulated for the candidate search: the translation
     // variance of the odometry plus the heading uncertainty turned lateral.
+    const double prev_sigma = DirectionSigma(prev.direction_sigma_measured);
     const double heading_sigma2 =
-        prev.direction ? prev.direction_sigma * prev.direction_sigma : std::min(prev.heading_var, kPi * kPi / 16.0);
+        prev.direction ? prev_sigma * prev_sigma : std::min(prev.heading_var, kPi * kPi / 16.0);
     node.heading_var = heading_sigma2 + m.covariance(2, 2);
     node.var_prefix = prev.var_prefix + m.covariance(0, 0) + m.covariance(1, 1) +
                       heading_sigma2 * m.distance_m * m.distance_m;
@@ -216,7 +216,7 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
   const Pose2 T = graph_.pose(idx);
   a.world_from_local_corrected = T;
   a.heading_correction_rad = NormalizeAngle(T.theta - a.world_from_local_raw.theta);
-  a.heading_uncertainty_rad = nodes_[idx].direction ? nodes_[idx].direction_sigma : -1.0;
+  a.heading_uncertainty_rad = nodes_[idx].direction ? DirectionSigma(nodes_[idx].direction_sigma_measured) : -1.0;
   solve_seconds_ += Seconds(t0);
   return a;
 }
@@ -287,9 +287,8 @@ std::vector<MapOptimizer::SplitDirection> MapOptimizer::SplitDirections(const No
     if (dirs.empty()) continue;
     const localize::DirectionEstimate est = localize::EstimateDirectionRobust(dirs, estimator_.options().robust);
     if (!est.accepted || !std::isfinite(est.uncertainty_rad)) continue;
-    const double measured = options_.direction_sigma_scale * est.uncertainty_rad;
-    out.push_back({est.direction_rad - a.world_from_local_raw.theta,
-                   std::max(options_.direction_sigma_floor_rad, measured), sw / w, measured});
+    out.push_back({est.direction_rad - a.world_from_local_raw.theta, sw / w,
+                   options_.direction_sigma_scale * est.uncertainty_rad});
   }
   // Only when the groups' directions turn with the distance driven beyond
   // their uncertainties: the weighted least-squares slope of direction over
@@ -300,7 +299,8 @@ std::vector<MapOptimizer::SplitDirection> MapOptimizer::SplitDirections(const No
   const double ref = out.front().direction_local;
   double W = 0.0, Ws = 0.0, Wss = 0.0, Wy = 0.0, Wsy = 0.0;
   for (const SplitDirection& d : out) {
-    const double w = 1.0 / (d.sigma * d.sigma);
+    const double sigma = DirectionSigma(d.sigma_measured);
+    const double w = 1.0 / (sigma * sigma);
     const double y = localize::FoldToQuarterTurn(d.direction_local - ref);
     W += w;
     Ws += w * d.s_mean_m;

@@ -196,7 +196,7 @@ class MapOptimizer {
     double radius_m = 0.0;
     bool stored = false;
     bool direction = false;
-    double direction_local = 0.0, direction_sigma = 0.0;
+    double direction_local = 0.0;
     double direction_sigma_measured = 0.0;  // without the floor (the part variance components scale)
     double var_prefix = 0.0;         // accumulated position variance from the first node
     double heading_var = 0.0;        // heading variance since the last direction factor
@@ -213,10 +213,12 @@ class MapOptimizer {
   // (direction_split_m); fewer than two: use one for the whole ASR.
   struct SplitDirection {
     double direction_local;
-    double sigma;           // with the floor
     double s_mean_m;
-    double sigma_measured;  // without it (the part variance components scale)
+    double sigma_measured;  // without the floor (the part variance components scale)
   };
+  // A direction's sigma: its measured part, at least the floor (how square
+  // real buildings are).
+  double DirectionSigma(double measured) const { return std::max(options_.direction_sigma_floor_rad, measured); }
   std::vector<SplitDirection> SplitDirections(const Node& n, const asr::Asr& a) const;
   struct Split {
     int whole;                // the whole-ASR direction factor (disabled while split)

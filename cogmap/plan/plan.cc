@@ -363,8 +363,9 @@ constexpr uint8_t kTight = 2;    // free, but within the robot's radius of a wal
 
 // Marks kTight the free cells of 'walls' within radius_m of a wall (walls
 // only: door lines are openings the robot took), except within radius_m of
-// the robot's 'paths' (map frame): where the robot's centre cannot be. A gap narrower than the robot (a window, a jamb's return, two
-// wall pieces that do not meet) is all tight cells. Kept in the wall mask
+// the robot's 'paths' (map frame): where the robot's centre cannot be. A gap
+// narrower than the robot (a window, a jamb's return, two wall pieces that do
+// not meet) is all tight cells. Kept in the wall mask
 // itself (and so in the door masks copied from it): no second lattice.
 // Returns the 4-connected steps that reach every tight cell from the open
 // floor beside it (0: nothing marked, the cells are larger than the radius).

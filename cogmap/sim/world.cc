@@ -6,10 +6,6 @@
 #include <limits>
 
 namespace cogmap::sim {
-namespace {
-
-
-}  // namespace
 
 double RaySegmentDistance(const Vec2& origin, const Vec2& dir, const Vec2& a, const Vec2& b) {
   const Vec2 e = b - a;
