@@ -3,8 +3,12 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
+#include <exception>
 #include <limits>
+#include <mutex>
+#include <thread>
 
 #include "cogmap/vectorize/orientation.h"
 
@@ -174,7 +178,103 @@ CognitiveMapper::CognitiveMapper(const sensors::RobotDescription& robot, const M
       on_close_(std::move(on_close)),
       detector_(robot, options.boundary) {}
 
-CognitiveMapper::~CognitiveMapper() = default;
+// The threads of MapperOptions::close_in_background: a closed ASR goes through
+// two stages, each on a thread of its own, one ASR at a time and in order:
+// its walls (the grids vectorised and freed), then its placement and store
+// entry. While one room is placed the next can be vectorised and the one
+// after it mapped. At most one ASR waits before each stage (a fourth room's
+// grid is never held); the first error stops both and is raised on the
+// caller's thread.
+class CognitiveMapper::Worker {
+ public:
+  struct Job {
+    std::unique_ptr<Current> closing;
+    Pose2 last_raw_pose;
+    int next_id = 0;
+    Asr out;
+  };
+  using Stage = std::function<void(Job&)>;
+  Worker(Stage walls, Stage place) : work_{std::move(walls), std::move(place)} {
+    for (int s = 0; s < 2; ++s) threads_[s] = std::thread([this, s] { Run(s); });
+  }
+  // Finishes the ASRs already submitted (they were closed before whatever ends
+  // the run), then stops.
+  ~Worker() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    changed_.notify_all();
+    for (auto& t : threads_) t.join();
+  }
+  // After an error the job is dropped (Take raises the error).
+  void Submit(Job job) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [this] { return queue_[0].empty() || error_; });
+    if (error_) return;
+    queue_[0].push_back(std::move(job));
+    changed_.notify_all();
+  }
+  // The ASRs finished so far, in order; with 'all', once every submitted one
+  // is. An error is raised once the ASRs finished before it are taken.
+  std::deque<Asr> Take(bool all) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (all) changed_.wait(lock, [this] { return Idle(2) || error_; });
+    std::deque<Asr> out;
+    out.swap(done_);
+    if (out.empty() && error_) std::rethrow_exception(error_);
+    return out;
+  }
+
+ private:
+  // Nothing queued or in progress before stage 'upto'.
+  bool Idle(int upto) const {
+    for (int s = 0; s < upto; ++s)
+      if (!queue_[s].empty() || busy_[s]) return false;
+    return true;
+  }
+  void Run(int s) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      changed_.wait(lock, [&] { return !queue_[s].empty() || error_ || (stop_ && Idle(s + 1)); });
+      if (error_ || queue_[s].empty()) return;
+      Job job = std::move(queue_[s].front());
+      queue_[s].pop_front();
+      busy_[s] = true;
+      changed_.notify_all();
+      lock.unlock();
+      std::exception_ptr error;
+      try {
+        work_[s](job);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      lock.lock();
+      if (error) {
+        error_ = error;
+      } else if (s == 0) {
+        changed_.wait(lock, [this] { return queue_[1].empty() || error_; });
+        queue_[1].push_back(std::move(job));
+      } else {
+        done_.push_back(std::move(job.out));
+      }
+      busy_[s] = false;
+      changed_.notify_all();
+    }
+  }
+
+  Stage work_[2];
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<Job> queue_[2];
+  bool busy_[2] = {false, false};
+  std::deque<Asr> done_;
+  bool stop_ = false;
+  std::exception_ptr error_;
+  std::thread threads_[2];  // last: started once the rest is in place
+};
+
+CognitiveMapper::~CognitiveMapper() { worker_.reset(); }
 
 void CognitiveMapper::Resume(const MapperResume& resume) {
   resume_ = resume;
@@ -253,7 +353,23 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
   c.raw_path.resize(a.path.size());
   if (exit) a.exits.push_back(*exit);
   a.end_time_s = std::max(a.start_time_s, end_time_s);
+  if (options_.close_in_background && !odometry_filter_) {
+    if (!worker_)
+      worker_ = std::make_unique<Worker>([this](Worker::Job& job) { BuildWalls(*job.closing); },
+                                         [this](Worker::Job& job) {
+                                           job.out = Place(std::move(job.closing), job.last_raw_pose, job.next_id);
+                                         });
+    worker_->Submit({std::move(current_), last_raw_pose_, next_id_, {}});
+    DeliverFinished(false);
+    return;
+  }
+  BuildWalls(*current_);
+  const Asr out = Place(std::move(current_), last_raw_pose_, next_id_);
+  Deliver(out);
+}
 
+void CognitiveMapper::BuildWalls(Current& c) {
+  Asr& a = c.asr;
   const vectorize::VectorizeResult v = vectorize::Vectorize(c.grid->values(), options_.vectorize);
   a.walls_local = v.polylines;
   a.bytes.grid = v.bytes.grid;
@@ -287,7 +403,11 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
     c.cone_grid.reset();
     a.seconds.fit += Since(t0);
   }
+}
 
+Asr CognitiveMapper::Place(std::unique_ptr<Current> closing, const Pose2& last_raw_pose, int next_id) {
+  Current& c = *closing;
+  Asr& a = c.asr;
   Asr out = corrector_ ? corrector_(std::move(a)) : std::move(a);
   // The placer sees the ASR in the frame its walls were built in (the
   // pre-corrected one when the odometry is filtered).
@@ -308,13 +428,27 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
     out.path = std::move(c.raw_path);
     out.heading_correction_rad = (out.world_from_local_corrected * out.world_from_local_raw.inverse()).theta;
   }
-  current_.reset();
+  closing.reset();
   if (store_) {
-    store_->Put(out, {{kMetaLastRawPose, PoseText(last_raw_pose_)},
-                      {kMetaNextId, std::to_string(next_id_)}});
+    store_->Put(out, {{kMetaLastRawPose, PoseText(last_raw_pose)},
+                      {kMetaNextId, std::to_string(next_id)}});
   }
+  return out;
+}
+
+void CognitiveMapper::Deliver(const Asr& out) {
   ++stats_.asr_count;
   if (on_close_) on_close_(out);
+}
+
+void CognitiveMapper::DeliverFinished(bool all) {
+  if (!worker_) return;
+  // A second look raises an error that came after the ASRs handed over.
+  for (int look = 0; look < 2; ++look) {
+    const std::deque<Asr> finished = worker_->Take(all);
+    for (const Asr& out : finished) Deliver(out);
+    if (finished.empty()) break;
+  }
 }
 
 void CognitiveMapper::Push(const sensors::LogRecord& input) {
@@ -356,6 +490,7 @@ void CognitiveMapper::Push(const sensors::LogRecord& input) {
   }
   if (detector_.state() == BoundaryState::kInRoom) buffer_.clear();
   stats_.turn_backs = detector_.turn_backs();
+  DeliverFinished(false);
   stats_.seconds += Since(t0);
 }
 
@@ -363,6 +498,7 @@ void CognitiveMapper::Finish() {
   if (finished_) return;
   const auto t0 = Clock::now();
   if (current_) Close(std::nullopt, current_->asr.end_time_s);
+  DeliverFinished(true);
   buffer_.clear();
   finished_ = true;
   stats_.seconds += Since(t0);

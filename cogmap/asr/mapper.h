@@ -42,6 +42,12 @@ struct MapperOptions {
   // correction and the pose graph work on the walls of the axis grid
   // (Asr::output_walls_local; docs/walls.md, "Sonar cone").
   bool cone_output_walls = false;
+  // Each closed ASR is finished (vectorised, corrected, placed, stored) on a
+  // second thread while the next room's records are fused on the caller's:
+  // the same ASRs in the same order, the callback still on the caller's
+  // thread (from a later Push or Finish). Ignored with an odometry filter,
+  // whose corrections of the next records depend on the closed ASR.
+  bool close_in_background = false;
 };
 
 // Continuing a run into an existing store (cogmap map --resume).
@@ -102,12 +108,12 @@ std::optional<double> SensorReach(const AsrStore& store);
 constexpr const char* kMetaFinishedThrough = "finished_through";
 
 struct MapperStats {
-  int asr_count = 0;
+  int asr_count = 0;          // ASRs closed and handed to the callback
   long records = 0;
   long readings = 0;
   int turn_backs = 0;         // doorways the robot turned back in (no ASR)
   int64_t peak_grid_cells = 0; // largest room grid seen
-  double seconds = 0.0;       // time spent inside Push / Finish
+  double seconds = 0.0;       // time spent inside Push / Finish (on the caller's thread)
 };
 
 // The cognitive mapper of SPEC 4 as a streaming API (fit for a robot): push
@@ -183,6 +189,17 @@ class CognitiveMapper {
   void Start(const Pose2& entry_pose, double time_s, const std::optional<Exit>& entry_exit);
   void Feed(const sensors::LogRecord& record, const Pose2& raw_odom);
   void Close(const std::optional<Exit>& exit, double end_time_s);
+  // The closed ASR's walls (its grids vectorised and freed), then its
+  // correction, placement and store entry (MapperOptions::close_in_background:
+  // each on a thread of the Worker), then its hand-over to the callback (on
+  // the caller's thread).
+  void BuildWalls(Current& closing);
+  Asr Place(std::unique_ptr<Current> closing, const Pose2& last_raw_pose, int next_id);
+  void Deliver(const Asr& out);
+  // Hands over the ASRs the worker has finished; with 'all', waits for every one.
+  void DeliverFinished(bool all);
+  class Worker;
+  std::unique_ptr<Worker> worker_;
 
   sensors::RobotDescription robot_;
   MapperOptions options_;

@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <thread>
 
 namespace cogmap::asr {
 namespace {
@@ -312,6 +314,46 @@ TEST(CognitiveMapper, CorrectorSeesEveryAsrBeforeTheStore) {
   m.Finish();
   EXPECT_EQ(calls, 2);
   EXPECT_DOUBLE_EQ(run.store.Get(1)->heading_correction_rad, 0.1);
+}
+
+// Closing in the background: the same ASRs, stored and handed over in order
+// on the caller's thread; an error on the worker comes out of the caller's
+// next Push or Finish, after the ASRs closed before it.
+TEST(CognitiveMapper, BackgroundClosingHandsOverInOrderAndRaisesItsErrors) {
+  MapperOptions o;
+  o.close_in_background = true;
+  Outcome run;
+  const std::thread::id caller = std::this_thread::get_id();
+  CognitiveMapper m(sensors::BuiltinRobot("pioneer16"), o, &run.store, [&](const Asr& a) {
+    EXPECT_EQ(std::this_thread::get_id(), caller);
+    run.closed.push_back(a);
+  });
+  Drive(&m, Straight({1.0, 2.0}, {9.0, 2.0}));
+  m.Finish();
+  ASSERT_EQ(run.closed.size(), 2u);
+  EXPECT_EQ(run.closed[0].id, 0);
+  EXPECT_EQ(run.closed[1].id, 1);
+  EXPECT_FALSE(run.closed[0].walls_local.empty());
+  EXPECT_EQ(run.store.Count(), 2);
+  EXPECT_EQ(*run.store.GetMeta(kMetaNextId), "2");
+
+  Outcome failing;
+  CognitiveMapper f(sensors::BuiltinRobot("pioneer16"), o, &failing.store,
+                    [&](const Asr& a) { failing.closed.push_back(a); });
+  f.SetCorrector([](Asr a) {
+    if (a.id == 1) throw std::runtime_error("corrector failed on ASR 1");
+    return a;
+  });
+  Drive(&f, Straight({1.0, 2.0}, {9.0, 2.0}));
+  try {
+    f.Finish();
+    FAIL() << "the worker's error was not raised";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "corrector failed on ASR 1");
+  }
+  ASSERT_EQ(failing.closed.size(), 1u);
+  EXPECT_EQ(failing.closed[0].id, 0);
+  EXPECT_EQ(failing.store.Count(), 1);
 }
 
 TEST(CognitiveMapper, OdometryFilterKeepsTheRawOdometryInTheStore) {

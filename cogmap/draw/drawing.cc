@@ -234,6 +234,8 @@ void Drawing::Rectangle(const Box& box, Colour fill, const Stroke& outline) {
   });
 }
 
+void Drawing::PrepareFonts() { pango_cairo_font_map_get_default(); }
+
 Box Drawing::MeasureText(const std::string& text, const Font& font) {
   PangoLayout* layout = MakeLayout(MeasureContext(), text, font);
   PangoRectangle logical;

@@ -138,6 +138,8 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   job.mapping.Validate();
   const sensors::RobotDescription robot = io::RobotFor(log, job.robot_spec);
   if (!job.world.empty()) io::ReadWorld(job.world);  // a bad world fails before mapping
+  const OutputChoice& o = job.outputs;
+  if (o.svg || o.png || o.plan || o.plan_png || o.compare || o.heading) draw::Drawing::PrepareFonts();
 
   // The output folder (docs/store.md): locked for this run, everything written
   // into its staging folder and moved into place at the end.

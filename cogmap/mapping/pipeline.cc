@@ -44,6 +44,7 @@ void MappingOptions::Validate() const {
     throw InputError("--direction-split " + Num(direction_split_m) + ": must be in [0, 1000] metres");
   if (!(release_confirm_m >= 0.0) || release_confirm_m > 100.0)
     throw InputError("--door-release " + Num(release_confirm_m) + ": must be in [0, 100] metres");
+  if (threads < 1 || threads > 2) throw InputError("--threads " + std::to_string(threads) + ": must be 1 or 2");
   if (!std::isfinite(add_drift_rad_per_m) || std::abs(add_drift_rad_per_m) > DegToRad(90.0))
     throw InputError("--add-drift-deg-per-m " + Num(RadToDeg(add_drift_rad_per_m)) + ": must be in [-90, 90]");
 }
@@ -148,27 +149,31 @@ MappingPipeline::MappingPipeline(sensors::RobotDescription robot, MappingOptions
   result_.correction = options_.correction();
   if (store_ && store_->MaxId() < 0 && !store_->GetMeta(asr::kMetaFinishedThrough))
     store_->SetMeta(asr::kMetaFinishedThrough, "-1");
-  mapper_ = std::make_unique<asr::CognitiveMapper>(robot_, MapperOptionsFor(robot_, options_), store_,
+  asr::MapperOptions mapper_options = MapperOptionsFor(robot_, options_);
+  mapper_options.close_in_background = options_.threads > 1;
+  mapper_ = std::make_unique<asr::CognitiveMapper>(robot_, mapper_options, store_,
                                                    [this](const asr::Asr& x) { Closed(x); });
   switch (result_.correction) {
     case Correction::kDriftFilter:
       mapper_->SetOdometryFilter(
           [this](const Pose2& raw, double t) { return drift_corrector_.CorrectOdometry(raw, t); });
-      mapper_->SetCorrector([this](asr::Asr pre) { return drift_corrector_.Close(std::move(pre)); });
+      mapper_->SetCorrector([this](asr::Asr pre) { return KeepEstimate(drift_corrector_.Close(std::move(pre))); });
       break;
     case Correction::kPoseGraph:
       optimizer_ = std::make_unique<graph::MapOptimizer>(GraphOptionsFor(heading_options_, options_));
-      mapper_->SetPlacer([this](asr::Asr x) { return optimizer_->Place(std::move(x)); });
+      mapper_->SetPlacer([this](asr::Asr x) { return KeepEstimate(optimizer_->Place(std::move(x))); });
       break;
     case Correction::kPerAsrEm:
-      mapper_->SetCorrector([this](asr::Asr raw) { return corrector_.Close(std::move(raw)); });
+      mapper_->SetCorrector([this](asr::Asr raw) { return KeepEstimate(corrector_.Close(std::move(raw))); });
       break;
     case Correction::kNone:
       break;
   }
 }
 
-MappingPipeline::~MappingPipeline() = default;
+// The mapper's second thread may still be placing an ASR with the optimizer:
+// it goes first.
+MappingPipeline::~MappingPipeline() { mapper_.reset(); }
 
 void MappingPipeline::OnAsrClosed(std::function<void(const asr::Asr&, const AsrSummary&)> callback) {
   callback_ = std::move(callback);
@@ -184,6 +189,14 @@ const localize::DirectionEstimate* MappingPipeline::LastEstimate() const {
   return nullptr;
 }
 
+asr::Asr MappingPipeline::KeepEstimate(asr::Asr x) {
+  if (const localize::DirectionEstimate* e = LastEstimate()) {
+    std::lock_guard<std::mutex> lock(estimates_mutex_);
+    estimates_[x.id] = *e;
+  }
+  return x;
+}
+
 void MappingPipeline::Closed(const asr::Asr& x) {
   AsrSummary s;
   s.id = x.id;
@@ -193,7 +206,13 @@ void MappingPipeline::Closed(const asr::Asr& x) {
   s.walls = static_cast<int>(x.walls_local.size());
   s.bytes = x.bytes;
   s.heading_correction_rad = x.heading_correction_rad;
-  if (const localize::DirectionEstimate* e = LastEstimate()) s.estimate = *e;
+  {
+    std::lock_guard<std::mutex> lock(estimates_mutex_);
+    if (auto it = estimates_.find(x.id); it != estimates_.end()) {
+      s.estimate = it->second;
+      estimates_.erase(it);
+    }
+  }
   s.grid_orientation = x.grid_orientation;
   result_.asrs.push_back(s);
   if (callback_) callback_(x, result_.asrs.back());

@@ -9,7 +9,9 @@
 //   while (log->Next(&rec)) p.Push(rec);
 //   const mapping::RunResult& r = p.Finish();   // placements written to the store
 #include <functional>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -52,6 +54,10 @@ struct MappingOptions {
   // Default mode: walls as lines in each room's cleaned cells (docs/walls.md);
   // false: the chain pipeline (simplify + fit). Paper mode: always the chains.
   bool wall_lines = false;
+  // 2: each closed ASR is vectorised, placed and stored on a second thread
+  // while the next room is mapped (asr::MapperOptions::close_in_background;
+  // the same map). 1: everything on the caller's thread.
+  int threads = 2;
 
   // Throws InputError naming the option when a value is out of range.
   void Validate() const;
@@ -141,6 +147,9 @@ class MappingPipeline {
  private:
   void Closed(const asr::Asr& x);
   const localize::DirectionEstimate* LastEstimate() const;
+  // Keeps the corrector's estimate for x (LastEstimate, read where it was made:
+  // the closing may run on the mapper's second thread) until Closed reports it.
+  asr::Asr KeepEstimate(asr::Asr x);
 
   sensors::RobotDescription robot_;
   MappingOptions options_;
@@ -153,6 +162,8 @@ class MappingPipeline {
   DriftAdder drift_adder_;
   std::function<void(const asr::Asr&, const AsrSummary&)> callback_;
   RunResult result_;
+  std::mutex estimates_mutex_;
+  std::map<int, localize::DirectionEstimate> estimates_;  // ASR id -> its estimate, until reported
   bool finished_ = false;
 };
 

@@ -6,7 +6,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <numeric>
 #include <set>
+#include <thread>
 
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
@@ -53,6 +55,9 @@ TEST(MappingOptions, RejectsOutOfRangeValuesNamingTheOption) {
   }
   o = {};
   o.add_drift_rad_per_m = DegToRad(120.0);
+  EXPECT_THROW(o.Validate(), InputError);
+  o = {};
+  o.threads = 3;
   EXPECT_THROW(o.Validate(), InputError);
   o = {};
   EXPECT_NO_THROW(o.Validate());
@@ -178,6 +183,59 @@ TEST(MappingPipeline, StreamingEqualsTheJobOnTheSameLog) {
   }
 }
 
+// Closing each ASR on a second thread changes when the callback comes, not
+// the map: the same ASRs, walls, placements and estimates, bit for bit, and
+// every callback on the caller's thread, in order.
+TEST(MappingPipeline, SecondThreadGivesTheSameMapAsOne) {
+  const auto records = SimulatedRun(1.0);
+  struct Run {
+    std::vector<asr::Asr> stored;
+    std::vector<int> closed;
+    std::vector<double> estimates;
+    std::vector<Pose2> placed;
+  };
+  auto map = [&records](int threads) {
+    Run out;
+    const std::string path = TestTempPath("threads" + std::to_string(threads) + ".sqlite");
+    auto store = asr::SqliteAsrStore::Open(path, asr::SqliteAsrStore::OpenMode::kReplace);
+    MappingOptions o;
+    o.threads = threads;
+    MappingPipeline p(sensors::BuiltinRobot("pioneer16"), o, store.get());
+    const std::thread::id caller = std::this_thread::get_id();
+    p.OnAsrClosed([&](const asr::Asr& x, const AsrSummary& s) {
+      EXPECT_EQ(std::this_thread::get_id(), caller);
+      out.closed.push_back(x.id);
+      out.estimates.push_back(s.estimate ? s.estimate->direction_rad : -99.0);
+    });
+    for (const auto& r : records) p.Push(r);
+    const RunResult& r = p.Finish();
+    for (const auto& e : r.graph.asrs) out.placed.push_back(e.pose);
+    for (int id : store->Ids()) out.stored.push_back(*store->Get(id));
+    return out;
+  };
+  const Run one = map(1), two = map(2);
+  ASSERT_GE(one.closed.size(), 9u);
+  EXPECT_EQ(one.closed, two.closed);
+  std::vector<int> in_order(one.closed.size());
+  std::iota(in_order.begin(), in_order.end(), 0);
+  EXPECT_EQ(two.closed, in_order);
+  EXPECT_EQ(one.estimates, two.estimates);
+  ASSERT_EQ(one.placed.size(), two.placed.size());
+  for (size_t i = 0; i < one.placed.size(); ++i) {
+    EXPECT_EQ(one.placed[i].x, two.placed[i].x) << i;
+    EXPECT_EQ(one.placed[i].theta, two.placed[i].theta) << i;
+  }
+  ASSERT_EQ(one.stored.size(), two.stored.size());
+  for (size_t i = 0; i < one.stored.size(); ++i) {
+    const asr::Asr &a = one.stored[i], &b = two.stored[i];
+    EXPECT_EQ(a.world_from_local_corrected.x, b.world_from_local_corrected.x) << i;
+    EXPECT_EQ(a.world_from_local_corrected.theta, b.world_from_local_corrected.theta) << i;
+    ASSERT_EQ(a.walls_local.size(), b.walls_local.size()) << i;
+    for (size_t w = 0; w < a.walls_local.size(); ++w) EXPECT_EQ(a.walls_local[w], b.walls_local[w]) << i;
+    EXPECT_EQ(a.exits.size(), b.exits.size()) << i;
+  }
+}
+
 // A second run resumed into the store appends ASRs with the next ids.
 TEST(MappingPipeline, ResumeContinuesTheStoredRunsIds) {
   const auto records = SimulatedRun(0.0);
@@ -244,7 +302,11 @@ TEST(MappingPipeline, ResumeAfterAKillKeepsTheRunsLoopClosuresAndRooms) {
   size_t resume_at = 0;
   {
     auto store = asr::SqliteAsrStore::Open(path, asr::SqliteAsrStore::OpenMode::kReplace);
-    MappingPipeline p(sensors::BuiltinRobot("pioneer16"), {}, store.get());
+    // One thread: the callback then comes right after each ASR is stored,
+    // which is where this kill happens.
+    MappingOptions one_thread;
+    one_thread.threads = 1;
+    MappingPipeline p(sensors::BuiltinRobot("pioneer16"), one_thread, store.get());
     bool killed = false;
     p.OnAsrClosed([&](const asr::Asr& x, const AsrSummary&) { killed |= x.id == kill_after; });
     for (size_t i = 0; i < records.size() && !killed; ++i) {
