@@ -1,6 +1,7 @@
 // The `cogmap` command: one subcommand per stage of the pipeline. Only app/
 // parses argv or prints.
 #include <CLI/CLI.hpp>
+#include <malloc.h>
 
 #include <algorithm>
 #include <exception>
@@ -26,6 +27,12 @@ bool RegisterCommand(Command command) {
 
 int main(int argc, char** argv) {
   using cogmap::app::Registry;
+  // One malloc arena for every thread: what the mapper's threads free (the
+  // pose graph, the rooms' grids) is then reused by what follows on this
+  // thread (the floor plan) instead of held in arenas of their own (a
+  // 1000-room run's peak 61 -> 80 MiB with an arena per thread). The threads
+  // hand over whole rooms, so they rarely contend for it.
+  mallopt(M_ARENA_MAX, 1);
   CLI::App app{
       "cogmap: cognitive maps from range readings and odometry.\n"
       "Each room becomes a small occupancy grid, then a few wall polylines (an\n"

@@ -8,6 +8,7 @@
 #include <exception>
 #include <limits>
 #include <mutex>
+#include <span>
 #include <thread>
 
 #include "cogmap/vectorize/orientation.h"
@@ -312,7 +313,11 @@ void CognitiveMapper::Feed(const sensors::LogRecord& record, const Pose2& raw_od
   Current& c = *current_;
   const auto t0 = Clock::now();
   c.grid->InsertSweep(c.local_from_world * record.odom, robot_, record.ranges);
-  if (c.cone_grid) c.cone_grid->InsertSweep(c.local_from_world * record.odom, robot_, record.ranges);
+  if (c.cone_grid) {
+    c.cone_poses.push_back(c.local_from_world * record.odom);
+    c.cone_readings.insert(c.cone_readings.end(), record.ranges.begin(), record.ranges.end());
+    c.cone_starts.push_back(c.cone_readings.size());
+  }
   c.asr.seconds.grid += Since(t0);
   stats_.peak_grid_cells = std::max<int64_t>(stats_.peak_grid_cells, c.grid->limits().cell_count());
   // The path is sampled every path_step_m of odometry. When the log has
@@ -393,7 +398,16 @@ void CognitiveMapper::BuildWalls(Current& c) {
                                      options_.free_hull_area_loss);
   c.grid.reset();  // the room's grid is gone from here on
   if (c.cone_grid) {
-    const auto t0 = Clock::now();
+    auto t0 = Clock::now();
+    const std::span<const sensors::RangeReading> readings(c.cone_readings);
+    for (size_t i = 0; i < c.cone_poses.size(); ++i)
+      c.cone_grid->InsertSweep(c.cone_poses[i], robot_,
+                               readings.subspan(c.cone_starts[i], c.cone_starts[i + 1] - c.cone_starts[i]));
+    std::vector<Pose2>().swap(c.cone_poses);
+    std::vector<size_t>().swap(c.cone_starts);
+    std::vector<sensors::RangeReading>().swap(c.cone_readings);
+    a.seconds.grid += Since(t0);
+    t0 = Clock::now();
     vectorize::VectorizeResult kept = vectorize::Vectorize(c.cone_grid->values(), options_.vectorize);
     a.output_walls_local = std::move(kept.polylines);
     a.has_output_walls = true;

@@ -176,6 +176,13 @@ class CognitiveMapper {
     Asr asr;
     std::unique_ptr<grid::HimmFusion> grid;
     std::unique_ptr<grid::HimmFusion> cone_grid;  // MapperOptions::cone_output_walls
+    // The sweeps the cone grid is fused from when the room closes (off the
+    // caller's thread with close_in_background), in order: each sweep's pose
+    // in the local frame and its readings (cone_readings from
+    // cone_starts[i] to cone_starts[i + 1]).
+    std::vector<Pose2> cone_poses;
+    std::vector<size_t> cone_starts{0};
+    std::vector<sensors::RangeReading> cone_readings;
     std::vector<double> path_times;
     std::vector<Pose2> raw_path;  // the raw odometry at the poses of asr.path
     std::vector<double> true_path_times;
