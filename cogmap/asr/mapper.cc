@@ -8,7 +8,6 @@
 #include <exception>
 #include <limits>
 #include <mutex>
-#include <span>
 #include <thread>
 
 #include "cogmap/vectorize/orientation.h"
@@ -181,8 +180,8 @@ CognitiveMapper::CognitiveMapper(const sensors::RobotDescription& robot, const M
 
 // The threads of MapperOptions::close_in_background: a closed ASR goes through
 // two stages, each on a thread of its own, one ASR at a time and in order:
-// its walls (the grids vectorised and freed), then its placement and store
-// entry. While one room is placed the next can be vectorised and the one
+// its walls (the grid vectorised and freed, the floor it saw), then the walls
+// it keeps (a sonar's cone grid vectorised), its placement and store entry. While one room is placed the next can be vectorised and the one
 // after it mapped. At most one ASR waits before each stage (a fourth room's
 // grid is never held); the first error stops both and is raised on the
 // caller's thread.
@@ -313,11 +312,7 @@ void CognitiveMapper::Feed(const sensors::LogRecord& record, const Pose2& raw_od
   Current& c = *current_;
   const auto t0 = Clock::now();
   c.grid->InsertSweep(c.local_from_world * record.odom, robot_, record.ranges);
-  if (c.cone_grid) {
-    c.cone_poses.push_back(c.local_from_world * record.odom);
-    c.cone_readings.insert(c.cone_readings.end(), record.ranges.begin(), record.ranges.end());
-    c.cone_starts.push_back(c.cone_readings.size());
-  }
+  if (c.cone_grid) c.cone_grid->InsertSweep(c.local_from_world * record.odom, robot_, record.ranges);
   c.asr.seconds.grid += Since(t0);
   stats_.peak_grid_cells = std::max<int64_t>(stats_.peak_grid_cells, c.grid->limits().cell_count());
   // The path is sampled every path_step_m of odometry. When the log has
@@ -397,17 +392,15 @@ void CognitiveMapper::BuildWalls(Current& c) {
   a.free_hull_local = FreeSpaceHull(c.grid->values(), options_.vectorize.clean.classes, options_.free_opening_m,
                                      options_.free_hull_area_loss);
   c.grid.reset();  // the room's grid is gone from here on
+}
+
+Asr CognitiveMapper::Place(std::unique_ptr<Current> closing, const Pose2& last_raw_pose, int next_id) {
+  Current& c = *closing;
+  Asr& a = c.asr;
+  // The walls kept from the cone grid (on this stage's thread: the walls
+  // stage, which vectorises the axis grid, has more to do).
   if (c.cone_grid) {
-    auto t0 = Clock::now();
-    const std::span<const sensors::RangeReading> readings(c.cone_readings);
-    for (size_t i = 0; i < c.cone_poses.size(); ++i)
-      c.cone_grid->InsertSweep(c.cone_poses[i], robot_,
-                               readings.subspan(c.cone_starts[i], c.cone_starts[i + 1] - c.cone_starts[i]));
-    std::vector<Pose2>().swap(c.cone_poses);
-    std::vector<size_t>().swap(c.cone_starts);
-    std::vector<sensors::RangeReading>().swap(c.cone_readings);
-    a.seconds.grid += Since(t0);
-    t0 = Clock::now();
+    const auto t0 = Clock::now();
     vectorize::VectorizeResult kept = vectorize::Vectorize(c.cone_grid->values(), options_.vectorize);
     a.output_walls_local = std::move(kept.polylines);
     a.has_output_walls = true;
@@ -417,11 +410,6 @@ void CognitiveMapper::BuildWalls(Current& c) {
     c.cone_grid.reset();
     a.seconds.fit += Since(t0);
   }
-}
-
-Asr CognitiveMapper::Place(std::unique_ptr<Current> closing, const Pose2& last_raw_pose, int next_id) {
-  Current& c = *closing;
-  Asr& a = c.asr;
   Asr out = corrector_ ? corrector_(std::move(a)) : std::move(a);
   // The placer sees the ASR in the frame its walls were built in (the
   // pre-corrected one when the odometry is filtered).

@@ -176,13 +176,6 @@ class CognitiveMapper {
     Asr asr;
     std::unique_ptr<grid::HimmFusion> grid;
     std::unique_ptr<grid::HimmFusion> cone_grid;  // MapperOptions::cone_output_walls
-    // The sweeps the cone grid is fused from when the room closes (off the
-    // caller's thread with close_in_background), in order: each sweep's pose
-    // in the local frame and its readings (cone_readings from
-    // cone_starts[i] to cone_starts[i + 1]).
-    std::vector<Pose2> cone_poses;
-    std::vector<size_t> cone_starts{0};
-    std::vector<sensors::RangeReading> cone_readings;
     std::vector<double> path_times;
     std::vector<Pose2> raw_path;  // the raw odometry at the poses of asr.path
     std::vector<double> true_path_times;
@@ -196,8 +189,8 @@ class CognitiveMapper {
   void Start(const Pose2& entry_pose, double time_s, const std::optional<Exit>& entry_exit);
   void Feed(const sensors::LogRecord& record, const Pose2& raw_odom);
   void Close(const std::optional<Exit>& exit, double end_time_s);
-  // The closed ASR's walls (its grids vectorised and freed), then its
-  // correction, placement and store entry (MapperOptions::close_in_background:
+  // The closed ASR's walls (its grid vectorised and freed), then the walls
+  // it keeps (the cone grid's), its correction, placement and store entry (MapperOptions::close_in_background:
   // each on a thread of the Worker), then its hand-over to the callback (on
   // the caller's thread).
   void BuildWalls(Current& closing);
