@@ -577,6 +577,7 @@ SqliteAsrStore::~SqliteAsrStore() {
 }
 
 void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string>& meta) {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   sqlite3* db = Db(db_);
   if (!in_batch_) Exec("BEGIN IMMEDIATE");
   auto fail = [&](const std::string& what) {
@@ -662,6 +663,7 @@ void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string
 }
 
 std::optional<Asr> SqliteAsrStore::Get(int id) const {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   Stmt s(Db(db_), "SELECT * FROM asr WHERE id=?");
   if (!s.ok()) Fail(sqlite3_errmsg(Db(db_)));
   s.BindInt(1, id);
@@ -731,6 +733,7 @@ std::optional<Asr> SqliteAsrStore::Get(int id) const {
 }
 
 std::vector<int> SqliteAsrStore::Ids() const {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   Stmt s(Db(db_), "SELECT id FROM asr ORDER BY id");
   std::vector<int> ids;
   while (s.ok() && s.Step() == SQLITE_ROW) ids.push_back(static_cast<int>(s.Int(0)));
@@ -739,18 +742,21 @@ std::vector<int> SqliteAsrStore::Ids() const {
 }
 
 int SqliteAsrStore::Count() const {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   Stmt s(Db(db_), "SELECT count(*) FROM asr");
   if (!s.ok() || s.Step() != SQLITE_ROW) Fail(sqlite3_errmsg(Db(db_)));
   return static_cast<int>(s.Int(0));
 }
 
 int SqliteAsrStore::MaxId() const {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   Stmt s(Db(db_), "SELECT coalesce(max(id), -1) FROM asr");
   if (!s.ok() || s.Step() != SQLITE_ROW) Fail(sqlite3_errmsg(Db(db_)));
   return static_cast<int>(s.Int(0));
 }
 
 std::vector<int> SqliteAsrStore::Neighbours(int id) const {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   Stmt s(Db(db_),
          "SELECT to_asr FROM edge WHERE from_asr=?1 AND to_asr<>?1 UNION "
          "SELECT from_asr FROM edge WHERE to_asr=?1 AND from_asr<>?1 ORDER BY 1");
@@ -762,6 +768,7 @@ std::vector<int> SqliteAsrStore::Neighbours(int id) const {
 }
 
 std::vector<Edge> SqliteAsrStore::Edges() const {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   Stmt s(Db(db_), "SELECT from_asr, to_asr, center_x, center_y, width_m FROM edge ORDER BY from_asr, to_asr");
   std::vector<Edge> out;
   while (s.ok() && s.Step() == SQLITE_ROW) {
@@ -777,6 +784,7 @@ std::vector<Edge> SqliteAsrStore::Edges() const {
 }
 
 std::optional<std::string> SqliteAsrStore::GetMeta(const std::string& key) const {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   Stmt s(Db(db_), "SELECT value FROM meta WHERE key=?");
   s.BindText(1, key);
   if (s.ok() && s.Step() == SQLITE_ROW) return s.Text(0);
@@ -785,6 +793,7 @@ std::optional<std::string> SqliteAsrStore::GetMeta(const std::string& key) const
 }
 
 void SqliteAsrStore::SetMeta(const std::string& key, const std::string& value) {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   Stmt s(Db(db_), "INSERT OR REPLACE INTO meta VALUES(?,?)");
   s.BindText(1, key);
   s.BindText(2, value);
@@ -792,12 +801,16 @@ void SqliteAsrStore::SetMeta(const std::string& key, const std::string& value) {
 }
 
 std::string SqliteAsrStore::IntegrityCheck() const {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   Stmt s(Db(db_), "PRAGMA integrity_check");
   if (!s.ok() || s.Step() != SQLITE_ROW) return sqlite3_errmsg(Db(db_));
   return s.Text(0);
 }
 
-void SqliteAsrStore::LimitPagesForTest(int pages) { Exec("PRAGMA max_page_count=" + std::to_string(pages)); }
+void SqliteAsrStore::LimitPagesForTest(int pages) {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
+  Exec("PRAGMA max_page_count=" + std::to_string(pages));
+}
 
 // ---------------------------------------------------------------- graph
 
@@ -855,6 +868,7 @@ namespace cogmap::asr {
 
 void SqliteAsrStore::PutPlacements(const std::vector<Asr>& asrs, const std::vector<Placement>& placements,
                                    const std::vector<ClosureRecord>& closures) {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   WritePlacements([&] {
     for (const Asr& a : asrs) Put(a);
   }, placements, closures);
@@ -863,6 +877,7 @@ void SqliteAsrStore::PutPlacements(const std::vector<Asr>& asrs, const std::vect
 void SqliteAsrStore::RevisePlacements(const std::vector<int>& ids, const std::function<void(Asr&)>& revise,
                                       const std::vector<Placement>& placements,
                                       const std::vector<ClosureRecord>& closures) {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   WritePlacements([&] {
     for (int id : ids)
       if (auto a = Get(id)) {
@@ -918,6 +933,7 @@ void SqliteAsrStore::WritePlacements(const std::function<void()>& write_asrs, co
 }
 
 std::optional<Placement> SqliteAsrStore::GetPlacement(int id) const {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   sqlite3* db = Db(db_);
   if (!HasTable(db, "placement")) return std::nullopt;  // a version-1 store read as it is
   Stmt s(db, "SELECT room_id, cov, uncertain, why, drift_rate, corrected_path FROM placement WHERE asr_id=?");
@@ -951,11 +967,13 @@ std::optional<Placement> SqliteAsrStore::GetPlacement(int id) const {
 }
 
 int SqliteAsrStore::RoomOf(int id) const {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   const auto p = GetPlacement(id);
   return p && p->room_id >= 0 ? p->room_id : id;
 }
 
 std::vector<ClosureRecord> SqliteAsrStore::Closures() const {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   std::vector<ClosureRecord> out;
   sqlite3* db = Db(db_);
   if (!HasTable(db, "closure")) return out;

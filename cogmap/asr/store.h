@@ -3,6 +3,7 @@
 #include <functional>
 #include <list>
 #include <map>
+#include <mutex>
 #include <memory>
 #include <optional>
 #include <set>
@@ -177,6 +178,10 @@ class SqliteAsrStore : public AsrStore {
   void* db_ = nullptr;  // sqlite3*
   bool read_only_ = false;
   bool in_batch_ = false;  // inside PutPlacements' transaction
+  // Every public call holds it: the mapper's placing thread stores rooms
+  // while the caller's thread may read the store (a callback, a live map's
+  // outputs). Recursive: a revision's Puts run inside RevisePlacements.
+  mutable std::recursive_mutex mutex_;
   bool has_orientation_ = false;  // schema 3's orientation table (older stores read-only: none)
   bool has_matched_walls_ = false;  // schema 5's matched_walls table
   bool has_free_space_ = false;   // schema 4's free_space table (older stores read-only: none)

@@ -159,28 +159,30 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   asr::SetRobotRadius(store.get(), robot.radius_m);
   asr::SetSensorReach(store.get(), SensorReach(robot, job.mapping.window_m));
 
-  MappingPipeline pipeline(robot, job.mapping, store.get());
-  if (job.resume) pipeline.Resume();
+  auto pipeline = std::make_unique<MappingPipeline>(robot, job.mapping, store.get());
+  if (job.resume) pipeline->Resume();
   sensors::LogRecord rec;
   try {
     long n = 0;
     while (log.Next(&rec)) {
-      pipeline.Push(rec);
-      if (++n % 256 == 0 && job.progress) job.progress(log.progress(), pipeline.asrs_closed());
+      pipeline->Push(rec);
+      if (++n % 256 == 0 && job.progress) job.progress(log.progress(), pipeline->asrs_closed());
     }
-    pipeline.Finish();
+    pipeline->Finish();
   } catch (...) {
     // Every ASR closed before the bad line is in the staging store (one
-    // transaction each); SetAsideOnFailure keeps it under failed-run-*. A new
+    // transaction each; the pipeline's threads finish storing the ones they
+    // hold as it goes); SetAsideOnFailure keeps it under failed-run-*. A new
     // store that holds none is no partial result: no failed-run folder for it.
-    if (!job.resume && pipeline.asrs_closed() == 0) {
+    pipeline.reset();
+    if (!job.resume && store->Count() == 0) {
       store.reset();
       std::error_code ec;
       for (const char* suffix : {"", "-wal", "-shm", "-journal"}) fs::remove(folder->Staged("map.sqlite") + suffix, ec);
     }
     throw;
   }
-  const RunResult& run = pipeline.result();
+  const RunResult& run = pipeline->result();
   OutputContext ctx;
   ctx.store_path = folder->Final("map.sqlite");
   ctx.run_id = folder->run_id();

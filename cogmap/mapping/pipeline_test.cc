@@ -236,6 +236,44 @@ TEST(MappingPipeline, SecondThreadGivesTheSameMapAsOne) {
   }
 }
 
+// A bad line right after the first room closes: the room may still be on the
+// pipeline's threads when the error comes. The failed run's partial store
+// keeps it (the threads finish it before the store is looked at and closed).
+TEST(MapJob, ABadLineWhileARoomIsBeingClosedKeepsThatRoomAside) {
+  const auto records = SimulatedRun(1.0);
+  size_t cut_at = 0;
+  {
+    MappingOptions o;
+    o.threads = 1;
+    MappingPipeline p(sensors::BuiltinRobot("pioneer16"), o, nullptr);
+    size_t i = 0;
+    p.OnAsrClosed([&](const asr::Asr&, const AsrSummary&) {
+      if (!cut_at) cut_at = i;
+    });
+    for (; i < records.size() && !cut_at; ++i) p.Push(records[i]);
+  }
+  ASSERT_GT(cut_at, 0u);
+  const std::string log_path =
+      WriteLog(std::vector<sensors::LogRecord>(records.begin(), records.begin() + cut_at + 1), "cut_then_bad.log");
+  {
+    std::ofstream out(log_path, std::ios::app);
+    out << "SWEEP 0 1 0 nan\n";
+  }
+  for (int trial = 0; trial < 5; ++trial) {
+    MapJob job;
+    job.log_path = log_path;
+    job.output_dir = TestTempPath("bad_after_cut" + std::to_string(trial));
+    std::string kept;
+    job.notice = [&kept](const std::string& text) { kept = text.substr(0, text.find(':')); };
+    auto log = io::OpenLog(job.log_path);
+    EXPECT_THROW(RunMapJob(*log, job), InputError);
+    ASSERT_FALSE(kept.empty()) << "trial " << trial << ": no partial result kept";
+    auto store = asr::SqliteAsrStore::Open(kept + "/map.sqlite", asr::SqliteAsrStore::OpenMode::kReadOnly);
+    EXPECT_EQ(store->Count(), 1) << "trial " << trial;
+    EXPECT_FALSE(std::filesystem::exists(job.output_dir + "/map.sqlite"));
+  }
+}
+
 // A second run resumed into the store appends ASRs with the next ids.
 TEST(MappingPipeline, ResumeContinuesTheStoredRunsIds) {
   const auto records = SimulatedRun(0.0);
