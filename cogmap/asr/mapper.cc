@@ -181,9 +181,11 @@ CognitiveMapper::CognitiveMapper(const sensors::RobotDescription& robot, const M
 // The threads of MapperOptions::close_in_background: a closed ASR goes through
 // two stages, each on a thread of its own, one ASR at a time and in order:
 // its walls (the grid vectorised and freed, the floor it saw), then the walls
-// it keeps (a sonar's cone grid vectorised), its placement and store entry. While one room is placed the next can be vectorised and the one
-// after it mapped. At most one ASR waits before each stage (a fourth room's
-// grid is never held); the first error stops both and is raised on the
+// it keeps (a sonar's cone grid vectorised), its placement and store entry.
+// While one room is placed the next can be vectorised and the one after it
+// mapped. At most one ASR waits before each stage, so at most four closed
+// rooms hold a grid besides the open one (each grid is freed once
+// vectorised); the first error stops both stages and is raised on the
 // caller's thread.
 class CognitiveMapper::Worker {
  public:
