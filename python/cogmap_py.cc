@@ -229,7 +229,7 @@ py::dict ReadLog(const std::string& path, const std::string& format) {
 }
 
 mapping::MappingOptions Options(const std::string& mode, double cell_m, double window_m, bool correct,
-                                bool pose_graph, double add_drift_deg_per_m) {
+                                bool pose_graph, double add_drift_deg_per_m, int threads) {
   if (mode != "paper" && mode != "default") throw InputError("mode " + mode + ": expected paper or default");
   mapping::MappingOptions o;
   o.paper = mode == "paper";
@@ -238,6 +238,7 @@ mapping::MappingOptions Options(const std::string& mode, double cell_m, double w
   o.correct = correct;
   o.pose_graph = pose_graph;
   o.add_drift_rad_per_m = DegToRad(add_drift_deg_per_m);
+  o.threads = threads;
   o.Validate();
   return o;
 }
@@ -245,12 +246,13 @@ mapping::MappingOptions Options(const std::string& mode, double cell_m, double w
 // `cogmap map` as one call; returns report.json's content as a dict.
 py::object MapLog(const std::string& path, const std::string& output, const std::string& format,
                   const std::string& robot, const std::string& mode, const std::string& outputs, bool resume,
-                  const std::string& world, double add_drift_deg_per_m, bool correct, bool pose_graph) {
+                  const std::string& world, double add_drift_deg_per_m, bool correct, bool pose_graph,
+                  int threads) {
   mapping::MapJob job;
   job.log_path = path;
   job.log_format = format;
   job.robot_spec = robot;
-  job.mapping = Options(mode, 0.1, 3.0, correct, pose_graph, add_drift_deg_per_m);
+  job.mapping = Options(mode, 0.1, 3.0, correct, pose_graph, add_drift_deg_per_m, threads);
   job.outputs = mapping::OutputChoice::Parse(outputs);
   job.output_dir = output;
   job.resume = resume;
@@ -270,9 +272,10 @@ py::object MapLog(const std::string& path, const std::string& output, const std:
 class Mapper {
  public:
   Mapper(const std::string& store_path, const std::string& robot, const std::string& mode, bool correct,
-         bool pose_graph)
+         bool pose_graph, int threads)
       : store_(asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kReplace)),
-        pipeline_(sensors::ResolveRobot(robot), Options(mode, 0.1, 3.0, correct, pose_graph, 0.0), store_.get()) {
+        pipeline_(sensors::ResolveRobot(robot), Options(mode, 0.1, 3.0, correct, pose_graph, 0.0, threads),
+                  store_.get()) {
     pipeline_.OnAsrClosed([this](const asr::Asr& x, const mapping::AsrSummary&) {
       if (callback_) callback_(x.id);
     });
@@ -378,14 +381,14 @@ PYBIND11_MODULE(cogmap, m) {
   m.def("map_log", &MapLog, py::arg("path"), py::arg("output"), py::arg("format") = "auto",
         py::arg("robot") = "", py::arg("mode") = "default", py::arg("outputs") = "default",
         py::arg("resume") = false, py::arg("world") = "", py::arg("add_drift_deg_per_m") = 0.0,
-        py::arg("correct") = true, py::arg("pose_graph") = true,
+        py::arg("correct") = true, py::arg("pose_graph") = true, py::arg("threads") = 2,
         "Maps a log into an output folder exactly as `cogmap map` does; returns report.json as a dict");
   m.def("robot", [](const std::string& spec) { return RobotDict(cogmap::sensors::ResolveRobot(spec)); },
         py::arg("spec"), "A built-in robot by name, or a robot JSON file");
   py::class_<Mapper>(m, "Mapper", "The mapping pipeline, record by record, into a store on disk")
-      .def(py::init<const std::string&, const std::string&, const std::string&, bool, bool>(), py::arg("store"),
+      .def(py::init<const std::string&, const std::string&, const std::string&, bool, bool, int>(), py::arg("store"),
            py::arg("robot") = "pioneer16", py::arg("mode") = "default", py::arg("correct") = true,
-           py::arg("pose_graph") = true)
+           py::arg("pose_graph") = true, py::arg("threads") = 2)
       .def("push", &Mapper::Push, py::arg("time"), py::arg("odom"), py::arg("ranges") = std::vector<std::pair<int, double>>{},
            py::arg("truth") = py::none(), "One record: time (s), odom (x, y, theta), ranges [(sensor, range_m)]")
       .def("finish", &Mapper::Finish, "Closes the open room, places every ASR, writes the placements")

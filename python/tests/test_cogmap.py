@@ -81,6 +81,7 @@ def test_mapper_record_by_record_equals_the_command(sim_log, command_map, tmp_pa
     result = m.finish()
     assert result["records"] == cmd_report["records"]
     assert result["asrs"] == cmd_report["asr_count"] == len(closed)
+    assert closed == list(range(len(closed)))  # in closing order, on this thread
     assert result["rooms"] == cmd_report["pose_graph"]["rooms"]
 
 
@@ -126,6 +127,8 @@ def test_options_are_checked():
         cogmap.robot("no-such-robot")
     with pytest.raises(cogmap.InputError):
         cogmap.Mapper("/tmp/never.sqlite", mode="fast")
+    with pytest.raises(cogmap.InputError):
+        cogmap.Mapper("/tmp/never.sqlite", threads=3)
 
 
 def assert_plan_equals_json(plan, j):
