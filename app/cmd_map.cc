@@ -121,9 +121,9 @@ std::function<int()> SetupMap(CLI::App& sub) {
                  "mode always uses chains")
       ->capture_default_str();
   sub.add_option("--threads", a->job.mapping.threads,
-                 "2: each room that ends is vectorised, placed and stored on a second thread while the next "
-                 "one is mapped (the same map, sooner); 1: all on one thread. With --no-graph the drift filter "
-                 "needs each room placed before the next one is mapped: one thread")
+                 "2: each room that ends is vectorised on one more thread and placed and stored on another while "
+                 "the next one is mapped (the same map, sooner); 1: all on one thread. With --no-graph the drift "
+                 "filter needs each room placed before the next one is mapped: one thread")
       ->capture_default_str();
   sub.add_flag("--no-correct", a->no_correct, "Skip every correction: ASRs placed by odometry");
   sub.add_flag("--no-smooth", a->no_smooth,
