@@ -287,6 +287,15 @@ struct PoseGraph::Impl {
   std::vector<int> relative_index;  // AddRelative index -> factors index
   bool rates_zero = false;
   bool has_rate_prior = false;  // the first chain's rate has its prior
+  // Redundancies(): the information matrix's symbolic factorisation (its
+  // fill-reducing ordering and elimination tree), kept while its pattern
+  // stays the same: the variance-component rounds ask again and again of
+  // the same graph with other weights.
+  struct Symbolic {
+    std::vector<int> outer, inner;  // the pattern it was analysed for
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  };
+  std::unique_ptr<Symbolic> symbolic;
 
   bool Free(int node, int first_free) const { return node >= first_free && !fixed[node]; }
 
@@ -594,6 +603,14 @@ std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
   };
   std::vector<Rows> rows(factors.size());
   std::vector<Eigen::Triplet<double>> triplets;
+  size_t most_triplets = 0;  // (the sum of the blocks' sizes)^2 per factor: no regrowth below
+  for (const auto& f : factors) {
+    if (!f.enabled) continue;
+    size_t n = 0;
+    for (int32_t s : f.cost->parameter_block_sizes()) n += static_cast<size_t>(s);
+    most_triplets += n * n;
+  }
+  triplets.reserve(most_triplets);
   for (size_t k = 0; k < factors.size(); ++k) {
     const auto& f = factors[k];
     if (!f.enabled) continue;
@@ -649,7 +666,22 @@ std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
   double max_diag = 0.0;
   for (int c = 0; c < cols; ++c) max_diag = std::max(max_diag, H.coeff(c, c));
   for (int c = 0; c < cols; ++c) H.coeffRef(c, c) += 1e-12 * std::max(1.0, max_diag);
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(H);
+  // The symbolic part again only when the pattern changed (the same
+  // ordering and the same numbers as analysing it afresh).
+  H.makeCompressed();
+  auto& sym = impl_->symbolic;
+  const bool same_pattern = sym && static_cast<int>(sym->outer.size()) == cols + 1 &&
+                            std::equal(sym->outer.begin(), sym->outer.end(), H.outerIndexPtr()) &&
+                            static_cast<Eigen::Index>(sym->inner.size()) == H.nonZeros() &&
+                            std::equal(sym->inner.begin(), sym->inner.end(), H.innerIndexPtr());
+  if (!same_pattern) {
+    sym = std::make_unique<Impl::Symbolic>();
+    sym->outer.assign(H.outerIndexPtr(), H.outerIndexPtr() + cols + 1);
+    sym->inner.assign(H.innerIndexPtr(), H.innerIndexPtr() + H.nonZeros());
+    sym->ldlt.analyzePattern(H);
+  }
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>& ldlt = sym->ldlt;
+  ldlt.factorize(H);
   if (ldlt.info() != Eigen::Success) return {};
   const Eigen::SparseMatrix<double>& L = ldlt.matrixL().nestedExpression();  // strictly lower, unit diagonal
   const Eigen::VectorXd D = ldlt.vectorD();
@@ -671,11 +703,31 @@ std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
     return (p != e && *p == r) ? sval[p - inner] : 0.0;
   };
   const double* lval = L.valuePtr();
+  // Column j needs S over its rows R_j (all after j, so already known):
+  // gathered once into a dense block from the columns of R_j, which hold
+  // every pair of R_j (a column's pattern holds its descendants' below it).
+  std::vector<int> pos(cols, -1);  // row -> its place in R_j
+  std::vector<double> block;
   for (int j = cols - 1; j >= 0; --j) {
     const int b = outer[j], e = col_end(j);
+    const int m = e - b;
+    for (int a = 0; a < m; ++a) pos[inner[b + a]] = a;
+    block.assign(static_cast<size_t>(m) * m, 0.0);
+    for (int a = 0; a < m; ++a) {
+      const int c = inner[b + a];
+      block[static_cast<size_t>(a) * m + a] = sdiag[c];
+      for (int q = outer[c]; q < col_end(c); ++q) {
+        const int at = pos[inner[q]];
+        if (at < 0) continue;
+        block[static_cast<size_t>(a) * m + at] = sval[q];
+        block[static_cast<size_t>(at) * m + a] = sval[q];
+      }
+    }
+    for (int a = 0; a < m; ++a) pos[inner[b + a]] = -1;
     for (int t = b; t < e; ++t) {
+      const double* row = block.data() + static_cast<size_t>(t - b) * m;
       double z = 0.0;
-      for (int u = b; u < e; ++u) z -= lval[u] * S(inner[t], inner[u]);
+      for (int u = b; u < e; ++u) z -= lval[u] * row[u - b];
       sval[t] = z;
     }
     double d = 1.0 / D(j);
