@@ -520,29 +520,55 @@ bool PoseGraph::has_direction() const { return impl_->has_phi; }
 double PoseGraph::building_direction() const { return impl_->phi; }
 
 std::vector<Eigen::Matrix3d> PoseGraph::Covariances() const {
+  // ceres::Covariance orders the parameter blocks by their addresses, and the
+  // nodes' and rates' blocks lie wherever the heap put them (which another
+  // thread's allocations change from run to run): the last digits of the
+  // covariances changed with it. The blocks are copied into one array here,
+  // the nodes first, then the rates, then the building's direction, so the
+  // order is the same in every run.
+  const size_t N = impl_->nodes.size();
+  std::vector<double> values(3 * N + N + 1);
+  std::unordered_map<const double*, double*> copy_of;
+  for (size_t n = 0; n < N; ++n) {
+    std::copy(impl_->nodes[n].begin(), impl_->nodes[n].end(), values.begin() + 3 * n);
+    copy_of[impl_->nodes[n].data()] = &values[3 * n];
+    values[3 * N + n] = impl_->rates[n];
+    copy_of[&impl_->rates[n]] = &values[3 * N + n];
+  }
+  values[4 * N] = impl_->phi;
+  copy_of[&impl_->phi] = &values[4 * N];
+  double* const node0 = values.data();
+  auto node = [&](size_t n) { return node0 + 3 * n; };
+
   ceres::Problem::Options po;
   po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(po);
-  impl_->Build(&problem, 0, true);
-  for (size_t n = 0; n < impl_->nodes.size(); ++n)
-    if (impl_->fixed[n] && problem.HasParameterBlock(impl_->nodes[n].data()))
-      problem.SetParameterBlockConstant(impl_->nodes[n].data());
+  for (const Impl::Factor& f : impl_->factors) {
+    if (!f.enabled) continue;
+    std::vector<double*> params;
+    for (double* p : f.params) params.push_back(copy_of.at(p));
+    problem.AddResidualBlock(f.cost.get(), f.loss.get(), params);
+  }
+  for (size_t n = 0; n < N; ++n) {
+    if (impl_->fixed[n] && problem.HasParameterBlock(node(n))) problem.SetParameterBlockConstant(node(n));
+    if (impl_->rates_zero && problem.HasParameterBlock(&values[3 * N + n]))
+      problem.SetParameterBlockConstant(&values[3 * N + n]);
+  }
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::SPARSE_QR;
   co.num_threads = 1;
   ceres::Covariance cov(co);
   std::vector<std::pair<const double*, const double*>> blocks;
-  for (size_t n = 0; n < impl_->nodes.size(); ++n)
-    if (!impl_->fixed[n] && problem.HasParameterBlock(impl_->nodes[n].data()))
-      blocks.emplace_back(impl_->nodes[n].data(), impl_->nodes[n].data());
-  std::vector<Eigen::Matrix3d> out(impl_->nodes.size(), Eigen::Matrix3d::Zero());
+  for (size_t n = 0; n < N; ++n)
+    if (!impl_->fixed[n] && problem.HasParameterBlock(node(n))) blocks.emplace_back(node(n), node(n));
+  std::vector<Eigen::Matrix3d> out(N, Eigen::Matrix3d::Zero());
   if (blocks.empty()) return out;
   if (!cov.Compute(blocks, &problem)) return {};
-  for (size_t n = 0; n < impl_->nodes.size(); ++n) {
-    if (impl_->fixed[n] || !problem.HasParameterBlock(impl_->nodes[n].data())) continue;
+  for (size_t n = 0; n < N; ++n) {
+    if (impl_->fixed[n] || !problem.HasParameterBlock(node(n))) continue;
     double c[9];
-    cov.GetCovarianceBlock(impl_->nodes[n].data(), impl_->nodes[n].data(), c);
+    cov.GetCovarianceBlock(node(n), node(n), c);
     out[n] = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(c);
   }
   return out;

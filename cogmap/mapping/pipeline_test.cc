@@ -193,6 +193,7 @@ TEST(MappingPipeline, SecondThreadGivesTheSameMapAsOne) {
     std::vector<int> closed;
     std::vector<double> estimates;
     std::vector<Pose2> placed;
+    std::vector<Eigen::Matrix3d> covariances;
   };
   auto map = [&records](int threads) {
     Run out;
@@ -210,6 +211,7 @@ TEST(MappingPipeline, SecondThreadGivesTheSameMapAsOne) {
     for (const auto& r : records) p.Push(r);
     const RunResult& r = p.Finish();
     for (const auto& e : r.graph.asrs) out.placed.push_back(e.pose);
+    for (const auto& e : r.graph.asrs) out.covariances.push_back(e.covariance);
     for (int id : store->Ids()) out.stored.push_back(*store->Get(id));
     return out;
   };
@@ -224,6 +226,8 @@ TEST(MappingPipeline, SecondThreadGivesTheSameMapAsOne) {
   for (size_t i = 0; i < one.placed.size(); ++i) {
     EXPECT_EQ(one.placed[i].x, two.placed[i].x) << i;
     EXPECT_EQ(one.placed[i].theta, two.placed[i].theta) << i;
+    // To the last bit, wherever the heap put the graph's blocks in each run.
+    for (int a = 0; a < 9; ++a) EXPECT_EQ(one.covariances[i](a / 3, a % 3), two.covariances[i](a / 3, a % 3)) << i;
   }
   ASSERT_EQ(one.stored.size(), two.stored.size());
   for (size_t i = 0; i < one.stored.size(); ++i) {
