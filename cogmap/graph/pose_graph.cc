@@ -8,6 +8,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <deque>
 #include <map>
 #include <unordered_map>
@@ -70,14 +71,77 @@ void BentEnd(const OdometryMeasurement& m, const T& rate, T* out) {
   out[2] = T(m.delta.theta) - rate * T(m.distance_m);
 }
 
+// The doubles of a scalar that the solver evaluates: a double, or a Jet's
+// value and then its derivatives.
+template <typename T>
+struct Scalars;
+template <>
+struct Scalars<double> {
+  static constexpr int n = 1;
+  static double Get(const double& x, int) { return x; }
+  static void Set(double& x, int, double v) { x = v; }
+};
+template <int N>
+struct Scalars<ceres::Jet<double, N>> {
+  static constexpr int n = 1 + N;
+  static double Get(const ceres::Jet<double, N>& x, int k) { return k == 0 ? x.a : x.v[k - 1]; }
+  static void Set(ceres::Jet<double, N>& x, int k, double v) {
+    if (k == 0) x.a = v;
+    else x.v[k - 1] = v;
+  }
+};
+
+// One measurement's last BentEnd, per scalar type. A factor's drift rate
+// often stays as it was from one evaluation to the next (rates held at zero,
+// the rates outside a local solve's window, the variance-component rounds'
+// solves that start where the last one ended), and BentEnd costs a sine and
+// a cosine per step of the path. Given the same rate to the bit it hands back
+// what BentEnd gave for it, so the solves' numbers are the same. Not for
+// evaluations on several threads at once (the graph's solves use one).
+class BentEndCache {
+ public:
+  template <typename T>
+  void operator()(const OdometryMeasurement& m, const T& rate, T* out) const {
+    using S = Scalars<T>;
+    static_assert(S::n <= kMaxScalars);
+    Slot& c = S::n == 1 ? plain_ : jet_;
+    if (c.n == S::n) {
+      bool same = true;
+      for (int k = 0; k < S::n && same; ++k) {
+        const double x = S::Get(rate, k);
+        same = std::memcmp(&x, &c.v[k], sizeof x) == 0;
+      }
+      if (same) {
+        for (int o = 0; o < 3; ++o)
+          for (int k = 0; k < S::n; ++k) S::Set(out[o], k, c.v[S::n * (1 + o) + k]);
+        return;
+      }
+    }
+    BentEnd(m, rate, out);
+    c.n = S::n;
+    for (int k = 0; k < S::n; ++k) c.v[k] = S::Get(rate, k);
+    for (int o = 0; o < 3; ++o)
+      for (int k = 0; k < S::n; ++k) c.v[S::n * (1 + o) + k] = S::Get(out[o], k);
+  }
+
+ private:
+  static constexpr int kMaxScalars = 9;  // a Jet of the widest factor: 3 + 3 + 1 + 1 parameters
+  struct Slot {
+    int n = 0;  // doubles per scalar held (0: none yet)
+    std::array<double, 4 * kMaxScalars> v;  // the rate, then the three outputs
+  };
+  mutable Slot plain_, jet_;
+};
+
 struct OdometryCost {
   OdometryMeasurement m;
   Eigen::Matrix3d W;
   double scale = 1.0;  // 1 / the variance component's sigma factor
+  BentEndCache bent;
   template <typename T>
   bool operator()(const T* pi, const T* pj, const T* rate, T* r) const {
     T end[3];
-    BentEnd(m, rate[0], end);
+    bent(m, rate[0], end);
     RelativeResidual(pi, pj, end[0], end[1], end[2], W, r);
     for (int a = 0; a < 3; ++a) r[a] *= T(scale);
     return true;
@@ -132,11 +196,12 @@ struct BentRelativeCost {
   Pose2 middle;                // mi.delta^-1 z mj.delta
   Eigen::Matrix3d W;
   double scale = 1.0;
+  BentEndCache bent_i, bent_j;
   template <typename T>
   bool operator()(const T* pi, const T* pj, const T* rate_i, const T* rate_j, T* r) const {
     T bi[3], bj[3], bj_inv[3], t[3], m[3];
-    BentEnd(mi, rate_i[0], bi);
-    BentEnd(mj, rate_j[0], bj);
+    bent_i(mi, rate_i[0], bi);
+    bent_j(mj, rate_j[0], bj);
     InverseT(bj, bj_inv);
     const T mid[3] = {T(middle.x), T(middle.y), T(middle.theta)};
     ComposeT(bi, mid, t);

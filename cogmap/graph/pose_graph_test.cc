@@ -127,6 +127,35 @@ TEST(PoseGraph, ClosureBentAtBothEndsIsExactAtTheTrueRate) {
   EXPECT_NEAR(BendAt(to_0, rate).theta, -rate * to_0.distance_m, 1e-12);
 }
 
+// The bends are kept between evaluations while the rate stays the same: a
+// factor evaluated at one rate, another, then the first again gives each
+// time what a new graph gives at that rate, to the bit.
+TEST(PoseGraph, KeptBendsFollowTheRate) {
+  const double rate = DegToRad(1.0);
+  const OdometryMeasurement to_0 = TurningOdometry(6.0, rate), to_1 = TurningOdometry(3.0, rate);
+  const Pose2 t0{1.0, 2.0, 0.3}, t1{4.0, 7.0, 1.9};
+  const Pose2 z = BendAt(to_0, rate).inverse() * (t0.inverse() * t1) * BendAt(to_1, rate);
+  const Eigen::Matrix3d cov = Eigen::Matrix3d::Identity() * 1e-4;
+  auto make = [&](PoseGraph& g) {
+    g.AddNode(t0, true);
+    g.AddNode(t1);
+    g.AddRelative(0, 1, z, cov, FactorKind::kLoopClosure, 2.0, &to_0, &to_1);
+  };
+  auto fresh = [&](double r) {
+    PoseGraph g;
+    make(g);
+    g.ChainWithRate(r);
+    return g.Residuals().back().chi2;
+  };
+  PoseGraph g;
+  make(g);
+  for (double r : {0.5 * rate, 0.0, 0.5 * rate, 0.5 * rate, rate, 0.0}) {
+    g.ChainWithRate(r);
+    EXPECT_EQ(g.Residuals().back().chi2, fresh(r)) << r;
+  }
+  EXPECT_NE(fresh(0.5 * rate), fresh(0.0));
+}
+
 TEST(PoseGraph, BendIsTheIdentityWithoutDrift) {
   PoseGraph g;
   g.AddNode(Pose2{}, true);
