@@ -303,6 +303,9 @@ void LiveMapper::Impl::Run(std::function<void()> on_asr) {
     job.output_dir = options.output_dir;
     const auto start = std::chrono::steady_clock::now();
     auto write = [&]() {
+      // The rooms still being closed on the mapper's threads join the store
+      // and the summaries first, so the files agree with each other.
+      pipeline.Settle();
       mapping::OutputContext ctx;
       ctx.store_path = store_path;
       ctx.run_id = "live";

@@ -159,6 +159,11 @@ class CognitiveMapper {
   void Push(const sensors::LogRecord& record);
   // Closes the ASR being mapped (a log that ends mid-room). Idempotent.
   void Finish();
+  // Waits until every room closed so far is placed and stored, and hands
+  // each to the callback (MapperOptions::close_in_background; nothing to wait
+  // for without it): the store then holds exactly the rooms the callbacks
+  // have seen, for outputs written in the middle of a run.
+  void Settle() { DeliverFinished(true); }
 
   const MapperStats& stats() const { return stats_; }
   const BoundaryDetector& detector() const { return detector_; }

@@ -280,6 +280,10 @@ void MappingPipeline::Push(sensors::LogRecord rec) {
   mapper_->Push(rec);
 }
 
+void MappingPipeline::Settle() {
+  if (!finished_) mapper_->Settle();
+}
+
 const RunResult& MappingPipeline::Finish() {
   if (finished_) return result_;
   finished_ = true;

@@ -133,6 +133,10 @@ class MappingPipeline {
   void OnAsrClosed(std::function<void(const asr::Asr&, const AsrSummary&)> callback);
 
   void Push(sensors::LogRecord record);
+  // Waits for the rooms being closed on the mapper's threads (placed, stored,
+  // their OnAsrClosed called): afterwards the store and the summaries agree,
+  // for outputs written mid-run. Mapping goes on with the next Push.
+  void Settle();
   // Closes the open ASR, places every ASR (the pose graph's final solve or the
   // drift filter's smoothing) and writes the placements into the store.
   const RunResult& Finish();

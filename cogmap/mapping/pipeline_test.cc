@@ -240,6 +240,43 @@ TEST(MappingPipeline, SecondThreadGivesTheSameMapAsOne) {
   }
 }
 
+// Settle: right after a room is cut, the room still being closed on the
+// mapper's threads is placed, stored and handed to the callback before
+// Settle returns, as one thread does within Push.
+TEST(MappingPipeline, SettleHandsOverTheRoomsBeingClosed) {
+  const auto records = SimulatedRun(1.0);
+  // With one thread: the record whose Push closed the fourth room.
+  size_t cut = 0;
+  {
+    auto store = asr::SqliteAsrStore::Open(TestTempPath("settle1.sqlite"), asr::SqliteAsrStore::OpenMode::kReplace);
+    MappingOptions o;
+    o.threads = 1;
+    MappingPipeline p(sensors::BuiltinRobot("pioneer16"), o, store.get());
+    int closed = 0;
+    p.OnAsrClosed([&](const asr::Asr&, const AsrSummary&) { ++closed; });
+    for (size_t i = 0; i < records.size() && closed < 4; ++i) {
+      p.Push(records[i]);
+      cut = i;
+    }
+    ASSERT_EQ(closed, 4);
+  }
+  auto store = asr::SqliteAsrStore::Open(TestTempPath("settle2.sqlite"), asr::SqliteAsrStore::OpenMode::kReplace);
+  MappingOptions o;
+  o.threads = 2;
+  MappingPipeline p(sensors::BuiltinRobot("pioneer16"), o, store.get());
+  std::vector<int> closed;
+  p.OnAsrClosed([&](const asr::Asr& x, const AsrSummary&) { closed.push_back(x.id); });
+  for (size_t i = 0; i <= cut; ++i) p.Push(records[i]);
+  p.Settle();
+  EXPECT_EQ(closed, (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(store->Ids(), closed);
+  // Mapping goes on after it.
+  for (size_t i = cut + 1; i < records.size(); ++i) p.Push(records[i]);
+  p.Finish();
+  EXPECT_GT(closed.size(), 4u);
+  EXPECT_EQ(store->Ids(), closed);
+}
+
 // A bad line right after the first room closes: the room may still be on the
 // pipeline's threads when the error comes. The failed run's partial store
 // keeps it (the threads finish it before the store is looked at and closed).
