@@ -42,8 +42,9 @@ struct MapperOptions {
   // correction and the pose graph work on the walls of the axis grid
   // (Asr::output_walls_local; docs/walls.md, "Sonar cone").
   bool cone_output_walls = false;
-  // Each closed ASR is finished (vectorised, corrected, placed, stored) on a
-  // second thread while the next room's records are fused on the caller's:
+  // Each closed ASR is finished (vectorised on one thread; corrected, placed
+  // and stored on another: the Worker in mapper.cc) while the next room's
+  // records are fused on the caller's thread:
   // the same ASRs in the same order, the callback still on the caller's
   // thread (from a later Push or Finish). Ignored with an odometry filter,
   // whose corrections of the next records depend on the closed ASR.
@@ -195,9 +196,9 @@ class CognitiveMapper {
   void Feed(const sensors::LogRecord& record, const Pose2& raw_odom);
   void Close(const std::optional<Exit>& exit, double end_time_s);
   // The closed ASR's walls (its grid vectorised and freed), then the walls
-  // it keeps (the cone grid's), its correction, placement and store entry (MapperOptions::close_in_background:
-  // each on a thread of the Worker), then its hand-over to the callback (on
-  // the caller's thread).
+  // it keeps (the cone grid's), its correction, placement and store entry
+  // (MapperOptions::close_in_background: each on a thread of the Worker),
+  // then its hand-over to the callback (on the caller's thread).
   void BuildWalls(Current& closing);
   Asr Place(std::unique_ptr<Current> closing, const Pose2& last_raw_pose, int next_id);
   void Deliver(const Asr& out);

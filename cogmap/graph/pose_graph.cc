@@ -137,7 +137,7 @@ struct OdometryCost {
   OdometryMeasurement m;
   Eigen::Matrix3d W;
   double scale = 1.0;  // 1 / the variance component's sigma factor
-  BentEndCache bent;
+  BentEndCache bent{};
   template <typename T>
   bool operator()(const T* pi, const T* pj, const T* rate, T* r) const {
     T end[3];
@@ -196,7 +196,7 @@ struct BentRelativeCost {
   Pose2 middle;                // mi.delta^-1 z mj.delta
   Eigen::Matrix3d W;
   double scale = 1.0;
-  BentEndCache bent_i, bent_j;
+  BentEndCache bent_i{}, bent_j{};
   template <typename T>
   bool operator()(const T* pi, const T* pj, const T* rate_i, const T* rate_j, T* r) const {
     T bi[3], bj[3], bj_inv[3], t[3], m[3];
@@ -364,7 +364,13 @@ struct PoseGraph::Impl {
 
   bool Free(int node, int first_free) const { return node >= first_free && !fixed[node]; }
 
-  void Build(ceres::Problem* problem, int first_free, bool all) {
+  // 'copy_of': the blocks to use in place of the graph's own (null: its own).
+  void Build(ceres::Problem* problem, int first_free, bool all,
+             const std::unordered_map<const double*, double*>* copy_of = nullptr) {
+    auto at = [copy_of](const double* block) {
+      return copy_of ? copy_of->at(block) : const_cast<double*>(block);
+    };
+    std::vector<double*> params;
     for (Factor& f : factors) {
       if (!f.enabled) continue;
       // The drift rate of node i belongs to the edge leaving it: the rates
@@ -375,13 +381,17 @@ struct PoseGraph::Impl {
       const bool touches = all || (f.i >= 0 && Free(f.i, first_free)) || (f.j >= 0 && Free(f.j, first_free)) ||
                            (rate_factor && f.i >= first_free - 1);
       if (!touches) continue;
-      problem->AddResidualBlock(f.cost.get(), f.loss.get(), f.params);
+      params.clear();
+      for (const double* p : f.params) params.push_back(at(p));
+      problem->AddResidualBlock(f.cost.get(), f.loss.get(), params);
     }
     for (size_t n = 0; n < nodes.size(); ++n) {
       const bool free = Free(static_cast<int>(n), first_free);
-      if (problem->HasParameterBlock(nodes[n].data()) && !free) problem->SetParameterBlockConstant(nodes[n].data());
-      if (problem->HasParameterBlock(&rates[n]) && (rates_zero || static_cast<int>(n) < first_free - 1))
-        problem->SetParameterBlockConstant(&rates[n]);
+      double* node = at(nodes[n].data());
+      double* rate = at(&rates[n]);
+      if (problem->HasParameterBlock(node) && !free) problem->SetParameterBlockConstant(node);
+      if (problem->HasParameterBlock(rate) && (rates_zero || static_cast<int>(n) < first_free - 1))
+        problem->SetParameterBlockConstant(rate);
     }
   }
 };
@@ -609,17 +619,7 @@ std::vector<Eigen::Matrix3d> PoseGraph::Covariances() const {
   po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(po);
-  for (const Impl::Factor& f : impl_->factors) {
-    if (!f.enabled) continue;
-    std::vector<double*> params;
-    for (double* p : f.params) params.push_back(copy_of.at(p));
-    problem.AddResidualBlock(f.cost.get(), f.loss.get(), params);
-  }
-  for (size_t n = 0; n < N; ++n) {
-    if (impl_->fixed[n] && problem.HasParameterBlock(node(n))) problem.SetParameterBlockConstant(node(n));
-    if (impl_->rates_zero && problem.HasParameterBlock(&values[3 * N + n]))
-      problem.SetParameterBlockConstant(&values[3 * N + n]);
-  }
+  impl_->Build(&problem, 0, true, &copy_of);
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::SPARSE_QR;
   co.num_threads = 1;

@@ -54,9 +54,10 @@ struct MappingOptions {
   // Default mode: walls as lines in each room's cleaned cells (docs/walls.md);
   // false: the chain pipeline (simplify + fit). Paper mode: always the chains.
   bool wall_lines = false;
-  // 2: each closed ASR is vectorised, placed and stored on a second thread
-  // while the next room is mapped (asr::MapperOptions::close_in_background;
-  // the same map). 1: everything on the caller's thread.
+  // 2: each closed ASR is vectorised on one of the mapper's threads and
+  // placed and stored on another while the next room is mapped
+  // (asr::MapperOptions::close_in_background; the same map). 1: everything
+  // on the caller's thread.
   int threads = 2;
 
   // Throws InputError naming the option when a value is out of range.
