@@ -214,9 +214,9 @@ TEST(PoseGraph, RedundanciesSumToTheDofLeftOverByTheParameters) {
     used += rs[k].dof - red[k].redundancy;
     // E[w chi2] / dof under chi^2(dof) with the Cauchy loss of scale 2 (by
     // an independent quadrature: 0.6290 for 1 dof, 0.4946 for 3).
-    if (rs[k].kind == FactorKind::kDirection) EXPECT_NEAR(red[k].consistency, 0.6290, 1e-3);
-    if (rs[k].kind == FactorKind::kLoopClosure) EXPECT_NEAR(red[k].consistency, 0.4946, 1e-3);
-    if (rs[k].kind == FactorKind::kOdometry) EXPECT_DOUBLE_EQ(red[k].consistency, 1.0);
+    if (rs[k].kind == FactorKind::kDirection) { EXPECT_NEAR(red[k].consistency, 0.6290, 1e-3); }
+    if (rs[k].kind == FactorKind::kLoopClosure) { EXPECT_NEAR(red[k].consistency, 0.4946, 1e-3); }
+    if (rs[k].kind == FactorKind::kOdometry) { EXPECT_DOUBLE_EQ(red[k].consistency, 1.0); }
   }
   EXPECT_NEAR(used, 7 * 3 + 1, 1e-6);
 }
