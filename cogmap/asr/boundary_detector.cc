@@ -30,6 +30,9 @@ BoundaryDetector::BoundaryDetector(const sensors::RobotDescription& robot, const
 std::pair<SideObservation, SideObservation> BoundaryDetector::ObserveSides(const sensors::LogRecord& record,
                                                                            double travel_m) {
   const Pose2 robot_from_world = record.odom.inverse();
+  // How far across the robot an echo can count: close_m, or with the gap rule
+  // the whole gap (the near side at least the sensor's offset from the centre).
+  const double reach = std::max(options_.close_m, options_.gap_m);
   // Remember the new close echoes of the side sensors.
   for (const auto& r : record.ranges) {
     if (r.sensor < 0 || r.sensor >= static_cast<int>(side_of_.size()) || side_of_[r.sensor] == 0) continue;
@@ -37,7 +40,7 @@ std::pair<SideObservation, SideObservation> BoundaryDetector::ObserveSides(const
     if (r.range_m < s.min_range_m || r.range_m >= s.max_range_m) continue;
     const Vec2 p = sensors::ReadingEndPoint(record.odom, s, r.range_m);
     const Vec2 q = robot_from_world * p;
-    if (std::abs(q.y()) > options_.close_m || std::abs(q.x()) > options_.memory_m) continue;
+    if (std::abs(q.y()) > reach || std::abs(q.x()) > options_.memory_m) continue;
     memory_.push_back({p, travel_m, side_of_[r.sensor] > 0});
   }
   while (!memory_.empty() && (travel_m - memory_.front().travel_m > options_.memory_m || memory_.size() > 512))
@@ -46,20 +49,42 @@ std::pair<SideObservation, SideObservation> BoundaryDetector::ObserveSides(const
   SideObservation left, right;
   left.observed = right.observed = true;
   double best_l = std::numeric_limits<double>::infinity(), best_r = best_l;
+  Vec2 point_l{0, 0}, point_r{0, 0};
   for (const Echo& e : memory_) {
     const Vec2 q = robot_from_world * e.point_m;
     if (std::abs(q.x()) > options_.side_window_m) continue;
-    if (q.y() > 0.0 && q.y() <= options_.close_m && q.y() < best_l) {
+    if (q.y() > 0.0 && q.y() <= reach && q.y() < best_l) {
       best_l = q.y();
-      left.close = true;
-      left.point_m = e.point_m;
+      point_l = e.point_m;
     }
-    if (q.y() < 0.0 && -q.y() <= options_.close_m && -q.y() < best_r) {
+    if (q.y() < 0.0 && -q.y() <= reach && -q.y() < best_r) {
       best_r = -q.y();
-      right.close = true;
-      right.point_m = e.point_m;
+      point_r = e.point_m;
     }
   }
+  // Each side within close_m (the thesis), or both sides within gap_m of
+  // each other across the robot (the gap rule).
+  bool gap = options_.gap_m > 0.0 && best_l + best_r <= options_.gap_m;
+  if (gap && (best_l > options_.close_m || best_r > options_.close_m)) {
+    // The far side beyond close_m counts only when its obstacle is the end of
+    // a wall across the robot's way (a jamb), not a wall along it: the echoes
+    // remembered on that side at about its distance span little of the way.
+    const bool far_left = best_l > options_.close_m;
+    const double far = far_left ? best_l : best_r;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const Echo& e : memory_) {
+      if (e.left != far_left) continue;
+      const Vec2 q = robot_from_world * e.point_m;
+      if (std::abs(q.x()) > options_.jamb_window_m || std::abs(std::abs(q.y()) - far) > options_.jamb_band_m) continue;
+      lo = std::min(lo, q.x());
+      hi = std::max(hi, q.x());
+    }
+    gap = hi - lo <= options_.jamb_extent_m;
+  }
+  left.close = best_l <= options_.close_m || gap;
+  right.close = best_r <= options_.close_m || gap;
+  if (left.close) left.point_m = point_l;
+  if (right.close) right.point_m = point_r;
   return {left, right};
 }
 

@@ -62,6 +62,22 @@ struct BoundaryOptions {
   // stretch does end, it ends where the release began (cut, depth and width
   // as if decided then). 0 = end at the first release (the thesis, fig. 3.4).
   double release_confirm_m = 0.0;
+  // Default mode, on request (--door-gap): L and R also come on together
+  // when the nearest echoes beside the robot on the left and on the right are
+  // at most this far apart across it (0 = off: each side within close_m of
+  // the centre line, the thesis). The thesis's rule bounds the opening at
+  // 2 close_m only for a robot in its middle: one 0.25 m off the middle of a
+  // 1.2 m door has its far jamb at 0.85 m and never sees L and R together
+  // (docs/BENCHMARKS.md, "Doors wider than the thesis's"). The side beyond
+  // close_m counts only when its obstacle is a jamb, the end of a wall across
+  // the robot's way, not a wall along it: the remembered echoes of that side
+  // within jamb_band_m of its distance and jamb_window_m ahead or behind span
+  // at most jamb_extent_m along the way (a corridor's wall spans the window;
+  // a jamb, blurred by the sonar's cone, a few tenths of a metre).
+  double gap_m = 0.0;
+  double jamb_band_m = 0.15;
+  double jamb_extent_m = 0.7;
+  double jamb_window_m = 1.0;
 };
 
 // Indices into robot.sensors of the side sensors.

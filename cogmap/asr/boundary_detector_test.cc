@@ -303,6 +303,56 @@ TEST(BoundaryDetector, RecordsThroughADoorwayCutOnce) {
   EXPECT_EQ(cuts, 1);
 }
 
+// A robot crossing a doorway off its middle: the side units see one jamb
+// 'near_m' and the other 'far_m' across the robot (units 0 / 15 on the left,
+// 7 / 8 on the right, each 0.136 m off the centre line) while x is in [2, 2.4].
+// With 'far_wall' the far side is a wall along the way (seen all along).
+int CutsThroughDoor(const BoundaryOptions& o, double near_m, double far_m, bool far_wall = false) {
+  auto d = MakeDetector(o);
+  int cuts = 0;
+  for (int i = 0; i <= 100; ++i) {
+    sensors::LogRecord rec;
+    rec.time_s = i * 0.1;
+    rec.odom = {i * 0.05, 0.0, 0.0};
+    const bool jamb = rec.odom.x >= 2.0 && rec.odom.x <= 2.4;
+    const double l = jamb ? near_m - 0.136 : 2.5, r = (jamb || far_wall) ? far_m - 0.136 : 2.5;
+    rec.ranges = {{0, l}, {15, l}, {7, r}, {8, r}};
+    if (d.Push(rec)) ++cuts;
+  }
+  return cuts;
+}
+
+BoundaryOptions WithGap(double m) {
+  BoundaryOptions o;
+  o.gap_m = m;
+  return o;
+}
+
+TEST(BoundaryDetector, GapRuleFindsADoorCrossedOffItsMiddle) {
+  // A 1.2 m door crossed 0.25 m off its middle: jambs 0.35 and 0.85 m across.
+  EXPECT_EQ(CutsThroughDoor(BoundaryOptions{}, 0.35, 0.85), 0);  // the thesis: the far jamb is beyond close_m
+  EXPECT_EQ(CutsThroughDoor(WithGap(1.4), 0.35, 0.85), 1);
+  // Crossed in its middle, both rules agree.
+  EXPECT_EQ(CutsThroughDoor(BoundaryOptions{}, 0.6, 0.6), 1);
+  EXPECT_EQ(CutsThroughDoor(WithGap(1.4), 0.6, 0.6), 1);
+}
+
+TEST(BoundaryDetector, GapRuleWantsAJambNotAWallAlongTheWay) {
+  // An obstacle 0.35 m to the left beside a wall 0.85 m to the right that
+  // runs along the way (a 1.2 m corridor driven off its middle, a box
+  // passed in a corridor): no door.
+  EXPECT_EQ(CutsThroughDoor(WithGap(1.4), 0.35, 0.85, /*far_wall=*/true), 0);
+  EXPECT_EQ(CutsThroughDoor(WithGap(1.4), 0.35, 0.85, /*far_wall=*/false), 1);
+}
+
+TEST(BoundaryDetector, GapRuleLeavesOpeningsWiderThanTheGapAlone) {
+  // 0.3 m from a wall on the left, 1.3 m from one on the right: a 1.6 m
+  // opening, wider than 2 close_m, is no access point under either rule.
+  EXPECT_EQ(CutsThroughDoor(BoundaryOptions{}, 0.3, 1.3), 0);
+  EXPECT_EQ(CutsThroughDoor(WithGap(1.4), 0.3, 1.3), 0);
+  EXPECT_EQ(BoundaryOptions{}.gap_m, 0.0);  // off in the papers' defaults
+}
+
 }  // namespace
 }  // namespace cogmap::asr
 

@@ -112,6 +112,10 @@ asr::MapperOptions MapperOptionsFor(const sensors::RobotDescription& robot, cons
   // release longer than a door (a corridor's side doors and flickering side
   // echoes do not cut it). Off by default: docs/BENCHMARKS.md, "Door release".
   if (!o.paper) m.boundary.release_confirm_m = o.release_confirm_m;
+  // Default mode, on request (--door-gap): an opening at most 2 close_m wide
+  // is an access point wherever the robot is in it (asr::BoundaryOptions::
+  // gap_m). Off by default: docs/BENCHMARKS.md, "Doors wider than the thesis's".
+  if (!o.paper && o.door_gap) m.boundary.gap_m = 2.0 * m.boundary.close_m;
   // The grid orientation serves the heading correction's grid refinement,
   // which is for sonar robots only: not computed for a laser.
   m.grid_orientation = !LaserOnly(robot);

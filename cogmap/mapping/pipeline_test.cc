@@ -96,6 +96,17 @@ TEST(MapperOptionsFor, WallLinesFollowTheModeAndTheRobot) {
   EXPECT_FALSE(MapperOptionsFor(sensors::BuiltinRobot("pioneer16"), o).vectorize.wall_lines);
 }
 
+TEST(MapperOptionsFor, DoorGapIsDefaultModeOnRequestOnly) {
+  MappingOptions o;
+  const auto robot = sensors::BuiltinRobot("pioneer16");
+  EXPECT_DOUBLE_EQ(MapperOptionsFor(robot, o).boundary.gap_m, 0.0);  // off by default
+  o.door_gap = true;
+  const auto b = MapperOptionsFor(robot, o).boundary;
+  EXPECT_DOUBLE_EQ(b.gap_m, 2.0 * b.close_m);
+  o.paper = true;
+  EXPECT_DOUBLE_EQ(MapperOptionsFor(robot, o).boundary.gap_m, 0.0);  // the thesis's rule
+}
+
 TEST(OutputChoice, ParsesListsAndNamesAnUnknownOutput) {
   const OutputChoice d = OutputChoice::Parse("default");
   EXPECT_TRUE(d.plan && d.geojson && d.aria && d.gpkg && d.route);  // the fast set
