@@ -30,8 +30,9 @@ BoundaryDetector::BoundaryDetector(const sensors::RobotDescription& robot, const
 std::pair<SideObservation, SideObservation> BoundaryDetector::ObserveSides(const sensors::LogRecord& record,
                                                                            double travel_m) {
   const Pose2 robot_from_world = record.odom.inverse();
-  // How far across the robot an echo can count: close_m, or with the gap rule
-  // the whole gap (the near side at least the sensor's offset from the centre).
+  // How far across the robot an echo is remembered and looked at: close_m,
+  // or with the gap rule the whole gap (the far jamb of an opening gap_m wide
+  // lies almost gap_m away when the robot passes close to the near one).
   const double reach = std::max(options_.close_m, options_.gap_m);
   // Remember the new close echoes of the side sensors.
   for (const auto& r : record.ranges) {
