@@ -430,10 +430,35 @@ PlanMetrics EvaluatePlan(const plan::Plan& plan, const FloorPlan& truth, const s
       }
       m.room_iou.push_back(best);
     }
-    std::vector<double> v = m.room_iou;
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    m.room_iou_median = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+    auto median = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      const size_t n = v.size();
+      return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+    };
+    m.room_iou_median = median(m.room_iou);
+    // Rooms entered: the true path's points binned in cells of rc, each
+    // room's box tested against the points of the cells it covers.
+    std::unordered_map<int64_t, std::vector<Vec2>> path_cells;
+    for (const Vec2& p : true_path) path_cells[(C(p.y()) << 32) ^ (C(p.x()) & 0xffffffffLL)].push_back(p);
+    std::vector<double> entered_iou;
+    for (size_t i = 0; i < truth.rooms.size(); ++i) {
+      const NamedBox& t = truth.rooms[i];
+      bool in = false;
+      for (int64_t y = C(t.min.y()); y <= C(t.max.y()) && !in; ++y)
+        for (int64_t x = C(t.min.x()); x <= C(t.max.x()) && !in; ++x) {
+          auto it = path_cells.find((y << 32) ^ (x & 0xffffffffLL));
+          if (it == path_cells.end()) continue;
+          for (const Vec2& p : it->second)
+            if (p.x() >= t.min.x() && p.x() <= t.max.x() && p.y() >= t.min.y() && p.y() <= t.max.y()) {
+              in = true;
+              break;
+            }
+        }
+      m.room_entered.push_back(in);
+      if (in) entered_iou.push_back(m.room_iou[i]);
+    }
+    m.rooms_entered = static_cast<int>(entered_iou.size());
+    if (!entered_iou.empty()) m.room_iou_median_entered = median(entered_iou);
   }
   return m;
 }
@@ -453,6 +478,8 @@ std::vector<std::pair<std::string, std::optional<double>>> PlanEvalKeys(const Pl
     out.push_back({"plan_wall_recall", m.recall});
     out.push_back({"plan_duplication", m.duplication});
     out.push_back({"room_iou_median", m.room_iou_median});
+    out.push_back({"rooms_entered", m.rooms_entered});
+    out.push_back({"room_iou_median_entered", m.room_iou_median_entered});
   }
   return out;
 }

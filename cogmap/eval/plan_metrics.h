@@ -39,6 +39,13 @@ struct PlanMetrics {
   std::optional<double> duplication;      // matched_plan_length_m / covered_true_length_m
   std::vector<double> room_iou;           // per true room (its reachable floor): IoU with its best plan room (0: none)
   std::optional<double> room_iou_median;
+  // The same over the true rooms the true path enters (a point of it inside
+  // the room's box): a robot that never entered a room cannot map it, and a
+  // run that skips rooms (a simulated route whose waypoints were unreachable)
+  // reads 0 for each in room_iou_median.
+  std::vector<bool> room_entered;         // per true room
+  int rooms_entered = 0;
+  std::optional<double> room_iou_median_entered;
   double room_overlap_m2 = 0.0;           // total area where two plan rooms overlap
 };
 
@@ -52,8 +59,9 @@ PlanMetrics DescribePlan(const plan::Plan& plan);
 
 // `cogmap eval --json` keys: plan_walls, plan_rooms, plan_doors,
 // plan_vertices_per_m, plan_wall_precision_p50_m, plan_wall_precision_p95_m,
-// plan_wall_recall, plan_duplication, room_iou_median, room_overlap_m2
-// (nullopt: null, the metric is undefined).
+// plan_wall_recall, plan_duplication, room_iou_median, rooms_entered,
+// room_iou_median_entered, room_overlap_m2 (nullopt: null, the metric is
+// undefined).
 std::vector<std::pair<std::string, std::optional<double>>> PlanEvalKeys(const PlanMetrics& m, bool with_truth);
 
 }  // namespace cogmap::eval

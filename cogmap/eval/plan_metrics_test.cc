@@ -81,10 +81,28 @@ TEST(PlanMetrics, HandBuiltPlanAgainstTruth) {
   EXPECT_NEAR(m.room_iou[2], 0.0, 1e-12);
   ASSERT_TRUE(m.room_iou_median);
   EXPECT_NEAR(*m.room_iou_median, 0.8, 1e-12);
+  // The path (one point, in room a) enters room a only.
+  EXPECT_EQ(m.room_entered, (std::vector<bool>{true, false, false}));
+  EXPECT_EQ(m.rooms_entered, 1);
+  ASSERT_TRUE(m.room_iou_median_entered);
+  EXPECT_NEAR(*m.room_iou_median_entered, 1.0, 1e-12);
   EXPECT_NEAR(m.room_overlap_m2, 4.0, 1e-9);
   // Recall: 12 of 16 m, plus the top wall's 0.2 m next to each side wall.
   EXPECT_GT(m.recall, 12.0 / 16.0);
   EXPECT_LT(m.recall, 12.5 / 16.0);
+}
+
+TEST(PlanMetrics, RoomsNeverEnteredAreLeftOutOfTheEnteredMedian) {
+  Case c;
+  // A path through rooms a and b (and beyond the boxes' edges, entering neither c nor more).
+  const PlanMetrics m = EvaluatePlan(c.plan, c.truth, {{2, 2}, {6, 2}, {10, 2}});
+  EXPECT_EQ(m.rooms_entered, 2);
+  ASSERT_TRUE(m.room_iou_median_entered);
+  EXPECT_NEAR(*m.room_iou_median_entered, 0.5 * (m.room_iou[0] + m.room_iou[1]), 1e-12);
+  // No path: nothing entered, the median over entered rooms is undefined.
+  const PlanMetrics none = EvaluatePlan(c.plan, c.truth, {});
+  EXPECT_EQ(none.rooms_entered, 0);
+  EXPECT_FALSE(none.room_iou_median_entered.has_value());
 }
 
 TEST(PlanMetrics, PerpendicularWallsDoNotMatch) {

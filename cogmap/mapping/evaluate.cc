@@ -166,7 +166,8 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
       if (value) j[key] = *value;
       else j[key] = nullptr;
     }
-    if (have_world && world.plan.rooms.empty()) j["room_iou_median"] = nullptr;  // no true rooms
+    if (have_world && world.plan.rooms.empty())  // no true rooms
+      j["room_iou_median"] = j["rooms_entered"] = j["room_iou_median_entered"] = nullptr;
   }
   j["mode"] = wf.mode;
   j["log"] = wf.log_path;
@@ -197,10 +198,12 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
                   pm.wall_length_m, pm.vertices_per_m, pm.rooms, pm.doors, pm.room_overlap_m2);
       if (have_world && pm.precision_p95_m)
         AppendF(&out.text, "  floor-plan walls: precision p50 %.3f m, p95 %.3f m; recall %.3f; duplication %s; "
-                    "room IoU median %s\n",
+                    "room IoU median %s (%s over the %d of %zu rooms the robot entered)\n",
                     *pm.precision_p50_m, *pm.precision_p95_m, pm.recall,
                     pm.duplication ? Num(*pm.duplication).c_str() : "n/a",
-                    pm.room_iou_median && !world.plan.rooms.empty() ? Num(*pm.room_iou_median).c_str() : "n/a");
+                    pm.room_iou_median && !world.plan.rooms.empty() ? Num(*pm.room_iou_median).c_str() : "n/a",
+                    pm.room_iou_median_entered ? Num(*pm.room_iou_median_entered).c_str() : "n/a", pm.rooms_entered,
+                    world.plan.rooms.size());
     }
     if (j.contains("heading_error_deg_median")) {
       AppendF(&out.text, "  heading error (deg, one global rotation removed): corrected median %.2f, max %.2f; "
