@@ -395,6 +395,12 @@ PlanMetrics EvaluatePlan(const plan::Plan& plan, const FloorPlan& truth, const s
     std::unordered_map<int64_t, std::vector<int>> grid;
     const double rc = 4.0;
     auto C = [&](double v) { return static_cast<int64_t>(std::floor(v / rc)); };
+    auto Key = [](int64_t x, int64_t y) { return (y << 32) ^ (x & 0xffffffffLL); };
+    // The true path's points binned in the same cells: each true room reads
+    // the points near its box once, for its floor and for whether it was entered.
+    std::unordered_map<int64_t, std::vector<Vec2>> path_cells;
+    for (const Vec2& p : true_path) path_cells[Key(C(p.x()), C(p.y()))].push_back(p);
+    std::vector<double> entered_iou;
     for (const auto& r : plan.rooms) {
       polys.push_back(Poly(r.polygon));
       boxes.emplace_back();
@@ -402,7 +408,7 @@ PlanMetrics EvaluatePlan(const plan::Plan& plan, const FloorPlan& truth, const s
       const auto& b = boxes.back();
       for (int64_t y = C(b.min_corner().y()); y <= C(b.max_corner().y()); ++y)
         for (int64_t x = C(b.min_corner().x()); x <= C(b.max_corner().x()); ++x)
-          grid[(y << 32) ^ (x & 0xffffffffLL)].push_back(static_cast<int>(polys.size()) - 1);
+          grid[Key(x, y)].push_back(static_cast<int>(polys.size()) - 1);
     }
     for (const NamedBox& t : truth.rooms) {
       const BPoly tp = Poly({t.min, {t.max.x(), t.min.y()}, t.max, {t.min.x(), t.max.y()}});
@@ -410,14 +416,26 @@ PlanMetrics EvaluatePlan(const plan::Plan& plan, const FloorPlan& truth, const s
       std::vector<int> cand;
       for (int64_t y = C(t.min.y()); y <= C(t.max.y()); ++y)
         for (int64_t x = C(t.min.x()); x <= C(t.max.x()); ++x) {
-          auto it = grid.find((y << 32) ^ (x & 0xffffffffLL));
+          auto it = grid.find(Key(x, y));
           if (it != grid.end()) cand.insert(cand.end(), it->second.begin(), it->second.end());
         }
       std::sort(cand.begin(), cand.end());
       cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+      // The path's points in the box, and within a floor cell beyond its
+      // upper sides (the floor's last cells reach that far).
+      const NamedBox reach{"", t.min, t.max + Vec2(o.room_cell_m, o.room_cell_m)};
+      std::vector<Vec2> near;
+      for (int64_t y = C(reach.min.y()); y <= C(reach.max.y()); ++y)
+        for (int64_t x = C(reach.min.x()); x <= C(reach.max.x()); ++x) {
+          auto it = path_cells.find(Key(x, y));
+          if (it == path_cells.end()) continue;
+          for (const Vec2& p : it->second)
+            if (reach.Contains(p)) near.push_back(p);
+        }
+      const bool entered = std::any_of(near.begin(), near.end(), [&](const Vec2& p) { return t.Contains(p); });
       // Its floor only when some plan room may overlap it (else the IoU is 0).
       const std::optional<RoomFloor> floor =
-          cand.empty() ? std::nullopt : ReachableFloor(t, truth.walls, true_path, o.room_cell_m, o.room_margin_m);
+          cand.empty() ? std::nullopt : ReachableFloor(t, truth.walls, near, o.room_cell_m, o.room_margin_m);
       double best = 0.0;
       for (int j : cand) {
         if (floor) {
@@ -429,6 +447,8 @@ PlanMetrics EvaluatePlan(const plan::Plan& plan, const FloorPlan& truth, const s
         if (uni > 0) best = std::max(best, inter / uni);
       }
       m.room_iou.push_back(best);
+      m.room_entered.push_back(entered);
+      if (entered) entered_iou.push_back(best);
     }
     auto median = [](std::vector<double> v) {
       std::sort(v.begin(), v.end());
@@ -436,27 +456,6 @@ PlanMetrics EvaluatePlan(const plan::Plan& plan, const FloorPlan& truth, const s
       return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
     };
     m.room_iou_median = median(m.room_iou);
-    // Rooms entered: the true path's points binned in cells of rc, each
-    // room's box tested against the points of the cells it covers.
-    std::unordered_map<int64_t, std::vector<Vec2>> path_cells;
-    for (const Vec2& p : true_path) path_cells[(C(p.y()) << 32) ^ (C(p.x()) & 0xffffffffLL)].push_back(p);
-    std::vector<double> entered_iou;
-    for (size_t i = 0; i < truth.rooms.size(); ++i) {
-      const NamedBox& t = truth.rooms[i];
-      bool in = false;
-      for (int64_t y = C(t.min.y()); y <= C(t.max.y()) && !in; ++y)
-        for (int64_t x = C(t.min.x()); x <= C(t.max.x()) && !in; ++x) {
-          auto it = path_cells.find((y << 32) ^ (x & 0xffffffffLL));
-          if (it == path_cells.end()) continue;
-          for (const Vec2& p : it->second)
-            if (p.x() >= t.min.x() && p.x() <= t.max.x() && p.y() >= t.min.y() && p.y() <= t.max.y()) {
-              in = true;
-              break;
-            }
-        }
-      m.room_entered.push_back(in);
-      if (in) entered_iou.push_back(m.room_iou[i]);
-    }
     m.rooms_entered = static_cast<int>(entered_iou.size());
     if (!entered_iou.empty()) m.room_iou_median_entered = median(entered_iou);
   }
