@@ -50,8 +50,10 @@ struct CleanStats {
 // toward some robot_path cell p, with |p - a| <= max_dist in both axes, meets
 // no occupied cell strictly between a and p. Every other occupied cell becomes
 // unknown (0); all other cells are copied unchanged. The path cells are found
-// through a bucket index and tried nearest first, a cell whose 8 neighbours are all occupied is dropped at once (every
-// ray's first step is blocked), and a walk stops at its first occupied cell, so
+// through a bucket index and tried nearest first, a cell whose 8 neighbours
+// are all occupied is dropped at once (every ray's first step is blocked), a
+// path cell whose ray's first step is an occupied neighbour is not tried at
+// all, and a walk stops at its first occupied cell, so
 // a wall cell costs a few short walks rather than the (2 max_dist + 1)^2 long
 // ones of the paper's loop. With keep = kRunMiddle the survivors are then
 // moved to the middle of their wall band (see CleanOptions).
