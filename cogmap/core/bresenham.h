@@ -20,4 +20,13 @@ bool WalkBresenham(int x0, int y0, int x1, int y1, Visit&& visit) {
   }
 }
 
+// The first step WalkBresenham takes from a start toward a cell (dx, dy) away,
+// (dx, dy) != (0, 0): x moves when 2|dx| >= |dy|, y when |dx| <= 2|dy|.
+// Each component of the result is -1, 0 or 1.
+inline void BresenhamFirstStep(int dx, int dy, int* step_x, int* step_y) {
+  const int adx = std::abs(dx), ady = std::abs(dy);
+  *step_x = 2 * adx >= ady ? (dx > 0 ? 1 : -1) : 0;
+  *step_y = adx <= 2 * ady ? (dy > 0 ? 1 : -1) : 0;
+}
+
 }  // namespace cogmap

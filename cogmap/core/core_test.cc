@@ -47,6 +47,19 @@ TEST(Bresenham, StopsEarly) {
   EXPECT_EQ(n, 3);
 }
 
+TEST(Bresenham, FirstStepIsTheWalksSecondCell) {
+  for (int dy = -7; dy <= 7; ++dy)
+    for (int dx = -7; dx <= 7; ++dx) {
+      if (!dx && !dy) continue;
+      std::vector<std::pair<int, int>> cells;
+      WalkBresenham(0, 0, dx, dy, [&](int x, int y) { cells.emplace_back(x, y); return cells.size() < 2; });
+      int sx = 9, sy = 9;
+      BresenhamFirstStep(dx, dy, &sx, &sy);
+      ASSERT_EQ(cells.size(), 2u);
+      EXPECT_EQ(std::make_pair(sx, sy), cells[1]) << "toward (" << dx << ", " << dy << ")";
+    }
+}
+
 TEST(Geometry, PointSegmentDistanceClampsToEnds) {
   EXPECT_NEAR(PointSegmentDistance({2, 1}, {0, 0}, {1, 0}), std::sqrt(2.0), 1e-12);
   EXPECT_NEAR(PointSegmentDistance({0.5, 1}, {0, 0}, {1, 0}), 1.0, 1e-12);

@@ -82,14 +82,13 @@ grid::Grid2D<float> CleanMap(const grid::Grid2D<float>& grid, const CleanOptions
       // blocked[(dy + 1) * 3 + dx + 1]: the neighbour (x + dx, y + dy) is
       // occupied, so every ray whose first step lands there fails at once.
       bool blocked[9];
-      bool buried = true;
+      int blocked_count = 0;
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
-          const bool b = (dx || dy) && occupied_at(x + dx, y + dy);
-          blocked[(dy + 1) * 3 + dx + 1] = b;
-          if ((dx || dy) && !b) buried = false;
+          blocked[(dy + 1) * 3 + dx + 1] = (dx || dy) && occupied_at(x + dx, y + dy);
+          blocked_count += blocked[(dy + 1) * 3 + dx + 1];
         }
-      if (buried) {
+      if (blocked_count == 8) {  // buried
         ++st.buried;
         continue;
       }
@@ -129,13 +128,11 @@ grid::Grid2D<float> CleanMap(const grid::Grid2D<float>& grid, const CleanOptions
           for (const auto& p : buckets[static_cast<size_t>(open_order[next] & 0xffffffffu)])
             if (in_range(p)) {
               const int ddx = p.first - x, ddy = p.second - y;
-              // WalkBresenham's first step from a toward p: x moves when
-              // 2|dx| >= |dy|, y when |dx| <= 2|dy|. A ray whose first step
-              // is occupied fails there; it is neither queued nor walked (the
-              // same survivors and witnesses, fewer rays_walked).
-              const int adx = std::abs(ddx), ady = std::abs(ddy);
-              const int fx = 2 * adx >= ady ? (ddx > 0 ? 1 : -1) : 0;
-              const int fy = adx <= 2 * ady ? (ddy > 0 ? 1 : -1) : 0;
+              // A ray whose first step is occupied fails there; it is
+              // neither queued nor walked (the same survivors and
+              // witnesses, fewer rays_walked).
+              int fx, fy;
+              BresenhamFirstStep(ddx, ddy, &fx, &fy);
               if (blocked[(fy + 1) * 3 + fx + 1]) continue;
               candidates.push_back(static_cast<Key>(static_cast<uint64_t>(ddx * ddx + ddy * ddy)) << 64 |
                                    static_cast<uint64_t>(p.first) << 32 | static_cast<uint32_t>(p.second));
