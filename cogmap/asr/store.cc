@@ -203,13 +203,46 @@ namespace {
 
 sqlite3* Db(void* p) { return static_cast<sqlite3*>(p); }
 
-// A prepared statement, finalized on scope exit.
+// A prepared statement, finalized on scope exit; or, given the store's cache
+// of statements, prepared once and reset on scope exit (a store of 1000 ASRs
+// runs the same few statements thousands of times: preparing each anew cost
+// as much as running it). A cached statement still running (a caller nested
+// in another's loop over the same query) is not shared: that use prepares
+// its own.
 class Stmt {
  public:
   Stmt(sqlite3* db, const char* sql) : db_(db) {
     if (sqlite3_prepare_v2(db, sql, -1, &stmt_, nullptr) != SQLITE_OK) stmt_ = nullptr;
   }
-  ~Stmt() { sqlite3_finalize(stmt_); }
+  Stmt(sqlite3* db, const char* sql, std::map<std::string, void*>* cache) : db_(db) {
+    void*& slot = (*cache)[sql];
+    sqlite3_stmt* cached = static_cast<sqlite3_stmt*>(slot);
+    if (cached && !sqlite3_stmt_busy(cached)) {
+      stmt_ = cached;
+      cached_ = true;
+      return;
+    }
+    if (cached) {  // in use further up: a statement of its own
+      if (sqlite3_prepare_v2(db, sql, -1, &stmt_, nullptr) != SQLITE_OK) stmt_ = nullptr;
+      return;
+    }
+    if (sqlite3_prepare_v3(db, sql, -1, SQLITE_PREPARE_PERSISTENT, &stmt_, nullptr) != SQLITE_OK) {
+      stmt_ = nullptr;
+      return;
+    }
+    slot = stmt_;
+    cached_ = true;
+  }
+  ~Stmt() {
+    if (!cached_) {
+      sqlite3_finalize(stmt_);
+      return;
+    }
+    sqlite3_reset(stmt_);
+    sqlite3_clear_bindings(stmt_);
+  }
+  Stmt(const Stmt&) = delete;
+  Stmt& operator=(const Stmt&) = delete;
   bool ok() const { return stmt_ != nullptr; }
   sqlite3_stmt* get() { return stmt_; }
   void Bind(int i, double v) { sqlite3_bind_double(stmt_, i, v); }
@@ -239,6 +272,7 @@ class Stmt {
  private:
   sqlite3* db_;
   sqlite3_stmt* stmt_ = nullptr;
+  bool cached_ = false;
   int last_ = SQLITE_DONE;
 };
 
@@ -427,7 +461,7 @@ void SqliteAsrStore::Exec(const std::string& sql) const {
 }
 
 std::optional<std::vector<Polyline>> SqliteAsrStore::WallsRow(const char* sql, int id, const std::string& what) const {
-  Stmt q(Db(db_), sql);
+  Stmt q(Db(db_), sql, &statements_);
   if (!q.ok()) Fail(sqlite3_errmsg(Db(db_)));
   q.BindInt(1, id);
   if (q.Step() == SQLITE_ROW) {
@@ -565,6 +599,7 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
 
 SqliteAsrStore::~SqliteAsrStore() {
   sqlite3* db = Db(db_);
+  for (auto& [sql, stmt] : statements_) sqlite3_finalize(static_cast<sqlite3_stmt*>(stmt));
   if (db && !read_only_) {
     // Leave the file self-contained: everything checkpointed into it and no
     // WAL (a store on read-only media, or copied alone, reads whole). Skipped
@@ -586,7 +621,7 @@ void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string
     Fail("cannot store ASR " + std::to_string(asr.id) + " (" + msg + ")");
   };
   {
-    Stmt s(db, "INSERT OR REPLACE INTO asr VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+    Stmt s(db, "INSERT OR REPLACE INTO asr VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)", &statements_);
     if (!s.ok()) fail("prepare");
     int i = 1;
     s.BindInt(i++, asr.id);
@@ -618,7 +653,7 @@ void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string
   }
   {
     const GridOrientation& g = asr.grid_orientation;
-    Stmt s(db, "INSERT OR REPLACE INTO orientation VALUES(?,?,?,?,?)");
+    Stmt s(db, "INSERT OR REPLACE INTO orientation VALUES(?,?,?,?,?)", &statements_);
     if (!s.ok()) fail("prepare");
     s.BindInt(1, asr.id);
     s.BindInt(2, g.valid ? 1 : 0);
@@ -628,14 +663,14 @@ void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string
     if (s.Step() != SQLITE_DONE) fail("insert orientation");
   }
   if (asr.has_matched_walls) {
-    Stmt s(db, "INSERT OR REPLACE INTO matched_walls VALUES(?,?)");
+    Stmt s(db, "INSERT OR REPLACE INTO matched_walls VALUES(?,?)", &statements_);
     if (!s.ok()) fail("prepare");
     s.BindInt(1, asr.id);
     s.BindBlob(2, EncodeWalls(asr.matched_walls_local));
     if (s.Step() != SQLITE_DONE) fail("insert matched walls");
   }
   if (!asr.free_hull_local.empty()) {
-    Stmt s(db, "INSERT OR REPLACE INTO free_space VALUES(?,?)");
+    Stmt s(db, "INSERT OR REPLACE INTO free_space VALUES(?,?)", &statements_);
     if (!s.ok()) fail("prepare");
     s.BindInt(1, asr.id);
     s.BindBlob(2, EncodeWalls({asr.free_hull_local}));
@@ -643,7 +678,7 @@ void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string
   }
   for (const auto& e : asr.exits) {
     if (e.from_asr < 0 || e.to_asr < 0) continue;
-    Stmt s(db, "INSERT OR REPLACE INTO edge VALUES(?,?,?,?,?)");
+    Stmt s(db, "INSERT OR REPLACE INTO edge VALUES(?,?,?,?,?)", &statements_);
     if (!s.ok()) fail("prepare");
     s.BindInt(1, e.from_asr);
     s.BindInt(2, e.to_asr);
@@ -653,7 +688,7 @@ void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string
     if (s.Step() != SQLITE_DONE) fail("insert edge");
   }
   for (const auto& [k, v] : meta) {
-    Stmt s(db, "INSERT OR REPLACE INTO meta VALUES(?,?)");
+    Stmt s(db, "INSERT OR REPLACE INTO meta VALUES(?,?)", &statements_);
     if (!s.ok()) fail("prepare");
     s.BindText(1, k);
     s.BindText(2, v);
@@ -664,7 +699,7 @@ void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string
 
 std::optional<Asr> SqliteAsrStore::Get(int id) const {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
-  Stmt s(Db(db_), "SELECT * FROM asr WHERE id=?");
+  Stmt s(Db(db_), "SELECT * FROM asr WHERE id=?", &statements_);
   if (!s.ok()) Fail(sqlite3_errmsg(Db(db_)));
   s.BindInt(1, id);
   if (s.Step() != SQLITE_ROW) {
@@ -703,7 +738,7 @@ std::optional<Asr> SqliteAsrStore::Get(int id) const {
     throw InputError(path_, 0, "ASR " + std::to_string(id) + ": " + e.what());
   }
   if (has_orientation_) {
-    Stmt o(Db(db_), "SELECT valid, angle_rad, contrast, cells FROM orientation WHERE asr_id=?");
+    Stmt o(Db(db_), "SELECT valid, angle_rad, contrast, cells FROM orientation WHERE asr_id=?", &statements_);
     if (!o.ok()) Fail(sqlite3_errmsg(Db(db_)));
     o.BindInt(1, id);
     if (o.Step() == SQLITE_ROW) {
@@ -734,7 +769,7 @@ std::optional<Asr> SqliteAsrStore::Get(int id) const {
 
 std::vector<int> SqliteAsrStore::Ids() const {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
-  Stmt s(Db(db_), "SELECT id FROM asr ORDER BY id");
+  Stmt s(Db(db_), "SELECT id FROM asr ORDER BY id", &statements_);
   std::vector<int> ids;
   while (s.ok() && s.Step() == SQLITE_ROW) ids.push_back(static_cast<int>(s.Int(0)));
   if (s.failed()) Fail(sqlite3_errmsg(Db(db_)));
@@ -743,14 +778,14 @@ std::vector<int> SqliteAsrStore::Ids() const {
 
 int SqliteAsrStore::Count() const {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
-  Stmt s(Db(db_), "SELECT count(*) FROM asr");
+  Stmt s(Db(db_), "SELECT count(*) FROM asr", &statements_);
   if (!s.ok() || s.Step() != SQLITE_ROW) Fail(sqlite3_errmsg(Db(db_)));
   return static_cast<int>(s.Int(0));
 }
 
 int SqliteAsrStore::MaxId() const {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
-  Stmt s(Db(db_), "SELECT coalesce(max(id), -1) FROM asr");
+  Stmt s(Db(db_), "SELECT coalesce(max(id), -1) FROM asr", &statements_);
   if (!s.ok() || s.Step() != SQLITE_ROW) Fail(sqlite3_errmsg(Db(db_)));
   return static_cast<int>(s.Int(0));
 }
@@ -769,7 +804,8 @@ std::vector<int> SqliteAsrStore::Neighbours(int id) const {
 
 std::vector<Edge> SqliteAsrStore::Edges() const {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
-  Stmt s(Db(db_), "SELECT from_asr, to_asr, center_x, center_y, width_m FROM edge ORDER BY from_asr, to_asr");
+  Stmt s(Db(db_), "SELECT from_asr, to_asr, center_x, center_y, width_m FROM edge ORDER BY from_asr, to_asr",
+         &statements_);
   std::vector<Edge> out;
   while (s.ok() && s.Step() == SQLITE_ROW) {
     Edge e;
@@ -785,7 +821,7 @@ std::vector<Edge> SqliteAsrStore::Edges() const {
 
 std::optional<std::string> SqliteAsrStore::GetMeta(const std::string& key) const {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
-  Stmt s(Db(db_), "SELECT value FROM meta WHERE key=?");
+  Stmt s(Db(db_), "SELECT value FROM meta WHERE key=?", &statements_);
   s.BindText(1, key);
   if (s.ok() && s.Step() == SQLITE_ROW) return s.Text(0);
   if (s.failed()) Fail("meta " + key + ": " + sqlite3_errmsg(Db(db_)));
@@ -794,7 +830,7 @@ std::optional<std::string> SqliteAsrStore::GetMeta(const std::string& key) const
 
 void SqliteAsrStore::SetMeta(const std::string& key, const std::string& value) {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
-  Stmt s(Db(db_), "INSERT OR REPLACE INTO meta VALUES(?,?)");
+  Stmt s(Db(db_), "INSERT OR REPLACE INTO meta VALUES(?,?)", &statements_);
   s.BindText(1, key);
   s.BindText(2, value);
   if (!s.ok() || s.Step() != SQLITE_DONE) Fail(sqlite3_errmsg(Db(db_)));
@@ -802,7 +838,7 @@ void SqliteAsrStore::SetMeta(const std::string& key, const std::string& value) {
 
 std::string SqliteAsrStore::IntegrityCheck() const {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
-  Stmt s(Db(db_), "PRAGMA integrity_check");
+  Stmt s(Db(db_), "PRAGMA integrity_check", &statements_);
   if (!s.ok() || s.Step() != SQLITE_ROW) return sqlite3_errmsg(Db(db_));
   return s.Text(0);
 }
@@ -896,7 +932,7 @@ void SqliteAsrStore::WritePlacements(const std::function<void()>& write_asrs, co
     write_asrs();
     sqlite3* db = Db(db_);
     for (const Placement& p : placements) {
-      Stmt s(db, "INSERT OR REPLACE INTO placement VALUES(?,?,?,?,?,?,?)");
+      Stmt s(db, "INSERT OR REPLACE INTO placement VALUES(?,?,?,?,?,?,?)", &statements_);
       sqlite3_bind_int(s.get(), 1, p.asr_id);
       sqlite3_bind_int(s.get(), 2, p.room_id);
       double c[9];
@@ -909,7 +945,7 @@ void SqliteAsrStore::WritePlacements(const std::function<void()>& write_asrs, co
       if (s.Step() != SQLITE_DONE) Fail("write placement");
     }
     for (const ClosureRecord& c : closures) {
-      Stmt s(db, "INSERT OR REPLACE INTO closure VALUES(?,?,?,?,?,?,?,?,?,?,?)");
+      Stmt s(db, "INSERT OR REPLACE INTO closure VALUES(?,?,?,?,?,?,?,?,?,?,?)", &statements_);
       sqlite3_bind_int(s.get(), 1, c.from_asr);
       sqlite3_bind_int(s.get(), 2, c.to_asr);
       sqlite3_bind_double(s.get(), 3, c.relative.x);
@@ -936,7 +972,8 @@ std::optional<Placement> SqliteAsrStore::GetPlacement(int id) const {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
   sqlite3* db = Db(db_);
   if (!HasTable(db, "placement")) return std::nullopt;  // a version-1 store read as it is
-  Stmt s(db, "SELECT room_id, cov, uncertain, why, drift_rate, corrected_path FROM placement WHERE asr_id=?");
+  Stmt s(db, "SELECT room_id, cov, uncertain, why, drift_rate, corrected_path FROM placement WHERE asr_id=?",
+         &statements_);
   sqlite3_bind_int(s.get(), 1, id);
   if (!s.ok() || s.Step() != SQLITE_ROW) {
     if (s.failed()) Fail("placement of ASR " + std::to_string(id) + ": " + sqlite3_errmsg(db));
@@ -977,7 +1014,7 @@ std::vector<ClosureRecord> SqliteAsrStore::Closures() const {
   std::vector<ClosureRecord> out;
   sqlite3* db = Db(db_);
   if (!HasTable(db, "closure")) return out;
-  Stmt s(db, "SELECT * FROM closure ORDER BY to_asr, from_asr");
+  Stmt s(db, "SELECT * FROM closure ORDER BY to_asr, from_asr", &statements_);
   while (s.ok() && s.Step() == SQLITE_ROW) {
     ClosureRecord c;
     c.from_asr = static_cast<int>(s.Int(0));

@@ -178,6 +178,9 @@ class SqliteAsrStore : public AsrStore {
   void* db_ = nullptr;  // sqlite3*
   bool read_only_ = false;
   bool in_batch_ = false;  // inside PutPlacements' transaction
+  // Prepared statements by their SQL (sqlite3_stmt*), kept for the store's
+  // life and finalized before it closes.
+  mutable std::map<std::string, void*> statements_;
   // Every public call holds it: the mapper's placing thread stores rooms
   // while the caller's thread may read the store (a callback, a live map's
   // outputs). Recursive: a revision's Puts run inside RevisePlacements.
