@@ -672,7 +672,13 @@ Region FillRegion(int x0, int y0, int x1, int y1, In&& in_lattice, bool fill_hol
   const int W = x1 - x0 + 3, H = y1 - y0 + 3;
   reg.W = W, reg.H = H;
   std::vector<int> comp(static_cast<size_t>(W) * H, -1);
-  auto in = [&](int x, int y) { return in_lattice(x0 + x - 1, y0 + y - 1); };
+  // The lattice's answer for each site, asked once (the flood asks again for
+  // every neighbour it meets, and a look-up in the lattice is not free); the
+  // array is reused for the hole filling below.
+  std::vector<uint8_t> mask(static_cast<size_t>(W) * H, 0);
+  for (int y = 1; y < H - 1; ++y)
+    for (int x = 1; x < W - 1; ++x) mask[static_cast<size_t>(y) * W + x] = in_lattice(x0 + x - 1, y0 + y - 1) ? 1 : 0;
+  auto in = [&](int x, int y) { return mask[static_cast<size_t>(y) * W + x] != 0; };
   int best = -1, best_size = 0, ncomp = 0;
   for (int y = 1; y < H - 1; ++y)
     for (int x = 1; x < W - 1; ++x) {
@@ -704,7 +710,8 @@ Region FillRegion(int x0, int y0, int x1, int y1, In&& in_lattice, bool fill_hol
     return reg;
   }
   // Fill holes: sites not reachable from the frame without crossing the component.
-  std::vector<uint8_t> outside(static_cast<size_t>(W) * H, 0);
+  std::vector<uint8_t>& outside = mask;
+  std::fill(outside.begin(), outside.end(), 0);
   std::vector<std::pair<int, int>> st{{0, 0}};
   outside[0] = 1;
   while (!st.empty()) {
