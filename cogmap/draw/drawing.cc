@@ -9,8 +9,10 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include "cogmap/core/error.h"
 #include "cogmap/io/atomic_file.h"
@@ -59,32 +61,62 @@ PangoLayout* LayoutIn(PangoContext* context, const std::string& text, const Font
   return layout;
 }
 
+// Pango, once per process: one font map for every thread (pango's default
+// font map is one per thread, each reading the font configuration and sorting
+// each font anew), used under one lock (a font map is not for two threads at
+// once), and warmed on a thread of its own while a run maps (PrepareFonts).
+struct Fonts {
+  std::mutex mutex;
+  PangoFontMap* map = nullptr;
+  cairo_surface_t* measure_surface = nullptr;
+  cairo_t* measure_cr = nullptr;
+  PangoContext* measure = nullptr;
+  std::thread warming;
+  ~Fonts() {
+    if (warming.joinable()) warming.join();
+  }
+  // With the lock held.
+  PangoFontMap* Map() {
+    if (!map) map = pango_cairo_font_map_new();
+    return map;
+  }
+  PangoContext* Measure() {
+    if (!measure) {
+      measure_surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 1, 1);
+      measure_cr = cairo_create(measure_surface);
+      measure = pango_font_map_create_context(Map());
+      pango_cairo_update_context(measure_cr, measure);
+      SetFontOptions(measure);
+    }
+    return measure;
+  }
+};
+
+// Never destroyed before the threads that draw (nor the warming thread,
+// joined at exit): the font map and contexts live as long as the process.
+Fonts& TheFonts() {
+  static Fonts* fonts = new Fonts;
+  static struct JoinAtExit {
+    ~JoinAtExit() {
+      if (fonts->warming.joinable()) fonts->warming.join();
+    }
+  } join_at_exit;
+  return *fonts;
+}
+
 // A text layout on a cairo surface, in one pango context per cairo_t (kept
-// on it), brought up to date with its transformation for each layout.
+// on it), brought up to date with its transformation for each layout. With
+// the fonts' lock held.
 PangoLayout* MakeLayout(cairo_t* cr, const std::string& text, const Font& font) {
   static const cairo_user_data_key_t kContextKey{};
   auto* context = static_cast<PangoContext*>(cairo_get_user_data(cr, &kContextKey));
   if (!context) {
-    context = pango_cairo_create_context(cr);
+    context = pango_font_map_create_context(TheFonts().Map());
     SetFontOptions(context);
     cairo_set_user_data(cr, &kContextKey, context, [](void* c) { g_object_unref(c); });
-  } else {
-    pango_cairo_update_context(cr, context);
   }
+  pango_cairo_update_context(cr, context);
   return LayoutIn(context, text, font);
-}
-
-// A context for measuring text (thread-local: pango layouts are not shared).
-cairo_t* MeasureContext() {
-  thread_local struct Holder {
-    cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 1, 1);
-    cairo_t* cr = cairo_create(surface);
-    ~Holder() {
-      cairo_destroy(cr);
-      cairo_surface_destroy(surface);
-    }
-  } holder;
-  return holder.cr;
 }
 
 cairo_status_t AppendBytes(void* closure, const unsigned char* data, unsigned int length) {
@@ -257,10 +289,28 @@ void Drawing::Rectangle(const Box& box, Colour fill, const Stroke& outline) {
   });
 }
 
-void Drawing::PrepareFonts() { pango_cairo_font_map_get_default(); }
+void Drawing::PrepareFonts(const std::vector<Font>& fonts) {
+  Fonts& f = TheFonts();
+  std::lock_guard<std::mutex> lock(f.mutex);
+  if (f.map || f.warming.joinable()) return;
+  // Text measured or drawn meanwhile waits for the lock (or, taking it
+  // first, loads its font itself): the same fonts either way.
+  f.warming = std::thread([&f, fonts] {
+    std::lock_guard<std::mutex> held(f.mutex);
+    PangoContext* context = f.Measure();
+    for (const Font& font : fonts) {
+      PangoLayout* layout = LayoutIn(context, "Ag", font);
+      PangoRectangle logical;
+      pango_layout_get_extents(layout, nullptr, &logical);
+      g_object_unref(layout);
+    }
+  });
+}
 
 Box Drawing::MeasureText(const std::string& text, const Font& font) {
-  PangoLayout* layout = MakeLayout(MeasureContext(), text, font);
+  Fonts& f = TheFonts();
+  std::lock_guard<std::mutex> lock(f.mutex);
+  PangoLayout* layout = LayoutIn(f.Measure(), text, font);
   PangoRectangle logical;
   pango_layout_get_extents(layout, nullptr, &logical);
   g_object_unref(layout);
@@ -276,6 +326,7 @@ Box Drawing::Text(const Vec2& at, const std::string& text, const Font& font, Col
   if (valign == VAlign::kMiddle) y -= size.height() / 2;
   if (valign == VAlign::kBottom) y -= size.height();
   steps_->push_back([x, y, text, font, colour](cairo_t* cr) {
+    std::lock_guard<std::mutex> lock(TheFonts().mutex);
     PangoLayout* layout = MakeLayout(cr, text, font);
     SetColour(cr, colour);
     cairo_move_to(cr, x, y);

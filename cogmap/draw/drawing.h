@@ -83,10 +83,11 @@ class Drawing {
            Align align = Align::kLeft, VAlign valign = VAlign::kTop);
   // The size the text takes (x0 = y0 = 0).
   static Box MeasureText(const std::string& text, const Font& font);
-  // Starts reading the system's font configuration (pango does it on a
-  // thread of its own): called when a run begins, the first text drawn at its
-  // end does not wait for it (about 8 ms on a Debian 12 desktop font set).
-  static void PrepareFonts();
+  // Starts reading the system's font configuration and loading 'fonts' on a
+  // thread of its own: called when a run begins, the text drawn at its end
+  // does not wait for them (on nine_rooms' floor plan, 30 -> 11 ms for the
+  // picture). Text measured or drawn meanwhile waits for that thread.
+  static void PrepareFonts(const std::vector<Font>& fonts = {});
   // A raster drawn with its top-left corner at (x, y), each pixel a square of
   // 'scale' drawing pixels, without smoothing (cells stay crisp).
   void Image(const io::RgbImage& image, double x, double y, double scale);

@@ -19,6 +19,7 @@ constexpr double kMinPageWidthPx = 420;
 const Font kTitleFont{kTitleFontPx, true};
 const Font kSmallFont{kSmallFontPx, false};
 const Font kLegendFont{kLegendFontPx, false};
+const Font kNorthFont{14, true};
 
 double LegendItemWidth(const LegendItem& item) { return 30 + Drawing::MeasureText(item.label, kLegendFont).width() + 18; }
 
@@ -45,6 +46,8 @@ std::string Fmt(const char* f, double v) {
 }
 
 }  // namespace
+
+std::vector<Font> PageFonts() { return {kTitleFont, kSmallFont, kLegendFont, kNorthFont}; }
 
 double NiceScaleLength(double px_per_m, double max_px) {
   const double max_m = max_px / std::max(px_per_m, 1e-12);
@@ -149,7 +152,7 @@ std::vector<Box> MapPage::Decorate(Drawing& d) {
   // North arrow, bottom right: the map frame's +y.
   const double ax = width_ - kSidePx - 12, ay0 = height_ - 10, ay1 = height_ - kArrowBoxPx + 6;
   d.Polygon({Vec2(ax, ay1), Vec2(ax + 7, ay0), Vec2(ax, ay0 - 6), Vec2(ax - 7, ay0)}, kBlack);
-  d.Text(Vec2(ax - 12, (ay0 + ay1) / 2), "N", Font{14, true}, kBlack, Align::kRight, VAlign::kMiddle);
+  d.Text(Vec2(ax - 12, (ay0 + ay1) / 2), "N", kNorthFont, kBlack, Align::kRight, VAlign::kMiddle);
 
   // Legend between them, wrapped in rows.
   const double lx0 = kSidePx + std::max(len_px, 60.0) + 36;

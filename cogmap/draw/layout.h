@@ -14,6 +14,10 @@ namespace cogmap::draw {
 // The largest side a picture may take even with a px_per_m override.
 constexpr int kMaxSidePx = 16000;
 
+// The fonts of every page's bands (title, scale, legend, north arrow): the
+// ones worth loading before a picture is drawn (Drawing::PrepareFonts).
+std::vector<Font> PageFonts();
+
 struct PictureOptions {
   int max_side_px = 2000;  // pixel budget: the longest side of the picture
   double px_per_m = 0.0;   // > 0: this scale instead of fitting the budget (capped at kMaxSidePx)

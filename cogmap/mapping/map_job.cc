@@ -17,6 +17,7 @@
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
 #include "cogmap/core/text.h"
+#include "cogmap/draw/layout.h"
 #include "cogmap/draw/map_picture.h"
 #include "cogmap/draw/world_picture.h"
 #include "cogmap/draw/plots.h"
@@ -139,7 +140,7 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   const sensors::RobotDescription robot = io::RobotFor(log, job.robot_spec);
   if (!job.world.empty()) io::ReadWorld(job.world);  // a bad world fails before mapping
   const OutputChoice& o = job.outputs;
-  if (o.svg || o.png || o.plan || o.plan_png || o.compare || o.heading) draw::Drawing::PrepareFonts();
+  if (o.svg || o.png || o.plan || o.plan_png || o.compare || o.heading) draw::Drawing::PrepareFonts(draw::PageFonts());
 
   // The output folder (docs/store.md): locked for this run, everything written
   // into its staging folder and moved into place at the end.
