@@ -72,9 +72,6 @@ struct Fonts {
   cairo_t* measure_cr = nullptr;
   PangoContext* measure = nullptr;
   std::thread warming;
-  ~Fonts() {
-    if (warming.joinable()) warming.join();
-  }
   // With the lock held.
   PangoFontMap* Map() {
     if (!map) map = pango_cairo_font_map_new();
@@ -113,7 +110,12 @@ PangoLayout* MakeLayout(cairo_t* cr, const std::string& text, const Font& font) 
   if (!context) {
     context = pango_font_map_create_context(TheFonts().Map());
     SetFontOptions(context);
-    cairo_set_user_data(cr, &kContextKey, context, [](void* c) { g_object_unref(c); });
+    // Released when the cairo_t goes, which is never while this thread
+    // holds the lock (a drawing's steps take it one at a time).
+    cairo_set_user_data(cr, &kContextKey, context, [](void* c) {
+      std::lock_guard<std::mutex> lock(TheFonts().mutex);
+      g_object_unref(c);
+    });
   }
   pango_cairo_update_context(cr, context);
   return LayoutIn(context, text, font);
