@@ -555,6 +555,8 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     store->has_orientation_ = HasTable(db, "orientation");
     store->has_free_space_ = HasTable(db, "free_space");
     store->has_matched_walls_ = HasTable(db, "matched_walls");
+    store->has_placement_ = HasTable(db, "placement");
+    store->has_closure_ = HasTable(db, "closure");
     return store;
   }
   sqlite3* db = nullptr;
@@ -584,6 +586,8 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     store->has_orientation_ = true;
     store->has_free_space_ = true;
     store->has_matched_walls_ = true;
+    store->has_placement_ = true;
+    store->has_closure_ = true;
     store->Exec("PRAGMA application_id=" + std::to_string(kStoreApplicationId));
     store->Exec("PRAGMA user_version=" + std::to_string(kStoreSchemaVersion));
     store->Exec("INSERT OR IGNORE INTO meta(key, value) VALUES('application', 'cogmap')");
@@ -971,7 +975,7 @@ void SqliteAsrStore::WritePlacements(const std::function<void()>& write_asrs, co
 std::optional<Placement> SqliteAsrStore::GetPlacement(int id) const {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
   sqlite3* db = Db(db_);
-  if (!HasTable(db, "placement")) return std::nullopt;  // a version-1 store read as it is
+  if (!has_placement_) return std::nullopt;  // a version-1 store read as it is
   Stmt s(db, "SELECT room_id, cov, uncertain, why, drift_rate, corrected_path FROM placement WHERE asr_id=?",
          &statements_);
   sqlite3_bind_int(s.get(), 1, id);
@@ -1013,7 +1017,7 @@ std::vector<ClosureRecord> SqliteAsrStore::Closures() const {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
   std::vector<ClosureRecord> out;
   sqlite3* db = Db(db_);
-  if (!HasTable(db, "closure")) return out;
+  if (!has_closure_) return out;
   Stmt s(db, "SELECT * FROM closure ORDER BY to_asr, from_asr", &statements_);
   while (s.ok() && s.Step() == SQLITE_ROW) {
     ClosureRecord c;

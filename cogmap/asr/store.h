@@ -188,6 +188,8 @@ class SqliteAsrStore : public AsrStore {
   bool has_orientation_ = false;  // schema 3's orientation table (older stores read-only: none)
   bool has_matched_walls_ = false;  // schema 5's matched_walls table
   bool has_free_space_ = false;   // schema 4's free_space table (older stores read-only: none)
+  bool has_placement_ = false;    // schema 2's placement and closure tables (a version-1 store read
+  bool has_closure_ = false;      // as it is: none); known at Open, not asked of every read
 };
 
 // Binary encodings of the ASR's variable parts (little-endian, versioned by
