@@ -137,6 +137,10 @@ std::function<int()> SetupMap(CLI::App& sub) {
   sub.add_flag("--no-graph", a->no_graph,
                "Default mode without the pose graph (docs/pose-graph.md): the drift filter's odometry "
                "pre-correction, heading correction and smoothing only (the default before the pose graph)");
+  sub.add_flag("--pre-bend", a->job.mapping.pre_bend,
+               "Pose graph: once the graph has pinned the odometry's drift rate, build the rooms mapped next on "
+               "odometry with that drift removed (sharper walls under strong drift; not the default: on real "
+               "logs the maps move both ways, docs/pose-graph.md 'Drift removed while mapping')");
   sub.add_flag("--no-drift-filter", a->no_drift_filter,
                "With --no-graph: without the drift-rate filter (one EM rotation per ASR, odometry used as it "
                "comes). The pose graph estimates the drift itself and never uses the filter");

@@ -80,6 +80,13 @@ struct Asr {
   // run matches what the uninterrupted run matched.
   bool has_matched_walls = false;
   std::vector<Polyline> matched_walls_local;
+  // The drift rate (rad per metre) removed inside the ASR while its grids were
+  // built (default mode, asr::CognitiveMapper::SetPreBend): each odometry step
+  // re-integrated from the ASR's entry turned by -rate x the distance driven,
+  // as CorrectedPath does. Its walls (as mapped) and free-space hull are in
+  // that bent frame; 'path' stays the raw odometry. 0: mapped on the raw
+  // odometry. Stored from schema 6 on.
+  double pre_bend_rad_per_m = 0.0;
 
   std::vector<Polyline> WallsWorldRaw() const { return Transform(world_from_local_raw, walls_local); }
   std::vector<Polyline> WallsWorldCorrected() const {

@@ -217,6 +217,12 @@ class CognitiveMapper::Worker {
     queue_[0].push_back(std::move(job));
     changed_.notify_all();
   }
+  // Returns once the ASR 'id' is placed (or nothing submitted is left to
+  // place, or a stage failed: Take raises it).
+  void WaitPlaced(int id) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [&] { return placed_through_ >= id || Idle(2) || error_; });
+  }
   // The ASRs finished so far, in order; with 'all', once every submitted one
   // is. An error is raised once the ASRs finished before it are taken.
   std::deque<Asr> Take(bool all) {
@@ -258,6 +264,7 @@ class CognitiveMapper::Worker {
         changed_.wait(lock, [this] { return queue_[1].empty() || error_; });
         queue_[1].push_back(std::move(job));
       } else {
+        placed_through_ = std::max(placed_through_, job.out.id);
         done_.push_back(std::move(job.out));
       }
       busy_[s] = false;
@@ -271,6 +278,7 @@ class CognitiveMapper::Worker {
   std::deque<Job> queue_[2];
   bool busy_[2] = {false, false};
   std::deque<Asr> done_;
+  int placed_through_ = -1;
   bool stop_ = false;
   std::exception_ptr error_;
   std::thread threads_[2];  // last: started once the rest is in place
@@ -292,6 +300,11 @@ void CognitiveMapper::Start(const Pose2& entry_pose, double time_s, const std::o
   current_ = std::make_unique<Current>();
   Asr& a = current_->asr;
   a.id = next_id_++;
+  if (pre_bend_ && !odometry_filter_ && a.id - pre_bend_lag_ >= 0) {
+    if (worker_) worker_->WaitPlaced(a.id - pre_bend_lag_);
+    const double rate = pre_bend_(a.id - pre_bend_lag_);
+    a.pre_bend_rad_per_m = std::isfinite(rate) ? rate : 0.0;
+  }
   a.world_from_local_raw = Pose2{entry_pose.x, entry_pose.y, 0.0};
   a.world_from_local_corrected = a.world_from_local_raw;
   a.entry_pivot_m = entry_exit ? entry_exit->center_m : entry_pose.translation();
@@ -310,11 +323,33 @@ void CognitiveMapper::Start(const Pose2& entry_pose, double time_s, const std::o
   }
 }
 
+Pose2 CognitiveMapper::Current::Bent(const Pose2& raw_local) {
+  const double rate = asr.pre_bend_rad_per_m;
+  if (rate == 0.0) return raw_local;
+  // Each pose from the last anchor; the anchor moves on every kBendStep of
+  // travel. Logs that interleave two odometry streams (CARMEN's ODOM and the
+  // poses of its FLASER lines) jitter by centimetres from record to record:
+  // summed record by record, that jitter would count as distance driven and
+  // bend the room by more than the drift.
+  constexpr double kBendStep = 0.1;
+  const Vec2 d = raw_local.translation() - bend_last;
+  const double ds = d.norm();
+  const Vec2 at = bend_at + RotateAbout(d, Vec2(0.0, 0.0), -rate * (bend_s + 0.5 * ds));
+  const Pose2 out{at.x(), at.y(), NormalizeAngle(raw_local.theta - rate * (bend_s + ds))};
+  if (ds >= kBendStep) {
+    bend_at = at;
+    bend_s += ds;
+    bend_last = raw_local.translation();
+  }
+  return out;
+}
+
 void CognitiveMapper::Feed(const sensors::LogRecord& record, const Pose2& raw_odom) {
   Current& c = *current_;
   const auto t0 = Clock::now();
-  c.grid->InsertSweep(c.local_from_world * record.odom, robot_, record.ranges);
-  if (c.cone_grid) c.cone_grid->InsertSweep(c.local_from_world * record.odom, robot_, record.ranges);
+  const Pose2 at = c.Bent(c.local_from_world * record.odom);
+  c.grid->InsertSweep(at, robot_, record.ranges);
+  if (c.cone_grid) c.cone_grid->InsertSweep(at, robot_, record.ranges);
   c.asr.seconds.grid += Since(t0);
   stats_.peak_grid_cells = std::max<int64_t>(stats_.peak_grid_cells, c.grid->limits().cell_count());
   // The path is sampled every path_step_m of odometry. When the log has

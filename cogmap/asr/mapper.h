@@ -154,6 +154,20 @@ class CognitiveMapper {
   // fields are re-expressed in the raw odometry frame: it sees the ASR in the
   // frame its walls were built in (pre-corrected when filtered).
   void SetPlacer(Corrector placer) { placer_ = std::move(placer); }
+  // Drift removed while each room is mapped (default mode with the pose
+  // graph; not with an odometry filter): when ASR k starts, the mapper waits
+  // until ASR k - lag is placed and stored, then builds k's grids on the
+  // odometry re-integrated from k's entry under rate_after(k - lag) rad per
+  // metre (each step turned by -rate x the distance driven before it, as
+  // CorrectedPath does), and records that rate in Asr::pre_bend_rad_per_m.
+  // The path it keeps stays raw. With the rate of an ASR 'lag' back, the
+  // rooms come out the same with the placing done on another thread or not.
+  // Before the first Push.
+  using PreBend = std::function<double(int placed_id)>;
+  void SetPreBend(int lag, PreBend rate_after) {
+    pre_bend_lag_ = std::max(1, lag);
+    pre_bend_ = std::move(rate_after);
+  }
   // Before the first Push.
   void Resume(const MapperResume& resume);
 
@@ -186,6 +200,12 @@ class CognitiveMapper {
     std::vector<Pose2> raw_path;  // the raw odometry at the poses of asr.path
     std::vector<double> true_path_times;
     Pose2 local_from_world;
+    // The pre-bend's re-integration (Asr::pre_bend_rad_per_m): the last raw
+    // local position, the bent position and the distance driven so far.
+    Vec2 bend_last{0.0, 0.0}, bend_at{0.0, 0.0};
+    double bend_s = 0.0;
+    // A raw local pose as the grids take it: re-integrated under the pre-bend.
+    Pose2 Bent(const Pose2& raw_local);
   };
   struct Buffered {
     long seq;
@@ -214,6 +234,8 @@ class CognitiveMapper {
   Corrector corrector_;
   Corrector placer_;
   OdometryFilter odometry_filter_;
+  PreBend pre_bend_;
+  int pre_bend_lag_ = 2;
   BoundaryDetector detector_;
   std::unique_ptr<Current> current_;
   bool seen_truth_ = false;  // the log has ground truth: sample paths only at records with it

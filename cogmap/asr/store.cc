@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -343,6 +344,15 @@ const char* kSchemaV5 = R"sql(
 CREATE TABLE IF NOT EXISTS matched_walls(asr_id INTEGER PRIMARY KEY, walls BLOB NOT NULL);
 )sql";
 
+// Schema version 6: the drift rate removed inside each ASR while its grids
+// were built (Asr::pre_bend_rad_per_m), a row only where it is not zero. With
+// it the pose graph knows how the walls it matches were mapped (a resumed run
+// replays them as the uninterrupted run placed them). Older stores are
+// migrated by creating the table (their ASRs were mapped on the raw odometry).
+const char* kSchemaV6 = R"sql(
+CREATE TABLE IF NOT EXISTS pre_bend(asr_id INTEGER PRIMARY KEY, rate REAL NOT NULL);
+)sql";
+
 bool HasSqliteHeader(const std::string& path, bool* empty) {
   std::ifstream in(path, std::ios::binary);
   char header[16] = {};
@@ -425,6 +435,7 @@ std::string SchemaOfVersion(int version) {
   if (version >= 3) sqlite3_exec(db, kSchemaV3, nullptr, nullptr, nullptr);
   if (version >= 4) sqlite3_exec(db, kSchemaV4, nullptr, nullptr, nullptr);
   if (version >= 5) sqlite3_exec(db, kSchemaV5, nullptr, nullptr, nullptr);
+  if (version >= 6) sqlite3_exec(db, kSchemaV6, nullptr, nullptr, nullptr);
   bool readable = true;
   std::string s = SchemaOf(db, &readable);
   sqlite3_close(db);
@@ -444,9 +455,9 @@ bool HasTable(sqlite3* db, const char* name) {
 // its tables must be exactly that version's.
 bool MigratableVersion(int version, const std::string& schema) {
   static const std::string v1 = SchemaOfVersion(1), v2 = SchemaOfVersion(2), v3 = SchemaOfVersion(3),
-                           v4 = SchemaOfVersion(4);
+                           v4 = SchemaOfVersion(4), v5 = SchemaOfVersion(5);
   return (version == 1 && schema == v1) || (version == 2 && schema == v2) || (version == 3 && schema == v3) ||
-         (version == 4 && schema == v4);
+         (version == 4 && schema == v4) || (version == 5 && schema == v5);
 }
 
 }  // namespace
@@ -555,6 +566,7 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     store->has_orientation_ = HasTable(db, "orientation");
     store->has_free_space_ = HasTable(db, "free_space");
     store->has_matched_walls_ = HasTable(db, "matched_walls");
+    store->has_pre_bend_ = HasTable(db, "pre_bend");
     store->has_placement_ = HasTable(db, "placement");
     store->has_closure_ = HasTable(db, "closure");
     return store;
@@ -583,7 +595,9 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     store->Exec(kSchemaV3);
     store->Exec(kSchemaV4);
     store->Exec(kSchemaV5);
+    store->Exec(kSchemaV6);
     store->has_orientation_ = true;
+    store->has_pre_bend_ = true;
     store->has_free_space_ = true;
     store->has_matched_walls_ = true;
     store->has_placement_ = true;
@@ -672,6 +686,17 @@ void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string
     s.BindInt(1, asr.id);
     s.BindBlob(2, EncodeWalls(asr.matched_walls_local));
     if (s.Step() != SQLITE_DONE) fail("insert matched walls");
+  }
+  {
+    // A row only where the rate is not zero (an ASR written again with none
+    // loses its row).
+    const bool bent = asr.pre_bend_rad_per_m != 0.0;
+    Stmt s(db, bent ? "INSERT OR REPLACE INTO pre_bend VALUES(?,?)" : "DELETE FROM pre_bend WHERE asr_id=?",
+           &statements_);
+    if (!s.ok()) fail("prepare");
+    s.BindInt(1, asr.id);
+    if (bent) s.Bind(2, asr.pre_bend_rad_per_m);
+    if (s.Step() != SQLITE_DONE) fail("insert pre-bend");
   }
   if (!asr.free_hull_local.empty()) {
     Stmt s(db, "INSERT OR REPLACE INTO free_space VALUES(?,?)", &statements_);
@@ -766,6 +791,18 @@ std::optional<Asr> SqliteAsrStore::Get(int id) const {
     if (auto walls = WallsRow("SELECT walls FROM matched_walls WHERE asr_id=?", id, "matched walls")) {
       a.matched_walls_local = std::move(*walls);
       a.has_matched_walls = true;
+    }
+  }
+  if (has_pre_bend_) {
+    Stmt o(Db(db_), "SELECT rate FROM pre_bend WHERE asr_id=?", &statements_);
+    if (!o.ok()) Fail(sqlite3_errmsg(Db(db_)));
+    o.BindInt(1, id);
+    if (o.Step() == SQLITE_ROW) {
+      a.pre_bend_rad_per_m = o.Double(0);
+      if (!std::isfinite(a.pre_bend_rad_per_m))
+        throw InputError(path_, 0, "ASR " + std::to_string(id) + ": pre-bend rate is not a finite number");
+    } else if (o.failed()) {
+      Fail("pre-bend of ASR " + std::to_string(id) + ": " + sqlite3_errmsg(Db(db_)));
     }
   }
   return a;

@@ -112,7 +112,7 @@ class MemoryAsrStore : public AsrStore {
 // transaction per Put; closing a writable store checkpoints it and leaves WAL
 // (journal_mode=DELETE), so that the file alone is the store (read-only media,
 // copies). See docs/store.md.
-constexpr int kStoreSchemaVersion = 5;
+constexpr int kStoreSchemaVersion = 6;
 constexpr int32_t kStoreApplicationId = 0x636f676d;  // "cogm"
 
 class SqliteAsrStore : public AsrStore {
@@ -187,6 +187,7 @@ class SqliteAsrStore : public AsrStore {
   mutable std::recursive_mutex mutex_;
   bool has_orientation_ = false;  // schema 3's orientation table (older stores read-only: none)
   bool has_matched_walls_ = false;  // schema 5's matched_walls table
+  bool has_pre_bend_ = false;       // schema 6's pre_bend table
   bool has_free_space_ = false;   // schema 4's free_space table (older stores read-only: none)
   bool has_placement_ = false;    // schema 2's placement and closure tables (a version-1 store read
   bool has_closure_ = false;      // as it is: none); known at Open, not asked of every read

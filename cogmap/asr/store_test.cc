@@ -215,8 +215,9 @@ void DowngradeStore(const std::string& path, const std::string& sql, int version
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
   const std::string v = std::to_string(version);
-  // Every version before 5 lacks schema 5's table as well.
-  const std::string older = version < 5 ? "DROP TABLE IF EXISTS matched_walls; " : "";
+  // Every version before 6 lacks schema 6's table, and before 5 schema 5's.
+  std::string older = version < 6 ? "DROP TABLE IF EXISTS pre_bend; " : "";
+  if (version < 5) older += "DROP TABLE IF EXISTS matched_walls; ";
   ASSERT_EQ(sqlite3_exec(db, (older + sql + "; PRAGMA user_version=" + v + "; UPDATE meta SET value='" + v +
                               "' WHERE key='schema_version'").c_str(),
                          nullptr, nullptr, nullptr),
@@ -335,6 +336,39 @@ TEST(SqliteAsrStore, VersionFourStoreIsMigratedAndMatchedWallsRoundTrip) {
   EXPECT_FALSE(s->Get(0)->has_matched_walls);
   s->Put(a);
   EXPECT_EQ(s->Get(0)->matched_walls_local, a.matched_walls_local);
+}
+
+// Version 5 had no pre_bend table: read as it is (every ASR mapped on the
+// raw odometry), then migrated by creating it. The rate round-trips; an ASR
+// without one has no row, also when written again with none.
+TEST(SqliteAsrStore, VersionFiveStoreIsMigratedAndPreBendsRoundTrip) {
+  const std::string path = TempDir("v5") + "/map.sqlite";
+  Asr a = MakeAsr(0);
+  a.pre_bend_rad_per_m = 0.0171;
+  {
+    auto s = SqliteAsrStore::Open(path);
+    s->Put(a);
+    s->Put(MakeAsr(1));
+    EXPECT_EQ(s->Get(0)->pre_bend_rad_per_m, 0.0171);
+    EXPECT_EQ(s->Get(1)->pre_bend_rad_per_m, 0.0);
+    Asr again = a;
+    again.id = 2;
+    s->Put(again);
+    again.pre_bend_rad_per_m = 0.0;
+    s->Put(again);
+    EXPECT_EQ(s->Get(2)->pre_bend_rad_per_m, 0.0);
+  }
+  DowngradeStore(path, "SELECT 1", 5);  // drops pre_bend
+  {
+    auto r = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
+    EXPECT_EQ(r->Get(0)->pre_bend_rad_per_m, 0.0);
+    ExpectSame(*r->Get(1), MakeAsr(1));
+  }
+  auto s = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kOpenExisting);
+  EXPECT_EQ(*s->GetMeta("schema_version"), std::to_string(kStoreSchemaVersion));
+  EXPECT_EQ(s->Get(0)->pre_bend_rad_per_m, 0.0);
+  s->Put(a);
+  EXPECT_EQ(s->Get(0)->pre_bend_rad_per_m, 0.0171);
 }
 
 TEST(SqliteAsrStore, ReplaceStartsEmpty) {

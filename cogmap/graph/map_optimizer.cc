@@ -57,18 +57,21 @@ MapOptimizer::Node MapOptimizer::MakeNode(const asr::Asr& a) const {
   Node n;
   n.asr_id = a.id;
   n.raw = a.world_from_local_raw;
+  n.path_raw = a.path;
+  n.pre_rate = a.pre_bend_rad_per_m;
   const Pose2 local_from_world = a.world_from_local_raw.inverse();
+  // The path in the frame its walls were mapped in.
+  const std::vector<Pose2> mapped = MappedPath(n);
   Vec2 last(1e18, 1e18);
-  for (const Pose2& p : a.path) {
+  for (const Pose2& p : mapped) {
     const Vec2 q = local_from_world * p.translation();
     if ((q - last).norm() >= 0.2 || n.path_local.empty()) {
       n.path_local.push_back(q);
       last = q;
     }
   }
-  if (!a.path.empty() && n.path_local.back() != local_from_world * a.path.back().translation())
-    n.path_local.push_back(local_from_world * a.path.back().translation());
-  n.path_raw = a.path;
+  if (!mapped.empty() && n.path_local.back() != local_from_world * mapped.back().translation())
+    n.path_local.push_back(local_from_world * mapped.back().translation());
   // The walls matched (registration, loop closure, consistency) and, when
   // they differ, the walls the ASR keeps (the cone grid's:
   // asr::MapperOptions::cone_output_walls), bent with the drift found as the
@@ -105,7 +108,7 @@ void MapOptimizer::AddStored(const asr::Asr& stored, int room_id) {
   Node n = MakeNode(stored);
   n.stored = true;
   n.room_id = room_id >= 0 ? room_id : stored.id;
-  graph_.AddNode(stored.world_from_local_corrected, /*fixed=*/true);
+  graph_.AddNode(stored.world_from_local_corrected, /*fixed=*/true, n.pre_rate);
   node_of_asr_[stored.id] = static_cast<int>(nodes_.size());
   nodes_.push_back(std::move(n));
 }
@@ -124,22 +127,26 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
     node.direction_sigma_measured = options_.direction_sigma_scale * est.uncertainty_rad;
   }
   if (idx == 0) {
-    graph_.AddNode(a.world_from_local_raw, /*fixed=*/true);
+    graph_.AddNode(a.world_from_local_raw, /*fixed=*/true, node.pre_rate);
   } else {
     const Node& prev = nodes_[idx - 1];
-    // Odometry from the previous ASR's origin to this one's, through its path.
-    const Pose2 prev_from_world = prev.raw.inverse();
-    std::vector<Pose2> path;
-    path.reserve(prev.path_raw.size() + 1);
-    for (const Pose2& p : prev.path_raw) path.push_back(prev_from_world * p);
-    path.push_back(prev_from_world * a.world_from_local_raw);
-    const OdometryMeasurement m = MeasureOdometry(path, options_.odometry);
+    // Odometry from the previous ASR's origin to this one's, through its
+    // path, as the previous ASR was mapped (its pre-bend removed: the graph
+    // bends it by the rest of the drift, rate - pre_rate).
+    asr::Asr view;
+    view.world_from_local_raw = prev.raw;
+    view.world_from_local_corrected = Pose2{};
+    view.path.reserve(prev.path_raw.size() + 1);
+    view.path = prev.path_raw;
+    view.path.push_back(a.world_from_local_raw);
+    const OdometryMeasurement m = MeasureOdometry(asr::CorrectedPath(view, prev.pre_rate), options_.odometry);
+    driven_m_ += m.distance_m;
     // Prediction with the previous node's drift rate.
-    const double r = graph_.rate(idx - 1);
+    const double r = graph_.rate(idx - 1) - prev.pre_rate;
     Vec2 t(0, 0);
     for (const auto& st : m.steps) t += RotateAbout(Vec2(st.x(), st.y()), Vec2(0, 0), -r * st.z());
     const Pose2 predicted = graph_.pose(idx - 1) * Pose2{t.x(), t.y(), m.delta.theta - r * m.distance_m};
-    graph_.AddNode(predicted);
+    graph_.AddNode(predicted, /*fixed=*/false, node.pre_rate);
     graph_.AddOdometry(idx - 1, idx, m, options_.odometry);
     // Uncertainty accumulated for the candidate search: the translation
     // variance of the odometry plus the heading uncertainty turned lateral.
@@ -178,6 +185,12 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
       len += (node.path_raw[k].translation() - node.path_raw[k - 1].translation()).norm();
     const int whole = graph_.AddDirection(idx, node.direction_local, node.direction_sigma_measured, 0.5 * len,
                                          options_.direction_sigma_floor_rad);
+    const double sigma = DirectionSigma(node.direction_sigma_measured);
+    const double w = 1.0 / (sigma * sigma), s_seen = driven_m_ + 0.5 * len;
+    pre_w_ += w;
+    pre_ws_ += w * s_seen;
+    pre_wss_ += w * s_seen * s_seen;
+    ++pre_n_;
     if (split.size() >= 2) {
       // The groups are tried in Finish in place of the whole; until then
       // they wait, disabled.
@@ -318,10 +331,11 @@ std::vector<MapOptimizer::SplitDirection> MapOptimizer::SplitDirections(const No
 
 OdometryMeasurement MapOptimizer::PathTo(const Node& n, const Vec2& local_point) const {
   const Pose2 local_from_world = n.raw.inverse();
+  const std::vector<Pose2> mapped = MappedPath(n);
   size_t best = 0;
   double best_d2 = std::numeric_limits<double>::infinity();
-  for (size_t t = 0; t < n.path_raw.size(); ++t) {
-    const double d2 = (local_from_world * n.path_raw[t].translation() - local_point).squaredNorm();
+  for (size_t t = 0; t < mapped.size(); ++t) {
+    const double d2 = (local_from_world * mapped[t].translation() - local_point).squaredNorm();
     if (d2 < best_d2) {
       best_d2 = d2;
       best = t;
@@ -329,7 +343,7 @@ OdometryMeasurement MapOptimizer::PathTo(const Node& n, const Vec2& local_point)
   }
   std::vector<Pose2> path;
   path.reserve(best + 1);
-  for (size_t t = 0; t <= best && t < n.path_raw.size(); ++t) path.push_back(local_from_world * n.path_raw[t]);
+  for (size_t t = 0; t <= best && t < mapped.size(); ++t) path.push_back(local_from_world * mapped[t]);
   return MeasureOdometry(path, options_.odometry);
 }
 
@@ -384,7 +398,7 @@ void MapOptimizer::TryLoopClosures(int n) {
     // The graph's pose of the new ASR in the stored one's frame, and the
     // same for the raw walls: each node's walls bent back by its drift rate
     // where they may overlap (the path pose nearest the other's centre).
-    const double rate_k = graph_.rate(c.k), rate_n = graph_.rate(n - 1);
+    const double rate_k = graph_.rate(c.k) - o.pre_rate, rate_n = graph_.rate(n - 1) - cur.pre_rate;
     const Pose2 placed = graph_.pose(c.k).inverse() * Tn;
     const Pose2 guess = BendAt(PathTo(o, placed * cur.centre_local), rate_k).inverse() * placed *
                         BendAt(PathTo(cur, placed.inverse() * o.centre_local), rate_n);
@@ -523,7 +537,7 @@ MapOptimizer::Consistency MapOptimizer::MapConsistency(const std::vector<Pose2>&
     // With a drift rate, the walls and path as the placement has them
     // (re-integrated inside the ASR); the faces keep the sides they had.
     const double r = rates.empty() ? 0.0 : rates[i];
-    if (r != 0.0 && !nodes_[i].stored) {
+    if (r != nodes_[i].pre_rate && !nodes_[i].stored) {
       const std::vector<Vec2> path_local = LocalCorrectedPath(nodes_[i], r);
       walls[i] = TransformFaces(poses[i], FaceWalls(BendWalls(nodes_[i], r), path_local));
       paths[i] = TransformPath(poses[i], path_local);
@@ -963,7 +977,7 @@ void MapOptimizer::FitVarianceComponents() {
 
 std::vector<Polyline> MapOptimizer::BendWalls(const Node& n, double rate, bool output) const {
   const std::vector<Polyline>& walls = output && n.output_walls ? *n.output_walls : n.walls;
-  if (rate == 0.0 || n.path_raw.empty()) return walls;
+  if (rate == n.pre_rate || n.path_raw.empty()) return walls;
   // The path in the local frame, as mapped (q) and with the drift removed (c),
   // with the distance driven to each pose.
   const Pose2 local_from_world = n.raw.inverse();
@@ -972,11 +986,14 @@ std::vector<Polyline> MapOptimizer::BendWalls(const Node& n, double rate, bool o
   view.world_from_local_corrected = n.raw;
   view.path = n.path_raw;
   const std::vector<Pose2> c = asr::CorrectedPath(view, rate);  // local frame placed at n.raw: back to local below
+  // The walls were mapped on the path re-integrated under n.pre_rate: what
+  // is left to remove is rate - pre_rate, about that path's poses.
+  const std::vector<Pose2> mapped = MappedPath(n);
   std::vector<Vec2> q(n.path_raw.size());
   std::vector<Pose2> cl(n.path_raw.size());
   std::vector<double> s(n.path_raw.size(), 0.0);
   for (size_t k = 0; k < n.path_raw.size(); ++k) {
-    q[k] = local_from_world * n.path_raw[k].translation();
+    q[k] = local_from_world * mapped[k].translation();
     cl[k] = local_from_world * c[k];
     const Vec2 prev = k == 0 ? Vec2(0, 0) : q[k - 1];
     s[k] = (k == 0 ? 0.0 : s[k - 1]) + (q[k] - prev).norm();
@@ -993,10 +1010,42 @@ std::vector<Polyline> MapOptimizer::BendWalls(const Node& n, double rate, bool o
           best = k;
         }
       }
-      p = cl[best].translation() + RotateAbout(p - q[best], Vec2(0, 0), -rate * s[best]);
+      p = cl[best].translation() + RotateAbout(p - q[best], Vec2(0, 0), -(rate - n.pre_rate) * s[best]);
     }
   }
   return out;
+}
+
+std::vector<Pose2> MapOptimizer::MappedPath(const Node& n) const {
+  if (n.pre_rate == 0.0) return n.path_raw;
+  asr::Asr view;
+  view.world_from_local_raw = n.raw;
+  view.world_from_local_corrected = n.raw;
+  view.path = n.path_raw;
+  return asr::CorrectedPath(view, n.pre_rate);
+}
+
+double MapOptimizer::PreBendRate() const {
+  if (nodes_.empty() || !(options_.pre_bend_max_sigma_rad_per_m > 0.0) || pre_n_ < options_.pre_bend_min_directions)
+    return 0.0;
+  const double sxx = pre_wss_ - pre_ws_ * pre_ws_ / pre_w_;
+  const double sigma = sxx > 0.0 ? 1.0 / std::sqrt(sxx) : std::numeric_limits<double>::infinity();
+  if (!(sigma <= options_.pre_bend_max_sigma_rad_per_m)) return 0.0;
+  // The run's rate, as Finish reports it: the mean of the nodes' rates (one
+  // node's alone wanders with the heading noise between its neighbours'
+  // walls: 0.96-1.41 deg/m on intel at 1 deg/m).
+  double sum = 0.0;
+  int n = 0;
+  for (int i = 0; i < size(); ++i) {
+    if (nodes_[i].stored) continue;
+    sum += graph_.rate(i);
+    ++n;
+  }
+  const double r = n > 0 ? sum / n : 0.0;
+  // A rate the walls do not tell from none (the drift test's level, one
+  // degree of freedom) is not removed: noise would bend good rooms.
+  if (!std::isfinite(r) || r * r < ChiSquareQuantile(options_.drift_test_probability, 1) * sigma * sigma) return 0.0;
+  return r;
 }
 
 int MapOptimizer::RoomOf(int asr_id) const {

@@ -36,6 +36,14 @@ struct MapOptimizerOptions {
   // ASR, and keeps them when they find a drift and the map stays as
   // consistent (docs/pose-graph.md). 0 = one factor per ASR.
   double direction_split_m = 3.0;
+  // The drift to remove while the next rooms are mapped (PreBendRate,
+  // asr::CognitiveMapper::SetPreBend): the graph's mean rate once the
+  // least-squares slope of wall heading over distance driven has a 1-sigma
+  // of at most this, from at least pre_bend_min_directions direction
+  // factors, and the rate differs from zero at drift_test_probability;
+  // else none. 0 = never.
+  double pre_bend_max_sigma_rad_per_m = DegToRad(0.1);
+  int pre_bend_min_directions = 3;
   // ... where along the path a wall edge was seen from: the mean distance
   // driven over the path points within this range of it (the MHIMM window:
   // the grid takes readings within 3 m of the robot).
@@ -178,6 +186,13 @@ class MapOptimizer {
   int RoomOf(int asr_id) const;
   const std::vector<LoopClosure>& closures() const { return closures_; }
   int size() const { return static_cast<int>(nodes_.size()); }
+  // The drift rate (rad per metre) to remove inside the ASRs mapped from now
+  // on (asr::Asr::pre_bend_rad_per_m): the mean of the placed nodes' rates
+  // when the direction factors placed so far pin it
+  // (pre_bend_max_sigma_rad_per_m) and tell it from none (the drift test's
+  // level), else 0. A wrong value costs sharpness, not consistency: each node's
+  // factors know what was removed (PoseGraph::AddNode's rate_offset).
+  double PreBendRate() const;
   // The wall-direction estimate of the ASR placed last.
   const localize::DirectionEstimate& LastEstimate() const { return last_estimate_; }
 
@@ -189,6 +204,7 @@ class MapOptimizer {
     int sample_count = 0;            // SampleFaces(faces): made again when a loop closure needs them
     std::vector<Vec2> path_local;    // robot path, local frame, every ~0.2 m
     std::vector<Pose2> path_raw;     // raw path (world raw), for the odometry factor
+    double pre_rate = 0.0;           // drift removed while it was mapped (asr::Asr::pre_bend_rad_per_m)
     std::vector<Polyline> walls;     // local frame, as mapped
     std::optional<std::vector<Polyline>> output_walls;  // the walls the ASR keeps, when not 'walls'
     Vec2 centre_local{0, 0};
@@ -203,6 +219,9 @@ class MapOptimizer {
     int room_id = -1;
   };
   Node MakeNode(const asr::Asr& a) const;
+  // n's path as its walls were mapped (world raw frame): the raw path
+  // re-integrated under n.pre_rate (the raw path when that is 0).
+  std::vector<Pose2> MappedPath(const Node& n) const;
   // n's walls with the drift 'rate' removed inside the ASR; 'output': the
   // walls it keeps (Node::output_walls) rather than those matched.
   std::vector<Polyline> BendWalls(const Node& n, double rate, bool output = false) const;
@@ -263,6 +282,13 @@ class MapOptimizer {
   std::vector<int> closure_factor_;  // per accepted closure: its AddRelative index
   std::vector<int> closure_index_;   // per accepted closure: index into closures_
   int registrations_ = 0;
+  // Weighted sums over the placed ASRs' direction factors (weight 1 /
+  // sigma^2, s the distance driven to where the walls were seen): the
+  // least-squares slope of heading over s has variance 1 / Sxx, what
+  // PreBendRate gates on.
+  double pre_w_ = 0.0, pre_ws_ = 0.0, pre_wss_ = 0.0;
+  int pre_n_ = 0;
+  double driven_m_ = 0.0;  // distance driven to the newest node's origin
   localize::DirectionEstimate last_estimate_;
   double solve_seconds_ = 0.0;
   int last_full_solve_ = 0;

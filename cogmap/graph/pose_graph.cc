@@ -136,12 +136,13 @@ class BentEndCache {
 struct OdometryCost {
   OdometryMeasurement m;
   Eigen::Matrix3d W;
-  double scale = 1.0;  // 1 / the variance component's sigma factor
+  double offset = 0.0;  // the drift already removed from m (node i's rate offset)
+  double scale = 1.0;   // 1 / the variance component's sigma factor
   BentEndCache bent{};
   template <typename T>
   bool operator()(const T* pi, const T* pj, const T* rate, T* r) const {
     T end[3];
-    bent(m, rate[0], end);
+    bent(m, rate[0] - T(offset), end);
     RelativeResidual(pi, pj, end[0], end[1], end[2], W, r);
     for (int a = 0; a < 3; ++a) r[a] *= T(scale);
     return true;
@@ -192,16 +193,17 @@ void InverseT(const T* a, T* out) {
 // re-integrated under the node's rate) x (the raw path to s)^-1. Across an
 // exit s_i is node i's whole path and s_j = 0 (B_j the identity).
 struct BentRelativeCost {
-  OdometryMeasurement mi, mj;  // each node's raw path to where the walls overlap
+  OdometryMeasurement mi, mj;  // each node's path (as mapped) to where the walls overlap
   Pose2 middle;                // mi.delta^-1 z mj.delta
   Eigen::Matrix3d W;
+  double offset_i = 0.0, offset_j = 0.0;  // the nodes' rate offsets
   double scale = 1.0;
   BentEndCache bent_i{}, bent_j{};
   template <typename T>
   bool operator()(const T* pi, const T* pj, const T* rate_i, const T* rate_j, T* r) const {
     T bi[3], bj[3], bj_inv[3], t[3], m[3];
-    bent_i(mi, rate_i[0], bi);
-    bent_j(mj, rate_j[0], bj);
+    bent_i(mi, rate_i[0] - T(offset_i), bi);
+    bent_j(mj, rate_j[0] - T(offset_j), bj);
     InverseT(bj, bj_inv);
     const T mid[3] = {T(middle.x), T(middle.y), T(middle.theta)};
     ComposeT(bi, mid, t);
@@ -214,13 +216,15 @@ struct BentRelativeCost {
 
 struct DirectionCost {
   double d = 0.0, sigma = 1.0, s_mean = 0.0, floor = 0.0;
-  double scale = 1.0;  // 1 / the variance components' factor on sigma
+  double offset = 0.0;  // the node's rate offset (drift removed while it was mapped)
+  double scale = 1.0;   // 1 / the variance components' factor on sigma
   template <typename T>
   bool operator()(const T* pi, const T* phi, const T* rate, T* r) const {
     // Walls seen after driving s from the ASR's origin were placed with a
     // heading that had drifted by rate x s more: they lean by +rate x s in the
-    // ASR's frame. The measured direction is corrected by the mean.
-    const T v = pi[2] + T(d) - rate[0] * T(s_mean) - phi[0];
+    // ASR's frame (less what was removed while mapping). The measured
+    // direction is corrected by the mean.
+    const T v = pi[2] + T(d) - (rate[0] - T(offset)) * T(s_mean) - phi[0];
     const double k = std::round(Value(v) / kQuarter);  // nearest of the four branches
     r[0] = (v - T(k * kQuarter)) / T(std::max({floor, sigma / scale, 1e-9}));
     return true;
@@ -333,6 +337,7 @@ OdometryMeasurement MeasureOdometry(const std::vector<Pose2>& path, const Odomet
 struct PoseGraph::Impl {
   std::deque<std::array<double, 3>> nodes;
   std::deque<double> rates;
+  std::vector<double> offsets;  // per node: the drift rate its measurements already had removed
   std::vector<bool> fixed;
   double phi = 0.0;
   bool has_phi = false;
@@ -399,9 +404,10 @@ struct PoseGraph::Impl {
 PoseGraph::PoseGraph() : impl_(std::make_unique<Impl>()) {}
 PoseGraph::~PoseGraph() = default;
 
-int PoseGraph::AddNode(const Pose2& initial, bool fixed) {
+int PoseGraph::AddNode(const Pose2& initial, bool fixed, double rate_offset) {
   impl_->nodes.push_back({initial.x, initial.y, initial.theta});
   impl_->rates.push_back(0.0);
+  impl_->offsets.push_back(rate_offset);
   impl_->fixed.push_back(fixed);
   return static_cast<int>(impl_->nodes.size()) - 1;
 }
@@ -409,7 +415,7 @@ int PoseGraph::AddNode(const Pose2& initial, bool fixed) {
 int PoseGraph::size() const { return static_cast<int>(impl_->nodes.size()); }
 
 void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const OdometryNoiseOptions& noise) {
-  auto* c = new OdometryCost{m, SqrtInformation(m.covariance)};
+  auto* c = new OdometryCost{m, SqrtInformation(m.covariance), impl_->offsets[i]};
   Impl::Factor f;
   f.scale = &c->scale;
   f.odometry = &c->m;
@@ -456,7 +462,7 @@ int PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, doub
   f.kind = FactorKind::kDirection;
   f.i = i;
   f.dof = 1;
-  auto* c = new DirectionCost{d, sigma, s_mean_m, floor_rad};
+  auto* c = new DirectionCost{d, sigma, s_mean_m, floor_rad, impl_->offsets[i]};
   f.scale = &c->scale;
   f.cost.reset(new ceres::AutoDiffCostFunction<DirectionCost, 1, 3, 1, 1>(c));
   f.loss.reset(new ceres::CauchyLoss(cauchy_scale));
@@ -478,7 +484,8 @@ int PoseGraph::AddRelative(int i, int j, const Pose2& z, const Eigen::Matrix3d& 
     const OdometryMeasurement none;
     const OdometryMeasurement& mi = bend_i ? *bend_i : none;
     const OdometryMeasurement& mj = bend_j ? *bend_j : none;
-    auto* c = new BentRelativeCost{mi, mj, mi.delta.inverse() * z * mj.delta, SqrtInformation(cov)};
+    auto* c = new BentRelativeCost{mi, mj, mi.delta.inverse() * z * mj.delta, SqrtInformation(cov),
+                                   bend_i ? impl_->offsets[i] : 0.0, bend_j ? impl_->offsets[j] : 0.0};
     f.scale = &c->scale;
     f.cost.reset(new ceres::AutoDiffCostFunction<BentRelativeCost, 3, 3, 3, 1, 1>(c));
     f.params = {impl_->nodes[i].data(), impl_->nodes[j].data(), &impl_->rates[i], &impl_->rates[j]};
@@ -497,7 +504,9 @@ int PoseGraph::AddRelative(int i, int j, const Pose2& z, const Eigen::Matrix3d& 
   return static_cast<int>(impl_->relative_index.size()) - 1;
 }
 
-Pose2 PoseGraph::Bend(int i, const OdometryMeasurement& m) const { return BendAt(m, impl_->rates[i]); }
+Pose2 PoseGraph::Bend(int i, const OdometryMeasurement& m) const {
+  return BendAt(m, impl_->rates[i] - impl_->offsets[i]);
+}
 
 namespace {
 // The path's end under drift rate 'rate' (m's steps re-integrated), in doubles.
@@ -565,7 +574,7 @@ void PoseGraph::ChainWithRate(double rate) {
   for (double& r : impl_->rates) r = rate;
   for (const auto& f : impl_->factors) {
     if (f.kind != FactorKind::kOdometry || !f.odometry || impl_->fixed[f.j]) continue;
-    set_pose(f.j, pose(f.i) * BentPathEnd(*f.odometry, rate));
+    set_pose(f.j, pose(f.i) * BentPathEnd(*f.odometry, rate - impl_->offsets[f.i]));
   }
 }
 

@@ -76,7 +76,12 @@ class PoseGraph {
   PoseGraph(const PoseGraph&) = delete;
   PoseGraph& operator=(const PoseGraph&) = delete;
 
-  int AddNode(const Pose2& initial, bool fixed = false);
+  // 'rate_offset': a drift rate already removed from everything measured of
+  // node i (its walls and path were mapped on odometry re-integrated under
+  // that rate, asr::Asr::pre_bend_rad_per_m). The node's rate stays the
+  // odometry's whole drift; its factors bend their measurements by the rest,
+  // rate - rate_offset (Bend and ChainWithRate too).
+  int AddNode(const Pose2& initial, bool fixed = false, double rate_offset = 0.0);
   int size() const;
   void AddOdometry(int i, int j, const OdometryMeasurement& m, const OdometryNoiseOptions& noise = {});
   // 's_mean_m': mean distance driven from the node's origin while its walls

@@ -165,7 +165,15 @@ MappingPipeline::MappingPipeline(sensors::RobotDescription robot, MappingOptions
       break;
     case Correction::kPoseGraph:
       optimizer_ = std::make_unique<graph::MapOptimizer>(GraphOptionsFor(heading_options_, options_));
-      mapper_->SetPlacer([this](asr::Asr x) { return KeepEstimate(optimizer_->Place(std::move(x))); });
+      mapper_->SetPlacer([this](asr::Asr x) {
+        asr::Asr out = KeepEstimate(optimizer_->Place(std::move(x)));
+        NotePreBend(out.id);
+        return out;
+      });
+      // The rate of two rooms back: the room just closed is still being
+      // vectorised and placed on the mapper's threads while the next is
+      // mapped, the one before it is placed by then.
+      if (options_.pre_bend) mapper_->SetPreBend(2, [this](int placed) { return PreBendAfter(placed); });
       break;
     case Correction::kPerAsrEm:
       mapper_->SetCorrector([this](asr::Asr raw) { return KeepEstimate(corrector_.Close(std::move(raw))); });
@@ -201,6 +209,21 @@ asr::Asr MappingPipeline::KeepEstimate(asr::Asr x) {
   return x;
 }
 
+void MappingPipeline::NotePreBend(int asr_id) {
+  const double rate = optimizer_->PreBendRate();
+  std::lock_guard<std::mutex> lock(pre_bend_mutex_);
+  pre_bend_after_[asr_id] = rate;
+}
+
+double MappingPipeline::PreBendAfter(int placed_id) {
+  std::lock_guard<std::mutex> lock(pre_bend_mutex_);
+  const auto it = pre_bend_after_.find(placed_id);
+  const double rate = it == pre_bend_after_.end() ? 0.0 : it->second;
+  // Rooms start in id order: what came before is no longer asked for.
+  pre_bend_after_.erase(pre_bend_after_.begin(), pre_bend_after_.upper_bound(placed_id));
+  return rate;
+}
+
 void MappingPipeline::Closed(const asr::Asr& x) {
   AsrSummary s;
   s.id = x.id;
@@ -210,6 +233,7 @@ void MappingPipeline::Closed(const asr::Asr& x) {
   s.walls = static_cast<int>(x.walls_local.size());
   s.bytes = x.bytes;
   s.heading_correction_rad = x.heading_correction_rad;
+  s.pre_bend_rad_per_m = x.pre_bend_rad_per_m;
   {
     std::lock_guard<std::mutex> lock(estimates_mutex_);
     if (auto it = estimates_.find(x.id); it != estimates_.end()) {
@@ -262,6 +286,7 @@ void MappingPipeline::Resume() {
         optimizer_->AddStored(*x, store_->RoomOf(id));
       } else {
         optimizer_->Place(asr::MatchedView(std::move(*x)));
+        NotePreBend(id);
         ++result_.replayed;
       }
     }

@@ -49,6 +49,7 @@ struct MappingOptions {
   bool cone_walls = true;              // default mode, sonar: the walls kept are a cone grid's (asr::MapperOptions::cone_output_walls); --axis-walls: false
   bool correct = true;                 // false: every ASR at its odometry pose
   bool pose_graph = true;              // default mode: the pose graph (false: the drift filter)
+  bool pre_bend = false;               // pose graph, --pre-bend: the drift it has pinned is removed while the next rooms are mapped
   bool drift_filter = true;            // without the graph: the drift-rate filter
   bool smooth = true;                  // drift filter: revise the run's corrections at the end
   double add_drift_rad_per_m = 0.0;    // a systematic heading drift added to the odometry (tests on real logs)
@@ -75,6 +76,7 @@ struct AsrSummary {
   int walls = 0;
   asr::StageBytes bytes;
   double heading_correction_rad = 0.0;  // revised at Finish() when the corrections are
+  double pre_bend_rad_per_m = 0.0;      // drift removed while it was mapped (asr::Asr::pre_bend_rad_per_m)
   std::optional<localize::DirectionEstimate> estimate;  // the heading estimate when it closed
   asr::GridOrientation grid_orientation;
 };
@@ -156,6 +158,11 @@ class MappingPipeline {
   // Keeps the corrector's estimate for x (LastEstimate, read where it was made:
   // the closing may run on the mapper's second thread) until Closed reports it.
   asr::Asr KeepEstimate(asr::Asr x);
+  // The pose graph's pre-bend (asr::CognitiveMapper::SetPreBend): the rate
+  // to remove in the rooms mapped next, noted as each ASR is placed (on the
+  // placing thread) and read when a room 'lag' later starts.
+  void NotePreBend(int asr_id);
+  double PreBendAfter(int placed_id);
 
   sensors::RobotDescription robot_;
   MappingOptions options_;
@@ -170,6 +177,8 @@ class MappingPipeline {
   RunResult result_;
   std::mutex estimates_mutex_;
   std::map<int, localize::DirectionEstimate> estimates_;  // ASR id -> its estimate, until reported
+  std::mutex pre_bend_mutex_;
+  std::map<int, double> pre_bend_after_;  // placed ASR id -> PreBendRate after it, until read
   bool finished_ = false;
 };
 

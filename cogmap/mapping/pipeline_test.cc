@@ -212,6 +212,7 @@ TEST(MappingPipeline, SecondThreadGivesTheSameMapAsOne) {
     auto store = asr::SqliteAsrStore::Open(path, asr::SqliteAsrStore::OpenMode::kReplace);
     MappingOptions o;
     o.threads = threads;
+    o.pre_bend = true;
     MappingPipeline p(sensors::BuiltinRobot("pioneer16"), o, store.get());
     const std::thread::id caller = std::this_thread::get_id();
     p.OnAsrClosed([&](const asr::Asr& x, const AsrSummary& s) {
@@ -241,8 +242,14 @@ TEST(MappingPipeline, SecondThreadGivesTheSameMapAsOne) {
     for (int a = 0; a < 9; ++a) EXPECT_EQ(one.covariances[i](a / 3, a % 3), two.covariances[i](a / 3, a % 3)) << i;
   }
   ASSERT_EQ(one.stored.size(), two.stored.size());
+  // At 1 deg/m the graph pins the drift within the run: the rooms mapped
+  // after that are pre-bent, by the same rate with either thread count.
+  int bent = 0;
+  for (const asr::Asr& a : two.stored) bent += a.pre_bend_rad_per_m != 0.0 ? 1 : 0;
+  EXPECT_GE(bent, 1);
   for (size_t i = 0; i < one.stored.size(); ++i) {
     const asr::Asr &a = one.stored[i], &b = two.stored[i];
+    EXPECT_EQ(a.pre_bend_rad_per_m, b.pre_bend_rad_per_m) << i;
     EXPECT_EQ(a.world_from_local_corrected.x, b.world_from_local_corrected.x) << i;
     EXPECT_EQ(a.world_from_local_corrected.theta, b.world_from_local_corrected.theta) << i;
     ASSERT_EQ(a.walls_local.size(), b.walls_local.size()) << i;
@@ -373,11 +380,15 @@ TEST(MappingPipeline, ResumeAfterAKillKeepsTheRunsLoopClosuresAndRooms) {
   sim::Simulate(plan, sensors::BuiltinRobot("pioneer16"), so,
                 [&records](const sensors::LogRecord& r) { records.push_back(r); });
 
+  // With the pre-bend (--pre-bend): the replayed ASRs are placed with the
+  // drift their grids were built without, read back from the store.
+  MappingOptions bent;
+  bent.pre_bend = true;
   const std::string whole_path = TestTempPath("uninterrupted.sqlite");
   auto whole = asr::SqliteAsrStore::Open(whole_path, asr::SqliteAsrStore::OpenMode::kReplace);
   int whole_asrs = 0, whole_closures = 0;
   {
-    MappingPipeline p(sensors::BuiltinRobot("pioneer16"), {}, whole.get());
+    MappingPipeline p(sensors::BuiltinRobot("pioneer16"), bent, whole.get());
     for (const auto& r : records) p.Push(r);
     const RunResult& r = p.Finish();
     whole_asrs = static_cast<int>(r.asrs.size());
@@ -386,59 +397,68 @@ TEST(MappingPipeline, ResumeAfterAKillKeepsTheRunsLoopClosuresAndRooms) {
   ASSERT_GE(whole_closures, 2);  // the corridor is revisited and recognised
   ASSERT_LT(RoomCount(*whole), static_cast<size_t>(whole_asrs));
 
-  // The kill: after the ASR that follows the first two accepted closures.
-  const std::string path = TestTempPath("killed.sqlite");
-  const int kill_after = 6;
-  size_t resume_at = 0;
-  {
-    auto store = asr::SqliteAsrStore::Open(path, asr::SqliteAsrStore::OpenMode::kReplace);
-    // One thread: the callback then comes right after each ASR is stored,
-    // which is where this kill happens.
-    MappingOptions one_thread;
-    one_thread.threads = 1;
-    MappingPipeline p(sensors::BuiltinRobot("pioneer16"), one_thread, store.get());
-    bool killed = false;
-    p.OnAsrClosed([&](const asr::Asr& x, const AsrSummary&) { killed |= x.id == kill_after; });
-    for (size_t i = 0; i < records.size() && !killed; ++i) {
-      p.Push(records[i]);
-      resume_at = i;  // the record at which the last stored ASR was written
+  // The kill: after the ASR that follows the first two accepted closures,
+  // and once more after some ASRs were mapped with the drift removed (from
+  // ASR 13 on in this run).
+  for (const int kill_after : {6, 15}) {
+    SCOPED_TRACE(kill_after);
+    const std::string path = TestTempPath("killed" + std::to_string(kill_after) + ".sqlite");
+    size_t resume_at = 0;
+    {
+      auto store = asr::SqliteAsrStore::Open(path, asr::SqliteAsrStore::OpenMode::kReplace);
+      // One thread: the callback then comes right after each ASR is stored,
+      // which is where this kill happens.
+      MappingOptions one_thread;
+      one_thread.threads = 1;
+      one_thread.pre_bend = true;
+      MappingPipeline p(sensors::BuiltinRobot("pioneer16"), one_thread, store.get());
+      bool killed = false;
+      p.OnAsrClosed([&](const asr::Asr& x, const AsrSummary&) { killed |= x.id == kill_after; });
+      for (size_t i = 0; i < records.size() && !killed; ++i) {
+        p.Push(records[i]);
+        resume_at = i;  // the record at which the last stored ASR was written
+      }
+      ASSERT_TRUE(killed);
+    }  // no Finish()
+    auto store = asr::SqliteAsrStore::Open(path, asr::SqliteAsrStore::OpenMode::kOpenExisting);
+    ASSERT_EQ(store->MaxId(), kill_after);
+    EXPECT_FALSE(store->GetPlacement(0));
+    MappingPipeline p(sensors::BuiltinRobot("pioneer16"), bent, store.get());
+    p.Resume();
+    for (size_t i = resume_at; i < records.size(); ++i) p.Push(records[i]);
+    const RunResult& r = p.Finish();
+    EXPECT_EQ(r.replayed, kill_after + 1);
+    int closures = 0;
+    for (const auto& c : r.graph.closures) closures += c.accepted;
+    EXPECT_GE(closures, 2);
+    // The join costs at most an ASR (the robot restarts at the last close, not at the door).
+    EXPECT_NEAR(store->Count(), whole->Count(), 1);
+    EXPECT_NEAR(static_cast<double>(RoomCount(*store)), static_cast<double>(RoomCount(*whole)), 1.0);
+    // The join goes through the doorway the killed run left its last ASR by,
+    // as in the uninterrupted run (not a width-0 exit where the tail starts).
+    bool joined = false;
+    for (const auto& e : store->Edges())
+      if (e.from_asr == kill_after && e.to_asr == kill_after + 1) {
+        joined = true;
+        EXPECT_GT(e.width_m, 0.5);
+      }
+    EXPECT_TRUE(joined);
+    // The ASRs placed again end where the uninterrupted run put them.
+    int pre_bent = 0;
+    for (int id = 0; id <= kill_after; ++id) {
+      EXPECT_EQ(store->Get(id)->pre_bend_rad_per_m, whole->Get(id)->pre_bend_rad_per_m) << id;
+      pre_bent += store->Get(id)->pre_bend_rad_per_m != 0.0 ? 1 : 0;
+      const Pose2 a = store->Get(id)->world_from_local_corrected, b = whole->Get(id)->world_from_local_corrected;
+      EXPECT_NEAR(a.x, b.x, 0.05) << id;
+      EXPECT_NEAR(a.y, b.y, 0.05) << id;
+      EXPECT_NEAR(a.theta, b.theta, DegToRad(0.5)) << id;
     }
-    ASSERT_TRUE(killed);
-  }  // no Finish()
-  auto store = asr::SqliteAsrStore::Open(path, asr::SqliteAsrStore::OpenMode::kOpenExisting);
-  ASSERT_EQ(store->MaxId(), kill_after);
-  EXPECT_FALSE(store->GetPlacement(0));
-  MappingPipeline p(sensors::BuiltinRobot("pioneer16"), {}, store.get());
-  p.Resume();
-  for (size_t i = resume_at; i < records.size(); ++i) p.Push(records[i]);
-  const RunResult& r = p.Finish();
-  EXPECT_EQ(r.replayed, kill_after + 1);
-  int closures = 0;
-  for (const auto& c : r.graph.closures) closures += c.accepted;
-  EXPECT_GE(closures, 2);
-  // The join costs at most an ASR (the robot restarts at the last close, not at the door).
-  EXPECT_NEAR(store->Count(), whole->Count(), 1);
-  EXPECT_NEAR(static_cast<double>(RoomCount(*store)), static_cast<double>(RoomCount(*whole)), 1.0);
-  // The join goes through the doorway the killed run left its last ASR by,
-  // as in the uninterrupted run (not a width-0 exit where the tail starts).
-  bool joined = false;
-  for (const auto& e : store->Edges())
-    if (e.from_asr == kill_after && e.to_asr == kill_after + 1) {
-      joined = true;
-      EXPECT_GT(e.width_m, 0.5);
-    }
-  EXPECT_TRUE(joined);
-  // The ASRs placed again end where the uninterrupted run put them.
-  for (int id = 0; id <= kill_after; ++id) {
-    const Pose2 a = store->Get(id)->world_from_local_corrected, b = whole->Get(id)->world_from_local_corrected;
-    EXPECT_NEAR(a.x, b.x, 0.05) << id;
-    EXPECT_NEAR(a.y, b.y, 0.05) << id;
-    EXPECT_NEAR(a.theta, b.theta, DegToRad(0.5)) << id;
+    if (kill_after == 15) EXPECT_GE(pre_bent, 1);
+    // A finished run is the end of a session: resumed again, nothing is replayed.
+    MappingPipeline again(sensors::BuiltinRobot("pioneer16"), {}, store.get());
+    again.Resume();
+    EXPECT_EQ(again.Finish().replayed, 0);
   }
-  // A finished run is the end of a session: resumed again, nothing is replayed.
-  MappingPipeline again(sensors::BuiltinRobot("pioneer16"), {}, store.get());
-  again.Resume();
-  EXPECT_EQ(again.Finish().replayed, 0);
 }
 
 }  // namespace

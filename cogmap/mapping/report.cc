@@ -111,6 +111,7 @@ nlohmann::json AsrJson(const AsrSummary& s) {
           {"bytes_grid", s.bytes.grid},
           {"bytes_polylines", s.bytes.polylines},
           {"heading_correction_deg", RadToDeg(s.heading_correction_rad)},
+          {"pre_bend_deg_per_m", RadToDeg(s.pre_bend_rad_per_m)},
           {"heading_estimate", heading}};
 }
 
@@ -188,7 +189,12 @@ void WriteReport(const ReportContext& c, std::ostream& out) {
     report["drift_filter_walk_deg_per_sqrt_m"] = RadToDeg(run.drift_walk_rad_per_sqrt_m);
     report["drift_filter_sigma_scale"] = run.drift_sigma_scale;
   }
-  if (run.correction == Correction::kPoseGraph) report["pose_graph"] = PoseGraphJson(run.graph, c.rooms, &streams);
+  if (run.correction == Correction::kPoseGraph) {
+    report["pose_graph"] = PoseGraphJson(run.graph, c.rooms, &streams);
+    int bent = 0;
+    for (const AsrSummary& s : run.asrs) bent += s.pre_bend_rad_per_m != 0.0 ? 1 : 0;
+    report["pose_graph"]["pre_bent_asrs"] = bent;
+  }
   for (const auto& [k, v] : localize::HeadingErrorEvalKeys(*c.heading)) report[k] = v;
   if (c.room_metrics) {
     report["world"] = fs::absolute(job.world).string();
