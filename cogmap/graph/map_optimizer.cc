@@ -61,7 +61,8 @@ MapOptimizer::Node MapOptimizer::MakeNode(const asr::Asr& a) const {
   n.pre_rate = a.pre_bend_rad_per_m;
   const Pose2 local_from_world = a.world_from_local_raw.inverse();
   // The path in the frame its walls were mapped in.
-  const std::vector<Pose2> mapped = MappedPath(n);
+  std::vector<Pose2> scratch;
+  const std::vector<Pose2>& mapped = MappedPath(n, &scratch);
   Vec2 last(1e18, 1e18);
   for (const Pose2& p : mapped) {
     const Vec2 q = local_from_world * p.translation();
@@ -137,7 +138,7 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
     view.world_from_local_raw = prev.raw;
     view.world_from_local_corrected = Pose2{};
     view.path.reserve(prev.path_raw.size() + 1);
-    view.path = prev.path_raw;
+    view.path.assign(prev.path_raw.begin(), prev.path_raw.end());
     view.path.push_back(a.world_from_local_raw);
     const OdometryMeasurement m = MeasureOdometry(asr::CorrectedPath(view, prev.pre_rate), options_.odometry);
     driven_m_ += m.distance_m;
@@ -331,7 +332,8 @@ std::vector<MapOptimizer::SplitDirection> MapOptimizer::SplitDirections(const No
 
 OdometryMeasurement MapOptimizer::PathTo(const Node& n, const Vec2& local_point) const {
   const Pose2 local_from_world = n.raw.inverse();
-  const std::vector<Pose2> mapped = MappedPath(n);
+  std::vector<Pose2> scratch;
+  const std::vector<Pose2>& mapped = MappedPath(n, &scratch);
   size_t best = 0;
   double best_d2 = std::numeric_limits<double>::infinity();
   for (size_t t = 0; t < mapped.size(); ++t) {
@@ -988,7 +990,8 @@ std::vector<Polyline> MapOptimizer::BendWalls(const Node& n, double rate, bool o
   const std::vector<Pose2> c = asr::CorrectedPath(view, rate);  // local frame placed at n.raw: back to local below
   // The walls were mapped on the path re-integrated under n.pre_rate: what
   // is left to remove is rate - pre_rate, about that path's poses.
-  const std::vector<Pose2> mapped = MappedPath(n);
+  std::vector<Pose2> scratch;
+  const std::vector<Pose2>& mapped = MappedPath(n, &scratch);
   std::vector<Vec2> q(n.path_raw.size());
   std::vector<Pose2> cl(n.path_raw.size());
   std::vector<double> s(n.path_raw.size(), 0.0);
@@ -1016,13 +1019,14 @@ std::vector<Polyline> MapOptimizer::BendWalls(const Node& n, double rate, bool o
   return out;
 }
 
-std::vector<Pose2> MapOptimizer::MappedPath(const Node& n) const {
+const std::vector<Pose2>& MapOptimizer::MappedPath(const Node& n, std::vector<Pose2>* scratch) const {
   if (n.pre_rate == 0.0) return n.path_raw;
   asr::Asr view;
   view.world_from_local_raw = n.raw;
   view.world_from_local_corrected = n.raw;
   view.path = n.path_raw;
-  return asr::CorrectedPath(view, n.pre_rate);
+  *scratch = asr::CorrectedPath(view, n.pre_rate);
+  return *scratch;
 }
 
 double MapOptimizer::PreBendRate() const {

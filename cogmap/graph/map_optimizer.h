@@ -219,9 +219,10 @@ class MapOptimizer {
     int room_id = -1;
   };
   Node MakeNode(const asr::Asr& a) const;
-  // n's path as its walls were mapped (world raw frame): the raw path
-  // re-integrated under n.pre_rate (the raw path when that is 0).
-  std::vector<Pose2> MappedPath(const Node& n) const;
+  // n's path as its walls were mapped (world raw frame): the raw path itself
+  // when n.pre_rate is 0, else that path re-integrated under it, made in
+  // 'scratch'.
+  const std::vector<Pose2>& MappedPath(const Node& n, std::vector<Pose2>* scratch) const;
   // n's walls with the drift 'rate' removed inside the ASR; 'output': the
   // walls it keeps (Node::output_walls) rather than those matched.
   std::vector<Polyline> BendWalls(const Node& n, double rate, bool output = false) const;

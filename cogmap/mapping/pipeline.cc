@@ -210,6 +210,7 @@ asr::Asr MappingPipeline::KeepEstimate(asr::Asr x) {
 }
 
 void MappingPipeline::NotePreBend(int asr_id) {
+  if (!options_.pre_bend) return;  // nothing will ask
   const double rate = optimizer_->PreBendRate();
   std::lock_guard<std::mutex> lock(pre_bend_mutex_);
   pre_bend_after_[asr_id] = rate;
