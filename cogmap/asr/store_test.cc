@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "cogmap/core/error.h"
+#include "cogmap/core/test_temp.h"
 
 namespace cogmap::asr {
 namespace {
@@ -21,7 +22,7 @@ namespace fs = std::filesystem;
 
 // A fresh folder per test.
 std::string TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("cogmap_store_test_" + name + "_" + std::to_string(::getpid()));
+  const fs::path dir = fs::path(testing_util::TestTempDir()) / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();

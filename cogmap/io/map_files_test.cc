@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cogmap/core/test_temp.h"
 #include "cogmap/io/gpkg.h"
 #include "cogmap/io/grid_io.h"
 #include "cogmap/io/world_io.h"
@@ -18,7 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("cogmap_map_files_" + name + "_" + std::to_string(::getpid()));
+  const fs::path dir = fs::path(testing_util::TestTempDir()) / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();
