@@ -258,8 +258,19 @@ class Stmt {
   // Not prepared, or the last step failed (a corrupt file, an I/O error):
   // never read as the end of the rows.
   bool failed() const { return !stmt_ || (last_ != SQLITE_ROW && last_ != SQLITE_DONE); }
-  double Double(int i) { return sqlite3_column_double(stmt_, i); }
-  int64_t Int(int i) { return sqlite3_column_int64(stmt_, i); }
+  // A number, or the store's error: SQLite keeps whatever a hand-edited or
+  // damaged row holds ('abc' in a REAL column stays text), and reading text as
+  // a number would silently give 0.
+  double Double(int i) {
+    const int type = sqlite3_column_type(stmt_, i);
+    if (type != SQLITE_FLOAT && type != SQLITE_INTEGER) NotA("number", i, type);
+    return sqlite3_column_double(stmt_, i);
+  }
+  int64_t Int(int i) {
+    const int type = sqlite3_column_type(stmt_, i);
+    if (type != SQLITE_INTEGER) NotA("whole number", i, type);
+    return sqlite3_column_int64(stmt_, i);
+  }
   std::string Blob(int i) {
     const void* p = sqlite3_column_blob(stmt_, i);
     const int n = sqlite3_column_bytes(stmt_, i);
@@ -271,6 +282,15 @@ class Stmt {
   }
 
  private:
+  [[noreturn]] void NotA(const char* what, int i, int type) {
+    static const char* const kTypes[] = {"?", "an integer", "a real number", "text", "a blob", "NULL"};
+    const char* name = sqlite3_column_name(stmt_, i);
+    const char* file = sqlite3_db_filename(db_, "main");
+    throw InputError(file ? file : "store", 0,
+                     std::string("store error: column '") + (name ? name : "?") + "' holds " +
+                         kTypes[type >= 1 && type <= 5 ? type : 0] + ", not a " + what);
+  }
+
   sqlite3* db_;
   sqlite3_stmt* stmt_ = nullptr;
   bool cached_ = false;

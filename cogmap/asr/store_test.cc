@@ -632,6 +632,26 @@ TEST(SqliteAsrStore, CorruptPlacementIsAnInputError) {
   EXPECT_THROW(s->RoomOf(0), InputError);
 }
 
+// A number column holding text (a hand-edited or damaged row; SQLite keeps
+// it as text) is the store's error, never read as 0.
+TEST(SqliteAsrStore, TextInANumberColumnIsAnInputError) {
+  const std::string path = TempDir("text_in_number") + "/map.sqlite";
+  SqliteAsrStore::Open(path)->Put(MakeAsr(0));
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, "UPDATE asr SET raw_x='abc'", nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(db);
+  auto s = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
+  try {
+    s->Get(0);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("map.sqlite: store error: column 'raw_x' holds text, not a number"), std::string::npos)
+        << what;
+  }
+}
+
 // A store whose data pages were overwritten reads as an error naming the
 // file, never as a store with fewer ASRs. (A store cut short is refused when
 // opened: SQLite finds fewer pages than its header says.)
