@@ -743,8 +743,8 @@ OptimizerResult MapOptimizer::Finish() {
   if (!splits_.empty()) {
     const PoseGraph::State whole_state = graph_.Save();
     const bool whole_fixed = graph_.RatesFixedAtZero();
-    const FactorKind kinds[] = {FactorKind::kOdometry, FactorKind::kDirection, FactorKind::kRegistration,
-                                FactorKind::kLoopClosure};
+    const FactorKind kinds[] = {FactorKind::kOdometry, FactorKind::kOdometryHeading, FactorKind::kDirection,
+                                FactorKind::kRegistration, FactorKind::kLoopClosure};
     std::vector<double> whole_sigma;
     for (FactorKind k : kinds) whole_sigma.push_back(graph_.SigmaFactor(k));
     const std::vector<LoopClosure> whole_closures = closures_;
@@ -773,6 +773,7 @@ OptimizerResult MapOptimizer::Finish() {
   res.drift_alias_risk = drift.alias_risk;
   if (!drift.warning.empty()) res.warnings.push_back(drift.warning);
   res.odometry_sigma_factor = graph_.SigmaFactor(FactorKind::kOdometry);
+  res.odometry_heading_sigma_factor = graph_.SigmaFactor(FactorKind::kOdometryHeading);
   res.direction_sigma_factor = graph_.SigmaFactor(FactorKind::kDirection);
   res.registration_sigma_factor = graph_.SigmaFactor(FactorKind::kRegistration);
   const std::vector<Pose2> graph_poses = CurrentPoses();
@@ -872,8 +873,8 @@ OptimizerResult MapOptimizer::Finish() {
     // group's residuals are small where nothing else measures the same
     // relative pose (a chain without loops, a corridor's length), which says
     // nothing about the noise there (the global redundancy share cannot tell).
-    const FactorKind kinds[] = {FactorKind::kOdometry, FactorKind::kDirection, FactorKind::kRegistration,
-                                FactorKind::kLoopClosure};
+    const FactorKind kinds[] = {FactorKind::kOdometry, FactorKind::kOdometryHeading, FactorKind::kDirection,
+                                FactorKind::kRegistration, FactorKind::kLoopClosure};
     std::map<FactorKind, double> fitted;
     if (options_.covariance_sigma_floor) {
       for (FactorKind k : kinds) {
@@ -944,7 +945,8 @@ OptimizerResult MapOptimizer::Finish() {
 }
 
 void MapOptimizer::FitVarianceComponents() {
-  const FactorKind kinds[] = {FactorKind::kOdometry, FactorKind::kDirection, FactorKind::kRegistration};
+  const FactorKind kinds[] = {FactorKind::kOdometry, FactorKind::kOdometryHeading, FactorKind::kDirection,
+                              FactorKind::kRegistration};
   for (int round = 0; round < options_.variance_rounds; ++round) {
     graph_.Solve(0, options_.full_iterations);
     const auto rs = graph_.Residuals();
@@ -959,10 +961,18 @@ void MapOptimizer::FitVarianceComponents() {
       int count = 0;
       for (size_t k = 0; k < rs.size(); ++k) {
         const auto& r = rs[k];
-        const bool match = r.kind == kind || (kind == FactorKind::kRegistration && r.kind == FactorKind::kLoopClosure);
+        const bool match = r.kind == kind || (kind == FactorKind::kRegistration && r.kind == FactorKind::kLoopClosure) ||
+                           (kind == FactorKind::kOdometryHeading && r.kind == FactorKind::kOdometry);
         if (!r.enabled || !match) continue;
-        chi2 += red[k].weight * r.chi2;
-        redundancy += red[k].consistency * red[k].redundancy;
+        // The odometry's two components: its heading row, and the rest.
+        double c = r.chi2, rd = red[k].redundancy;
+        if (r.kind == FactorKind::kOdometry) {
+          const bool heading = kind == FactorKind::kOdometryHeading;
+          c = heading ? r.chi2_heading : r.chi2 - r.chi2_heading;
+          rd = heading ? red[k].redundancy_heading : red[k].redundancy - red[k].redundancy_heading;
+        }
+        chi2 += red[k].weight * c;
+        redundancy += red[k].consistency * rd;
         ++count;
       }
       if (count < options_.min_factors_for_variance || redundancy < options_.min_redundancy_for_variance) continue;

@@ -158,6 +158,7 @@ struct OptimizerResult {
   double drift_test_chi2 = 0.0;
   // Fitted sigma factors per kind of factor (variance components).
   double odometry_sigma_factor = 1.0, direction_sigma_factor = 1.0, registration_sigma_factor = 1.0;
+  double odometry_heading_sigma_factor = 1.0;
   int registrations = 0;
   int direction_factors = 0;
   double drift_rate_rad_per_m = 0.0;      // mean of the estimated rates

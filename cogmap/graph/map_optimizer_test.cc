@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 namespace cogmap::graph {
@@ -199,7 +200,7 @@ TEST(MapOptimizer, FittedSigmaFactorsNeverShrinkTheCovariances) {
   ASSERT_EQ(p.asrs.size(), asrs.size());
   ASSERT_EQ(f.asrs.size(), asrs.size());
   ASSERT_EQ(u.asrs.size(), asrs.size());
-  EXPECT_LT(std::min(f.odometry_sigma_factor, f.registration_sigma_factor), 1.0);  // the fit did shrink
+  EXPECT_LT(std::min({f.odometry_sigma_factor, f.odometry_heading_sigma_factor, f.registration_sigma_factor}), 1.0);  // the fit did shrink
   auto sigma = [](const AsrEstimate& e) { return std::sqrt(e.covariance(0, 0) + e.covariance(1, 1)); };
   for (size_t i = 1; i < asrs.size(); ++i) {
     EXPECT_GE(sigma(f.asrs[i]), 0.999 * sigma(p.asrs[i])) << i;

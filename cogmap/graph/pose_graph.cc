@@ -133,18 +133,42 @@ class BentEndCache {
   mutable Slot plain_, jet_;
 };
 
+// The odometry's whitening, heading first: row 2 is the heading error over
+// its marginal sigma; rows 0 and 1 whiten the translation error less what the
+// heading error explains of it (the conditional of translation given heading).
+// So the chi^2 splits into a heading part and a translation part, and each
+// can be scaled on its own: scaling row 2 scales the heading noise together
+// with the lateral error it causes, scaling rows 0-1 the rest.
+Eigen::Matrix3d HeadingFirstSqrtInformation(const Eigen::Matrix3d& covariance) {
+  const Eigen::Matrix3d C = 0.5 * (covariance + covariance.transpose());
+  const double var_h = std::max(C(2, 2), 1e-18);
+  const Eigen::Vector2d K = C.block<2, 1>(0, 2) / var_h;  // translation per unit heading error
+  const Eigen::Matrix2d cond = C.block<2, 2>(0, 0) - K * C.block<1, 2>(2, 0);
+  // cond = L L^T: |L^-1 x|^2 = x^T cond^-1 x.
+  const Eigen::Matrix2d L = Eigen::LLT<Eigen::Matrix2d>(cond).matrixL();
+  const Eigen::Matrix2d A = L.inverse();
+  Eigen::Matrix3d W = Eigen::Matrix3d::Zero();
+  W.block<2, 2>(0, 0) = A;
+  W.block<2, 1>(0, 2) = -A * K;
+  W(2, 2) = 1.0 / std::sqrt(var_h);
+  return W;
+}
+
 struct OdometryCost {
   OdometryMeasurement m;
-  Eigen::Matrix3d W;
+  Eigen::Matrix3d W;    // HeadingFirstSqrtInformation
   double offset = 0.0;  // the drift already removed from m (node i's rate offset)
-  double scale = 1.0;   // 1 / the variance component's sigma factor
+  double scale = 1.0;   // 1 / the translation component's sigma factor (rows 0, 1)
+  double scale_heading = 1.0;  // 1 / the heading component's sigma factor (row 2)
   BentEndCache bent{};
   template <typename T>
   bool operator()(const T* pi, const T* pj, const T* rate, T* r) const {
     T end[3];
     bent(m, rate[0] - T(offset), end);
     RelativeResidual(pi, pj, end[0], end[1], end[2], W, r);
-    for (int a = 0; a < 3; ++a) r[a] *= T(scale);
+    r[0] *= T(scale);
+    r[1] *= T(scale);
+    r[2] *= T(scale_heading);
     return true;
   }
 };
@@ -259,6 +283,7 @@ const char* FactorKindName(FactorKind k) {
     case FactorKind::kLoopClosure: return "loop_closure";
     case FactorKind::kRateWalk: return "rate_walk";
     case FactorKind::kRatePrior: return "rate_prior";
+    case FactorKind::kOdometryHeading: return "odometry_heading";
   }
   return "?";
 }
@@ -351,6 +376,7 @@ struct PoseGraph::Impl {
     std::vector<double*> params;
     bool enabled = true;
     double* scale = nullptr;  // the functor's scale (variance components), when it has one
+    double* scale_heading = nullptr;  // kOdometry: the heading row's scale
     const OdometryMeasurement* odometry = nullptr;  // kOdometry: the measurement
   };
   std::vector<Factor> factors;
@@ -415,9 +441,10 @@ int PoseGraph::AddNode(const Pose2& initial, bool fixed, double rate_offset) {
 int PoseGraph::size() const { return static_cast<int>(impl_->nodes.size()); }
 
 void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const OdometryNoiseOptions& noise) {
-  auto* c = new OdometryCost{m, SqrtInformation(m.covariance), impl_->offsets[i]};
+  auto* c = new OdometryCost{m, HeadingFirstSqrtInformation(m.covariance), impl_->offsets[i]};
   Impl::Factor f;
   f.scale = &c->scale;
+  f.scale_heading = &c->scale_heading;
   f.odometry = &c->m;
   f.kind = FactorKind::kOdometry;
   f.i = i;
@@ -520,13 +547,19 @@ Pose2 BentPathEnd(const OdometryMeasurement& m, double rate) {
 Pose2 BendAt(const OdometryMeasurement& m, double rate) { return BentPathEnd(m, rate) * m.delta.inverse(); }
 
 void PoseGraph::SetSigmaFactor(FactorKind kind, double factor) {
-  for (auto& f : impl_->factors)
-    if (f.kind == kind && f.scale) *f.scale = 1.0 / factor;
+  const bool heading = kind == FactorKind::kOdometryHeading;
+  for (auto& f : impl_->factors) {
+    if (heading && f.kind == FactorKind::kOdometry && f.scale_heading) *f.scale_heading = 1.0 / factor;
+    if (!heading && f.kind == kind && f.scale) *f.scale = 1.0 / factor;
+  }
 }
 
 double PoseGraph::SigmaFactor(FactorKind kind) const {
-  for (const auto& f : impl_->factors)
-    if (f.kind == kind && f.scale) return 1.0 / *f.scale;
+  const bool heading = kind == FactorKind::kOdometryHeading;
+  for (const auto& f : impl_->factors) {
+    if (heading && f.kind == FactorKind::kOdometry && f.scale_heading) return 1.0 / *f.scale_heading;
+    if (!heading && f.kind == kind && f.scale) return 1.0 / *f.scale;
+  }
   return 1.0;
 }
 
@@ -664,7 +697,7 @@ std::vector<PoseGraph::FactorResidual> PoseGraph::Residuals() const {
     f.cost->Evaluate(f.params.data(), r, nullptr);
     double chi2 = 0.0;
     for (int a = 0; a < f.dof; ++a) chi2 += r[a] * r[a];
-    out.push_back({f.kind, f.i, f.j, rel_of[k], chi2, f.dof, f.enabled});
+    out.push_back({f.kind, f.i, f.j, rel_of[k], chi2, f.dof, f.enabled, f.scale_heading ? r[2] * r[2] : 0.0});
   }
   return out;
 }
@@ -848,8 +881,10 @@ std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
     Eigen::MatrixXd Sf(m, m);
     for (int a = 0; a < m; ++a)
       for (int b = 0; b < m; ++b) Sf(a, b) = S(perm(R.col[a]), perm(R.col[b]));
-    const double tr = m == 0 ? 0.0 : (R.J * Sf * R.J.transpose()).trace();
-    out[k].redundancy = std::clamp(factors[k].dof - tr, 0.0, static_cast<double>(factors[k].dof));
+    const Eigen::MatrixXd JSJ = m == 0 ? Eigen::MatrixXd::Zero(factors[k].dof, factors[k].dof)
+                                      : Eigen::MatrixXd(R.J * Sf * R.J.transpose());
+    out[k].redundancy = std::clamp(factors[k].dof - JSJ.trace(), 0.0, static_cast<double>(factors[k].dof));
+    if (factors[k].scale_heading) out[k].redundancy_heading = std::clamp(1.0 - JSJ(2, 2), 0.0, 1.0);
   }
   std::map<std::pair<int, double>, double> kappa;
   for (size_t k = 0; k < factors.size(); ++k) {

@@ -53,7 +53,9 @@ OdometryMeasurement MeasureOdometry(const std::vector<Pose2>& path_i, const Odom
 // path's end to where that rate puts them (identity at rate 0).
 Pose2 BendAt(const OdometryMeasurement& m, double rate_rad_per_m);
 
-enum class FactorKind { kOdometry, kDirection, kRegistration, kLoopClosure, kRateWalk, kRatePrior };
+// kOdometryHeading names no factor of its own: it is the odometry factors'
+// heading part, a variance component apart from their translation (SetSigmaFactor).
+enum class FactorKind { kOdometry, kDirection, kRegistration, kLoopClosure, kRateWalk, kRatePrior, kOdometryHeading };
 const char* FactorKindName(FactorKind k);
 
 // A pose graph over ASR poses (x, y, theta), solved with Ceres:
@@ -111,7 +113,11 @@ class PoseGraph {
   Pose2 Bend(int i, const OdometryMeasurement& m) const;
   void SetRelativeEnabled(int factor, bool enabled);
   // Multiplies every sigma of one kind of factor (variance components: the
-  // prior sigmas fitted to a run's residuals). 1 = as given.
+  // prior sigmas fitted to a run's residuals). 1 = as given. The odometry
+  // has two: its heading noise (kOdometryHeading: the heading error and the
+  // lateral error it causes) and the translation noise given the heading
+  // (kOdometry), so that wall directions can check the one and
+  // registrations the other without one component absorbing both.
   void SetSigmaFactor(FactorKind kind, double factor);
   double SigmaFactor(FactorKind kind) const;
 
@@ -161,6 +167,7 @@ class PoseGraph {
     double chi2 = 0.0;
     int dof = 0;
     bool enabled = true;
+    double chi2_heading = 0.0;  // kOdometry: the part of chi2 from the heading (1 of its 3 dof)
   };
   std::vector<FactorResidual> Residuals() const;
 
@@ -185,6 +192,7 @@ class PoseGraph {
     double redundancy = 0.0;
     double weight = 1.0;
     double consistency = 1.0;
+    double redundancy_heading = 0.0;  // kOdometry: the heading row's part of the redundancy
   };
   std::vector<FactorRedundancy> Redundancies() const;
 

@@ -4,6 +4,7 @@
 
 #include "cogmap/asr/asr.h"
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <thread>
 #include <vector>
@@ -267,6 +268,58 @@ TEST(PoseGraph, RedundanciesSumToTheDofLeftOverByTheParameters) {
     if (rs[k].kind == FactorKind::kOdometry) { EXPECT_DOUBLE_EQ(red[k].consistency, 1.0); }
   }
   EXPECT_NEAR(used, 7 * 3 + 1, 1e-6);
+}
+
+// The odometry's chi^2 splits into its heading row (the heading error over
+// its marginal sigma) and the translation given the heading, each scaled by
+// its own variance component; together they are the full e^T C^-1 e.
+TEST(PoseGraph, OdometryChiSquareSplitsIntoHeadingAndTranslationComponents) {
+  const OdometryMeasurement m = MeasureOdometry(Straight(4.0));  // heading error turns lateral: C(1, 2) != 0
+  ASSERT_GT(std::abs(m.covariance(1, 2)), 1e-6);
+  PoseGraph g;
+  g.AddNode({0, 0, 0}, true);
+  const Eigen::Vector3d e(0.03, -0.05, DegToRad(1.5));  // in the measured end's frame (its theta is 0 here)
+  g.AddNode({m.delta.x + e.x(), m.delta.y + e.y(), m.delta.theta + e.z()});
+  g.AddOdometry(0, 1, m);
+  g.SetRatesFixedAtZero(true);
+  const double full = e.dot(m.covariance.inverse() * e);
+  const double heading = e.z() * e.z() / m.covariance(2, 2);
+  auto odometry = [&] {
+    for (const auto& r : g.Residuals())
+      if (r.kind == FactorKind::kOdometry) return r;
+    return PoseGraph::FactorResidual{};
+  };
+  EXPECT_NEAR(odometry().chi2, full, 1e-9 * full);
+  EXPECT_NEAR(odometry().chi2_heading, heading, 1e-9 * heading);
+  // Heading sigma x2: its part / 4, the translation's part as it was.
+  g.SetSigmaFactor(FactorKind::kOdometryHeading, 2.0);
+  EXPECT_DOUBLE_EQ(g.SigmaFactor(FactorKind::kOdometryHeading), 2.0);
+  EXPECT_DOUBLE_EQ(g.SigmaFactor(FactorKind::kOdometry), 1.0);
+  EXPECT_NEAR(odometry().chi2_heading, heading / 4.0, 1e-9 * heading);
+  EXPECT_NEAR(odometry().chi2 - odometry().chi2_heading, full - heading, 1e-9 * full);
+}
+
+// Node 1 measured by the odometry and by a registration of the same
+// covariance: each keeps half of every dof, the odometry's heading row half
+// of its one (1 - (1 / C_hh) (C_hh / 2)).
+TEST(PoseGraph, OdometryHeadingRowKeepsItsShareOfTheRedundancy) {
+  const OdometryMeasurement m = MeasureOdometry(Straight(4.0));
+  PoseGraph g;
+  g.AddNode({0, 0, 0}, true);
+  g.AddNode(m.delta);
+  g.AddOdometry(0, 1, m);
+  g.AddRelative(0, 1, m.delta, m.covariance, FactorKind::kRegistration, 0.0);
+  g.SetRatesFixedAtZero(true);
+  const auto rs = g.Residuals();
+  const auto red = g.Redundancies();
+  ASSERT_EQ(red.size(), rs.size());
+  for (size_t k = 0; k < rs.size(); ++k) {
+    if (rs[k].kind == FactorKind::kOdometry) {
+      EXPECT_NEAR(red[k].redundancy, 1.5, 1e-6);
+      EXPECT_NEAR(red[k].redundancy_heading, 0.5, 1e-6);
+    }
+    if (rs[k].kind == FactorKind::kRegistration) { EXPECT_NEAR(red[k].redundancy, 1.5, 1e-6); }
+  }
 }
 
 TEST(PoseGraph, ChiSquareQuantileMatchesTables) {

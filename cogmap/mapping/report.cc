@@ -71,6 +71,7 @@ nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStr
           {"direction_split_used", g.split_used},
           {"drift_test_chi2", g.drift_test_chi2},
           {"sigma_factors", {{"odometry", g.odometry_sigma_factor},
+                             {"odometry_heading", g.odometry_heading_sigma_factor},
                              {"wall_direction", g.direction_sigma_factor},
                              {"registration", g.registration_sigma_factor}}},
           {"path_wall_crossings_odometry", g.crossings_odometry},
