@@ -101,10 +101,15 @@ class Entries {
     } catch (const mrpt::serialization::CExceptionEOF&) {
       if (counter_.read() == before) return false;  // a clean end between entries
       Fail("truncated: the file ends inside this entry");
+    } catch (const std::bad_alloc&) {
+      // (Read first in a child process with bounded memory: child_check.h.)
+      Fail("a damaged entry: a count in it asks for more memory than such a file can need");
     } catch (const std::exception& e) {
       if (counter_.read() > before && file_.checkEOF()) Fail("truncated: the file ends inside this entry");
       std::string what = e.what();
-      std::replace(what.begin(), what.end(), '\n', ' ');
+      // (Control characters from a damaged class name would reach the terminal.)
+      for (char& c : what)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = c == '\n' ? ' ' : '?';
       // MRPT nests its exceptions: keep the innermost message.
       const auto msg = what.rfind("Message:");
       if (msg != std::string::npos) {

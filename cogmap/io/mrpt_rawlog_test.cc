@@ -206,6 +206,35 @@ TEST(MrptRawlog, EntryOfAnotherVersionIsOneError) {
   EXPECT_THAT(ErrorReading(path, "rawlog"), HasSubstr(path + ": entry 1: not an MRPT rawlog entry"));
 }
 
+// MRPT sizes a CObservationRange's measurements from the count before them
+// and reads nothing first: a count of four thousand million would allocate
+// gigabytes for minutes. Read first in a child with bounded memory
+// (child_check.h): one error naming the entry, at once.
+TEST(MrptRawlog, DamagedCountIsOneErrorNotGigabytes) {
+  const std::string path = ::cogmap::testing_util::TestTempPath("count.rawlog");
+  const auto robot = sensors::BuiltinRobot("pioneer16");
+  {
+    mrpt::io::CFileOutputStream f(path);
+    auto arch = mrpt::serialization::archiveFrom(f);
+    arch << *Odometry(0.0, Pose2{});
+    arch << *Sonar(0.0, robot, {{0, 1.0}, {1, 2.0}, {2, 3.0}});
+  }
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  // The count (3, little-endian) after the range entry's class name.
+  const size_t name = bytes.find("mrpt::obs::CObservationRange");
+  ASSERT_NE(name, std::string::npos);
+  const size_t count = bytes.find(std::string("\x03\x00\x00\x00", 4), name);
+  ASSERT_NE(count, std::string::npos);
+  bytes.replace(count, 4, "\xF0\xFF\xFF\xFF");
+  std::ofstream(path, std::ios::binary) << bytes;
+  EXPECT_THAT(ErrorReading(path, "rawlog"),
+              HasSubstr(path + ": entry 2: a damaged entry: a count in it asks for more memory"));
+}
+
 TEST(MrptRawlog, TextFileAsRawlogIsOneError) {
   const std::string path = WriteTemp("not.rawlog", "# cogmap-log 1\nrobot pioneer8\n");
   EXPECT_THAT(ErrorReading(path, "rawlog"), HasSubstr(path + ": entry 1: not an MRPT rawlog entry"));

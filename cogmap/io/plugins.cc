@@ -10,6 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "cogmap/core/error.h"
+#include "cogmap/io/child_check.h"
+#include "cogmap/io/log_reader.h"
 #include "cogmap/io/mrpt_rawlog.h"
 #include "cogmap/io/plugin_api.h"
 #include "cogmap/io/ros_messages.h"
@@ -93,12 +96,38 @@ const plugin::MrptTable& Mrpt() {
 }  // namespace
 
 namespace ros {
-std::unique_ptr<BagSource> OpenRos1BagSource(const std::string& path) { return Ros1().open_source(path); }
+std::unique_ptr<BagSource> OpenRos1BagSource(const std::string& path) {
+  const plugin::Ros1Table& table = Ros1();
+  // librosbag trusts a bag's offsets and lengths (child_check.h).
+  // Every topic is read as cogmap reads it (the messages of the types it
+  // decodes instantiated, the others left as they are); what the child
+  // refuses with an InputError is left to this process's own reading, which
+  // meets it only on the topics it reads.
+  CheckInChild(path, "ROS 1 bag", "librosbag", "messages", [&](long* count) {
+    const std::unique_ptr<BagSource> source = table.open_source(path);
+    for (size_t t = 0; t < source->topics().size(); ++t) {
+      try {
+        source->Start({static_cast<int>(t)});
+        BagMessage m;
+        while (source->Next(&m)) ++*count;
+      } catch (const InputError&) {
+      }
+    }
+  });
+  return table.open_source(path);
+}
 std::unique_ptr<BagWriter> MakeRos1BagWriter(const std::string& path) { return Ros1().make_writer(path); }
 }  // namespace ros
 
 std::unique_ptr<LogReader> OpenMrptRawlog(const std::string& path, const LogOpenOptions& options) {
-  return Mrpt().open(path, options);
+  const plugin::MrptTable& table = Mrpt();
+  // MRPT sizes its containers from a rawlog's counts (child_check.h).
+  CheckInChild(path, "MRPT rawlog", "MRPT", "records", [&](long* count) {
+    const std::unique_ptr<LogReader> reader = table.open(path, options);
+    sensors::LogRecord record;
+    while (reader->Next(&record)) ++*count;
+  });
+  return table.open(path, options);
 }
 
 long WriteMrptRawlog(const std::string& path, const sensors::RobotDescription& robot,

@@ -1,6 +1,7 @@
 // ROS 1 bags through rosbag_storage: the BagSource and the writer of
 // ros_messages.h. Compiled as C++17 (the ROS 1 message headers use
 // std::allocator<void>::rebind): includes no cogmap header that needs C++20.
+#include <console_bridge/console.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
@@ -230,7 +231,15 @@ void Ros1BagWriter::Close() {
   }
 }
 
-std::unique_ptr<BagSource> OpenSource(const std::string& path) { return std::make_unique<Ros1Source>(path); }
+// librosbag's own messages (console_bridge) would print lines of their own
+// beside cogmap's one-line error: off.
+void Quiet() { console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE); }
+
+std::unique_ptr<BagSource> OpenSource(const std::string& path) {
+  Quiet();
+  return std::make_unique<Ros1Source>(path);
+}
+
 std::unique_ptr<BagWriter> MakeWriter(const std::string& path) { return std::make_unique<Ros1BagWriter>(path); }
 
 }  // namespace

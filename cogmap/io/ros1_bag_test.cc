@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -240,6 +241,31 @@ TEST(Ros1Bag, TruncatedBagIsOneErrorNamingTheFile) {
   const std::string bag = WriteBag("truncated.bag", run, sensors::BuiltinRobot("pioneer16"));
   std::filesystem::resize_file(bag, std::filesystem::file_size(bag) / 2);
   EXPECT_THAT(ErrorReading(bag, "auto"), HasSubstr(bag + ": not a complete ROS 1 bag"));
+}
+
+// roscpp sizes a PointCloud's points from the count in the message and
+// librosbag reads a message at whatever offset and length the bag states: a
+// damaged count or length costs gigabytes or a crash inside them. The bag is
+// read first in a child process with bounded memory (child_check.h): one
+// error naming the file, at once.
+TEST(Ros1Bag, DamagedPointCountIsOneErrorNotGigabytes) {
+  const auto run = SimulatedRun("pioneer16", 3.0);
+  const std::string bag = WriteBag("count.bag", run, sensors::BuiltinRobot("pioneer16"));
+  std::string bytes;
+  {
+    std::ifstream in(bag, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  // The sonar clouds: each header's frame_id "sonar", then the point count
+  // (every length-prefixed "sonar" is taken: the clouds are among them).
+  const std::string sonar("\x05\x00\x00\x00sonar", 9);
+  int changed = 0;
+  for (size_t at = bytes.find(sonar); at != std::string::npos; at = bytes.find(sonar, at + 1), ++changed)
+    bytes.replace(at + 9, 4, "\xF0\xFF\xFF\xFF");
+  ASSERT_GT(changed, 0);
+  std::ofstream(bag, std::ios::binary) << bytes;
+  EXPECT_THAT(ErrorReading(bag, "auto"),
+              HasSubstr(bag + ": a damaged ROS 1 bag: librosbag asked for more memory than such a file can need"));
 }
 
 TEST(Ros1Bag, RequestedTopicOfAnotherTypeIsAnError) {
