@@ -453,7 +453,9 @@ TEST(MappingPipeline, ResumeAfterAKillKeepsTheRunsLoopClosuresAndRooms) {
       EXPECT_NEAR(a.y, b.y, 0.05) << id;
       EXPECT_NEAR(a.theta, b.theta, DegToRad(0.5)) << id;
     }
-    if (kill_after == 15) EXPECT_GE(pre_bent, 1);
+    if (kill_after == 15) {
+      EXPECT_GE(pre_bent, 1);
+    }
     // A finished run is the end of a session: resumed again, nothing is replayed.
     MappingPipeline again(sensors::BuiltinRobot("pioneer16"), {}, store.get());
     again.Resume();
