@@ -28,6 +28,15 @@ std::string TempDir(const std::string& name) {
   return dir.string();
 }
 
+// Runs SQL on the database at 'path' (a store changed behind cogmap's back).
+void ExecSql(const std::string& path, const std::string& sql) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  const int rc = sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr);
+  sqlite3_close(db);
+  ASSERT_EQ(rc, SQLITE_OK) << sql;
+}
+
 // A deterministic ASR whose content follows from its id.
 Asr MakeAsr(int id, int walls = 3) {
   Asr a;
@@ -213,17 +222,12 @@ TEST(SqliteAsrStore, RevisePlacementsRevisesEachListedAsrInPlace) {
 // Turns a store back into what an older cogmap wrote: 'sql' drops the newer
 // tables, then the version is set.
 void DowngradeStore(const std::string& path, const std::string& sql, int version) {
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
   const std::string v = std::to_string(version);
   // Every version before 6 lacks schema 6's table, and before 5 schema 5's.
   std::string older = version < 6 ? "DROP TABLE IF EXISTS pre_bend; " : "";
   if (version < 5) older += "DROP TABLE IF EXISTS matched_walls; ";
-  ASSERT_EQ(sqlite3_exec(db, (older + sql + "; PRAGMA user_version=" + v + "; UPDATE meta SET value='" + v +
-                              "' WHERE key='schema_version'").c_str(),
-                         nullptr, nullptr, nullptr),
-            SQLITE_OK);
-  sqlite3_close(db);
+  ExecSql(path, older + sql + "; PRAGMA user_version=" + v + "; UPDATE meta SET value='" + v +
+                    "' WHERE key='schema_version'");
 }
 
 TEST(SqliteAsrStore, VersionOneStoreIsMigrated) {
@@ -381,10 +385,7 @@ TEST(SqliteAsrStore, ReplaceStartsEmpty) {
 TEST(SqliteAsrStore, NewerSchemaIsAClearError) {
   const std::string path = TempDir("newer") + "/map.sqlite";
   SqliteAsrStore::Open(path)->Put(MakeAsr(0));
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  sqlite3_exec(db, "PRAGMA user_version=7", nullptr, nullptr, nullptr);
-  sqlite3_close(db);
+  ExecSql(path, "PRAGMA user_version=7");
   try {
     SqliteAsrStore::Open(path);
     FAIL() << "no error";
@@ -407,10 +408,7 @@ TEST(SqliteAsrStore, TextFileIsNotAStore) {
 
 TEST(SqliteAsrStore, OtherSqliteDatabaseIsNotAStore) {
   const std::string path = TempDir("other") + "/map.sqlite";
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  sqlite3_exec(db, "CREATE TABLE t(x)", nullptr, nullptr, nullptr);
-  sqlite3_close(db);
+  ExecSql(path, "CREATE TABLE t(x)");
   EXPECT_THROW(SqliteAsrStore::Open(path), InputError);
 }
 
@@ -513,10 +511,7 @@ TEST(SqliteAsrStore, ReadOnlyOpenCreatesNothingAndWritesNothing) {
   SqliteAsrStore::Open(path)->Put(MakeAsr(0));
   {
     // A store left in WAL mode (by an older cogmap): read without a -shm.
-    sqlite3* db = nullptr;
-    sqlite3_open(path.c_str(), &db);
-    sqlite3_exec(db, "PRAGMA journal_mode=WAL", nullptr, nullptr, nullptr);
-    sqlite3_close(db);
+    ExecSql(path, "PRAGMA journal_mode=WAL");
   }
   ASSERT_EQ(JournalMode(path), "wal");
   fs::remove(path + "-wal");
@@ -549,13 +544,8 @@ TEST(SqliteAsrStore, RefusedStoresLeaveNoWalOrShm) {
   const std::string dir = TempDir("refused");
   const std::string newer = dir + "/newer.sqlite", other = dir + "/other.sqlite";
   SqliteAsrStore::Open(newer)->Put(MakeAsr(0));
-  sqlite3* db = nullptr;
-  sqlite3_open(newer.c_str(), &db);
-  sqlite3_exec(db, "PRAGMA user_version=7; PRAGMA journal_mode=WAL", nullptr, nullptr, nullptr);
-  sqlite3_close(db);
-  sqlite3_open(other.c_str(), &db);
-  sqlite3_exec(db, "PRAGMA journal_mode=WAL; CREATE TABLE t(x)", nullptr, nullptr, nullptr);
-  sqlite3_close(db);
+  ExecSql(newer, "PRAGMA user_version=7; PRAGMA journal_mode=WAL");
+  ExecSql(other, "PRAGMA journal_mode=WAL; CREATE TABLE t(x)");
   ASSERT_FALSE(WalOrShm(newer));
   ASSERT_FALSE(WalOrShm(other));
   for (const auto& path : {newer, other}) {
@@ -568,17 +558,11 @@ TEST(SqliteAsrStore, RefusedStoresLeaveNoWalOrShm) {
 
 TEST(SqliteAsrStore, StoreOfAnotherSchemaIsRefusedAtOpening) {
   const std::string path = TempDir("schema") + "/map.sqlite";
-  sqlite3* db = nullptr;
-  sqlite3_open(path.c_str(), &db);
   const std::string v = std::to_string(kStoreSchemaVersion);
-  sqlite3_exec(db,
-               ("PRAGMA application_id=" + std::to_string(kStoreApplicationId) + "; PRAGMA user_version=" + v +
-                ";"
-                "CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);"
-                "CREATE TABLE asr(id INTEGER PRIMARY KEY, walls BLOB NOT NULL);")
-                   .c_str(),
-               nullptr, nullptr, nullptr);
-  sqlite3_close(db);
+  ExecSql(path, "PRAGMA application_id=" + std::to_string(kStoreApplicationId) + "; PRAGMA user_version=" + v +
+                    ";"
+                    "CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);"
+                    "CREATE TABLE asr(id INTEGER PRIMARY KEY, walls BLOB NOT NULL);");
   try {
     SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kOpenExisting);
     FAIL() << "no error";
@@ -590,10 +574,7 @@ TEST(SqliteAsrStore, StoreOfAnotherSchemaIsRefusedAtOpening) {
 TEST(SqliteAsrStore, OlderSchemaIsAClearError) {
   const std::string path = TempDir("older") + "/map.sqlite";
   SqliteAsrStore::Open(path)->Put(MakeAsr(0));
-  sqlite3* db = nullptr;
-  sqlite3_open(path.c_str(), &db);
-  sqlite3_exec(db, "PRAGMA user_version=0", nullptr, nullptr, nullptr);
-  sqlite3_close(db);
+  ExecSql(path, "PRAGMA user_version=0");
   try {
     SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kOpenExisting);
     FAIL() << "no error";
@@ -617,11 +598,8 @@ TEST(SqliteAsrStore, CorruptPlacementIsAnInputError) {
     p.corrected_path = {{0, 0, 0}, {1, 0, 0}};
     s->PutPlacements({MakeAsr(0)}, {p}, {});
   }
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
   // A count of 5 poses and no pose after it.
-  ASSERT_EQ(sqlite3_exec(db, "UPDATE placement SET corrected_path=x'05000000'", nullptr, nullptr, nullptr), SQLITE_OK);
-  sqlite3_close(db);
+  ExecSql(path, "UPDATE placement SET corrected_path=x'05000000'");
   auto s = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
   try {
     s->GetPlacement(0);
@@ -637,10 +615,7 @@ TEST(SqliteAsrStore, CorruptPlacementIsAnInputError) {
 TEST(SqliteAsrStore, TextInANumberColumnIsAnInputError) {
   const std::string path = TempDir("text_in_number") + "/map.sqlite";
   SqliteAsrStore::Open(path)->Put(MakeAsr(0));
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db, "UPDATE asr SET raw_x='abc'", nullptr, nullptr, nullptr), SQLITE_OK);
-  sqlite3_close(db);
+  ExecSql(path, "UPDATE asr SET raw_x='abc'");
   auto s = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
   try {
     s->Get(0);
