@@ -114,5 +114,8 @@ inline Asr MatchedView(Asr a) {
 // the distance to it), then placed by world_from_local_corrected. With rate 0
 // this is world_from_local_corrected * world_from_local_raw^-1 * path.
 std::vector<Pose2> CorrectedPath(const Asr& asr, double drift_rate_rad_per_m);
+// The same for a path and the two placements given apart from an Asr.
+std::vector<Pose2> CorrectedPath(const std::vector<Pose2>& path, const Pose2& world_from_local_raw,
+                                 const Pose2& world_from_local_corrected, double drift_rate_rad_per_m);
 
 }  // namespace cogmap::asr

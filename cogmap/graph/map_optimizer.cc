@@ -134,13 +134,12 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
     // Odometry from the previous ASR's origin to this one's, through its
     // path, as the previous ASR was mapped (its pre-bend removed: the graph
     // bends it by the rest of the drift, rate - pre_rate).
-    asr::Asr view;
-    view.world_from_local_raw = prev.raw;
-    view.world_from_local_corrected = Pose2{};
-    view.path.reserve(prev.path_raw.size() + 1);
-    view.path.assign(prev.path_raw.begin(), prev.path_raw.end());
-    view.path.push_back(a.world_from_local_raw);
-    const OdometryMeasurement m = MeasureOdometry(asr::CorrectedPath(view, prev.pre_rate), options_.odometry);
+    std::vector<Pose2> path;
+    path.reserve(prev.path_raw.size() + 1);
+    path.assign(prev.path_raw.begin(), prev.path_raw.end());
+    path.push_back(a.world_from_local_raw);
+    const OdometryMeasurement m =
+        MeasureOdometry(asr::CorrectedPath(path, prev.raw, Pose2{}, prev.pre_rate), options_.odometry);
     driven_m_ += m.distance_m;
     // Prediction with the previous node's drift rate.
     const double r = graph_.rate(idx - 1) - prev.pre_rate;
@@ -589,13 +588,9 @@ MapOptimizer::Consistency MapOptimizer::MapConsistency(const std::vector<Pose2>&
 }
 
 std::vector<Vec2> MapOptimizer::LocalCorrectedPath(const Node& n, double rate) const {
-  asr::Asr view;
-  view.world_from_local_raw = n.raw;
-  view.world_from_local_corrected = Pose2{};
-  view.path = n.path_raw;
   std::vector<Vec2> out;
   Vec2 last(1e18, 1e18);
-  for (const Pose2& p : asr::CorrectedPath(view, rate))
+  for (const Pose2& p : asr::CorrectedPath(n.path_raw, n.raw, Pose2{}, rate))
     if ((p.translation() - last).norm() >= 0.2) {
       out.push_back(p.translation());
       last = p.translation();
@@ -906,14 +901,8 @@ OptimizerResult MapOptimizer::Finish() {
     e.pose = chosen[i];
     e.room_id = nodes_[i].room_id;
     e.drift_rate_rad_per_m = res.solution == "odometry" ? 0.0 : graph_.rate(i);
-    {
-      asr::Asr view;
-      view.world_from_local_raw = nodes_[i].raw;
-      view.world_from_local_corrected = chosen[i];
-      view.path = nodes_[i].path_raw;
-      e.corrected_path = asr::CorrectedPath(view, e.drift_rate_rad_per_m);
-      e.corrected_walls = BendWalls(nodes_[i], e.drift_rate_rad_per_m, /*output=*/true);
-    }
+    e.corrected_path = asr::CorrectedPath(nodes_[i].path_raw, nodes_[i].raw, chosen[i], e.drift_rate_rad_per_m);
+    e.corrected_walls = BendWalls(nodes_[i], e.drift_rate_rad_per_m, /*output=*/true);
     e.direction_factor = nodes_[i].direction;
     e.direction_residual_sigmas = dir_resid[i];
     if (!cov.empty()) {
@@ -993,11 +982,8 @@ std::vector<Polyline> MapOptimizer::BendWalls(const Node& n, double rate, bool o
   // The path in the local frame, as mapped (q) and with the drift removed (c),
   // with the distance driven to each pose.
   const Pose2 local_from_world = n.raw.inverse();
-  asr::Asr view;
-  view.world_from_local_raw = n.raw;
-  view.world_from_local_corrected = n.raw;
-  view.path = n.path_raw;
-  const std::vector<Pose2> c = asr::CorrectedPath(view, rate);  // local frame placed at n.raw: back to local below
+  // (Placed at n.raw: back to the local frame below.)
+  const std::vector<Pose2> c = asr::CorrectedPath(n.path_raw, n.raw, n.raw, rate);
   // The walls were mapped on the path re-integrated under n.pre_rate: what
   // is left to remove is rate - pre_rate, about that path's poses.
   std::vector<Pose2> scratch;
@@ -1031,11 +1017,7 @@ std::vector<Polyline> MapOptimizer::BendWalls(const Node& n, double rate, bool o
 
 const std::vector<Pose2>& MapOptimizer::MappedPath(const Node& n, std::vector<Pose2>* scratch) const {
   if (n.pre_rate == 0.0) return n.path_raw;
-  asr::Asr view;
-  view.world_from_local_raw = n.raw;
-  view.world_from_local_corrected = n.raw;
-  view.path = n.path_raw;
-  *scratch = asr::CorrectedPath(view, n.pre_rate);
+  *scratch = asr::CorrectedPath(n.path_raw, n.raw, n.raw, n.pre_rate);
   return *scratch;
 }
 
