@@ -376,7 +376,10 @@ struct PoseGraph::Impl {
     std::vector<double*> params;
     bool enabled = true;
     double* scale = nullptr;  // the functor's scale (variance components), when it has one
-    double* scale_heading = nullptr;  // kOdometry: the heading row's scale
+    // A part of the factor scaled as a component of its own (kOdometry: its
+    // heading row, kOdometryHeading), when it has one.
+    FactorKind part_kind = FactorKind::kOdometry;
+    double* part_scale = nullptr;
     const OdometryMeasurement* odometry = nullptr;  // kOdometry: the measurement
   };
   std::vector<Factor> factors;
@@ -444,7 +447,8 @@ void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const Od
   auto* c = new OdometryCost{m, HeadingFirstSqrtInformation(m.covariance), impl_->offsets[i]};
   Impl::Factor f;
   f.scale = &c->scale;
-  f.scale_heading = &c->scale_heading;
+  f.part_kind = FactorKind::kOdometryHeading;
+  f.part_scale = &c->scale_heading;
   f.odometry = &c->m;
   f.kind = FactorKind::kOdometry;
   f.i = i;
@@ -547,18 +551,16 @@ Pose2 BentPathEnd(const OdometryMeasurement& m, double rate) {
 Pose2 BendAt(const OdometryMeasurement& m, double rate) { return BentPathEnd(m, rate) * m.delta.inverse(); }
 
 void PoseGraph::SetSigmaFactor(FactorKind kind, double factor) {
-  const bool heading = kind == FactorKind::kOdometryHeading;
   for (auto& f : impl_->factors) {
-    if (heading && f.kind == FactorKind::kOdometry && f.scale_heading) *f.scale_heading = 1.0 / factor;
-    if (!heading && f.kind == kind && f.scale) *f.scale = 1.0 / factor;
+    if (f.kind == kind && f.scale) *f.scale = 1.0 / factor;
+    if (f.part_kind == kind && f.part_scale) *f.part_scale = 1.0 / factor;
   }
 }
 
 double PoseGraph::SigmaFactor(FactorKind kind) const {
-  const bool heading = kind == FactorKind::kOdometryHeading;
   for (const auto& f : impl_->factors) {
-    if (heading && f.kind == FactorKind::kOdometry && f.scale_heading) return 1.0 / *f.scale_heading;
-    if (!heading && f.kind == kind && f.scale) return 1.0 / *f.scale;
+    if (f.kind == kind && f.scale) return 1.0 / *f.scale;
+    if (f.part_kind == kind && f.part_scale) return 1.0 / *f.part_scale;
   }
   return 1.0;
 }
@@ -697,7 +699,7 @@ std::vector<PoseGraph::FactorResidual> PoseGraph::Residuals() const {
     f.cost->Evaluate(f.params.data(), r, nullptr);
     double chi2 = 0.0;
     for (int a = 0; a < f.dof; ++a) chi2 += r[a] * r[a];
-    out.push_back({f.kind, f.i, f.j, rel_of[k], chi2, f.dof, f.enabled, f.scale_heading ? r[2] * r[2] : 0.0});
+    out.push_back({f.kind, f.i, f.j, rel_of[k], chi2, f.dof, f.enabled, f.part_scale ? r[2] * r[2] : 0.0});
   }
   return out;
 }
@@ -884,7 +886,7 @@ std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
     const Eigen::MatrixXd JSJ = m == 0 ? Eigen::MatrixXd::Zero(factors[k].dof, factors[k].dof)
                                       : Eigen::MatrixXd(R.J * Sf * R.J.transpose());
     out[k].redundancy = std::clamp(factors[k].dof - JSJ.trace(), 0.0, static_cast<double>(factors[k].dof));
-    if (factors[k].scale_heading) out[k].redundancy_heading = std::clamp(1.0 - JSJ(2, 2), 0.0, 1.0);
+    if (factors[k].part_scale) out[k].redundancy_heading = std::clamp(1.0 - JSJ(2, 2), 0.0, 1.0);
   }
   std::map<std::pair<int, double>, double> kappa;
   for (size_t k = 0; k < factors.size(); ++k) {
