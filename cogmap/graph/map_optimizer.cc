@@ -650,19 +650,33 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
   // the test's quantile) makes the drift ambiguous.
   if (gap > 1.0) {
     graph_.SetRatesFixedAtZero(false);
+    const double spacing = (kPi / 2.0) / gap;
     for (double sign : {-1.0, 1.0}) {
-      const double alias = rate + sign * (kPi / 2.0) / gap;
+      const double alias = rate + sign * spacing;
       if (std::abs(alias) > 3.0 * options_.odometry.rate_prior_sigma_rad_per_m) continue;
       graph_.ChainWithRate(alias);
       const PoseGraph::SolveSummary a = graph_.Solve(0, options_.full_iterations);
-      if (2.0 * (a.final_cost - with_drift.final_cost) < ChiSquareQuantile(options_.drift_test_probability, 1))
-        out.alias_risk = true;
+      // A solve that went back nearer the drift than half-way to the alias
+      // found the same map, not another one.
+      double alias_sum = 0.0;
+      int alias_n = 0;
+      for (int i = 0; i < N; ++i)
+        if (!nodes_[i].stored) {
+          alias_sum += graph_.rate(i);
+          ++alias_n;
+        }
+      if (alias_n == 0 || std::abs(alias_sum / alias_n - rate) < 0.5 * spacing) continue;
+      const double d = 2.0 * (a.final_cost - with_drift.final_cost);
+      out.alias_chi2 = std::min(out.alias_chi2, d);
+      if (d < ChiSquareQuantile(options_.drift_test_probability, 1)) out.alias_risk = true;
     }
   }
   // With aliases, three hypotheses were tried: the drift must beat no
-  // drift at the test's level divided among them (Bonferroni).
+  // drift at the test's level divided among them (Bonferroni), and its
+  // alias by the odds asked for.
   const double strict = ChiSquareQuantile(1.0 - (1.0 - options_.drift_test_probability) / 3.0, 1);
-  const bool keep = !out.alias_risk || out.chi2 > strict;
+  const bool beats_alias = out.alias_chi2 >= 2.0 * std::log(std::max(1.0, options_.alias_min_odds));
+  const bool keep = !out.alias_risk || (out.chi2 > strict && beats_alias);
   if (keep) {
     graph_.SetRatesFixedAtZero(false);
     graph_.Restore(drift_state);
@@ -674,7 +688,10 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
     out.warning = "the drift rate is ambiguous: " + std::to_string(RadToDeg(rate)).substr(0, 5) +
                   " deg/m and its quarter-turn aliases fit the wall directions about as well (" +
                   std::to_string(static_cast<int>(gap)) + " m without one); " +
-                  (keep ? "kept the most likely" : "not corrected (no drift is about as likely)");
+                  (keep          ? "kept the most likely"
+                   : beats_alias ? "not corrected (no drift is about as likely)"
+                                 : "not corrected (odds " + std::to_string(std::exp(0.5 * out.alias_chi2)).substr(0, 4) +
+                                       ":1 against its alias: a coin toss)");
   out.detected = keep;
   return out;
 }

@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -77,6 +78,13 @@ struct MapOptimizerOptions {
   double ambiguity_ratio = 0.9;     // a distinct solution this close to the best: ambiguous
   double gate_probability = 0.999;  // chi-square gate on the closure vs the prediction
   double drift_test_probability = 0.99;  // likelihood-ratio test of a drift rate (Finish)
+  // A drift whose quarter-turn alias (a rate that turns the heading a quarter
+  // turn more or less between two wall directions) fits nearly as well is
+  // kept only when it is at least this many times as likely as the alias
+  // (likelihood ratio exp(delta chi2 / 2)); at even odds the choice is a
+  // coin toss between a corrected map and one far worse than the odometry,
+  // so the drift is left uncorrected (TestDrift).
+  double alias_min_odds = 2.0;
   // A revisit: both ASRs' walls agree on each other at least this much.
   double same_room_agreement = 0.6;
   // Uncertain ASRs (named in report.json, warned about).
@@ -252,6 +260,7 @@ class MapOptimizer {
     double chi2 = 0.0;
     bool detected = false;
     bool alias_risk = false;
+    double alias_chi2 = std::numeric_limits<double>::infinity();  // the best distinct alias's chi2 above the drift's
     std::string warning;
   };
   DriftDecision TestDrift();
