@@ -613,6 +613,7 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
   const int N = static_cast<int>(nodes_.size());
   graph_.SetRatesFixedAtZero(false);
   const PoseGraph::SolveSummary with_drift = graph_.Solve(0, options_.full_iterations);
+  const double rate = MeanRate();
   // Is there drift at all? The graph with every rate held at zero is the
   // nested model; the rates stay only if they lower the (robust) cost by
   // more than the 99 % chi-square quantile of one degree of freedom
@@ -629,8 +630,7 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
   // fitted as well by a rate that turns the heading by a quarter turn
   // more between them (the start of the run counts as a direction: its
   // heading is known).
-  double s = 0.0, last = 0.0, gap = 0.0, rate_sum = 0.0;
-  int rates_n = 0;
+  double s = 0.0, last = 0.0, gap = 0.0;
   for (int i = 0; i < N; ++i) {
     if (nodes_[i].stored) continue;
     if (nodes_[i].direction) {
@@ -639,11 +639,8 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
     }
     for (size_t t = 1; t < nodes_[i].path_local.size(); ++t)
       s += (nodes_[i].path_local[t] - nodes_[i].path_local[t - 1]).norm();
-    rate_sum += drift_state.rates[i];
-    ++rates_n;
   }
   gap = std::max(gap, s - last);
-  const double rate = rates_n ? rate_sum / rates_n : 0.0;
   // The aliases: the rates that turn the heading by a quarter turn more or
   // less over the longest stretch without a wall direction, each solved
   // from its own dead-reckoned start. One that fits about as well (within
@@ -658,14 +655,7 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
       const PoseGraph::SolveSummary a = graph_.Solve(0, options_.full_iterations);
       // A solve that went back nearer the drift than half-way to the alias
       // found the same map, not another one.
-      double alias_sum = 0.0;
-      int alias_n = 0;
-      for (int i = 0; i < N; ++i)
-        if (!nodes_[i].stored) {
-          alias_sum += graph_.rate(i);
-          ++alias_n;
-        }
-      if (alias_n == 0 || std::abs(alias_sum / alias_n - rate) < 0.5 * spacing) continue;
+      if (std::abs(MeanRate() - rate) < 0.5 * spacing) continue;
       const double d = 2.0 * (a.final_cost - with_drift.final_cost);
       out.alias_chi2 = std::min(out.alias_chi2, d);
       if (d < ChiSquareQuantile(options_.drift_test_probability, 1)) out.alias_risk = true;
@@ -707,6 +697,17 @@ std::vector<Pose2> MapOptimizer::CurrentPoses() const {
   std::vector<Pose2> out(nodes_.size());
   for (size_t i = 0; i < nodes_.size(); ++i) out[i] = graph_.pose(static_cast<int>(i));
   return out;
+}
+
+double MapOptimizer::MeanRate() const {
+  double sum = 0.0;
+  int n = 0;
+  for (int i = 0; i < size(); ++i)
+    if (!nodes_[i].stored) {
+      sum += graph_.rate(i);
+      ++n;
+    }
+  return n > 0 ? sum / n : 0.0;
 }
 
 std::vector<double> MapOptimizer::CurrentRates() const {
@@ -858,14 +859,7 @@ OptimizerResult MapOptimizer::Finish() {
                            std::to_string(static_cast<int>(res.chi2)) + " for " + std::to_string(res.chi2_dof) +
                            " dof): the uncertainties are optimistic");
   res.registrations = registrations_;
-  double rate_sum = 0.0;
-  int rate_n = 0;
-  for (int i = 0; i < N; ++i)
-    if (!nodes_[i].stored) {
-      rate_sum += graph_.rate(i);
-      ++rate_n;
-    }
-  res.drift_rate_rad_per_m = rate_n ? rate_sum / rate_n : 0.0;
+  res.drift_rate_rad_per_m = MeanRate();
   // Covariances scaled by the a-posteriori variance factor chi2 / dof (the
   // variance of unit weight of least-squares adjustment) when it exceeds 1:
   // the factors disagree more than their sigmas allow. Below 1 they are kept
@@ -1047,14 +1041,7 @@ double MapOptimizer::PreBendRate() const {
   // The run's rate, as Finish reports it: the mean of the nodes' rates (one
   // node's alone wanders with the heading noise between its neighbours'
   // walls: 0.96-1.41 deg/m on intel at 1 deg/m).
-  double sum = 0.0;
-  int n = 0;
-  for (int i = 0; i < size(); ++i) {
-    if (nodes_[i].stored) continue;
-    sum += graph_.rate(i);
-    ++n;
-  }
-  const double r = n > 0 ? sum / n : 0.0;
+  const double r = MeanRate();
   // A rate the walls do not tell from none (the drift test's level, one
   // degree of freedom) is not removed: noise would bend good rooms.
   if (!std::isfinite(r) || r * r < ChiSquareQuantile(options_.drift_test_probability, 1) * sigma * sigma) return 0.0;

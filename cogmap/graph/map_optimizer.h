@@ -268,6 +268,9 @@ class MapOptimizer {
   void SetSplitsEnabled(bool on);
   std::vector<Pose2> CurrentPoses() const;
   std::vector<double> CurrentRates() const;
+  // The mean of the drift rates of the nodes this run placed (0: none): the
+  // run's rate as Finish reports it.
+  double MeanRate() const;
   // Closures the solved graph contradicts (chi-square over the gate) are
   // disabled and the graph re-solved, up to 3 rounds.
   void DropContradictedClosures();
