@@ -359,11 +359,16 @@ void CognitiveMapper::Feed(const sensors::LogRecord& record, const Pose2& raw_od
   // Records without truth in such a log (CARMEN's ODOM between FLASERs) add
   // nothing to either path.
   if (record.truth) seen_truth_ = true;
+  if (c.turn_started) c.turn_acc += std::abs(NormalizeAngle(raw_odom.theta - c.turn_last));
+  c.turn_last = raw_odom.theta;
+  c.turn_started = true;
   auto& path = c.asr.path;
   const bool moved =
       path.empty() || (path.back().translation() - record.odom.translation()).norm() >= options_.path_step_m - 1e-9;
   if (moved && (record.truth || !seen_truth_)) {
     path.push_back(record.odom);
+    c.asr.path_turn_rad.push_back(path.size() == 1 ? 0.0 : c.turn_acc);
+    c.turn_acc = 0.0;
     c.path_times.push_back(record.time_s);
     c.raw_path.push_back(raw_odom);
     if (record.truth) {
@@ -388,6 +393,10 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
   truncate(&a.path, &c.path_times);
   truncate(&a.true_path, &c.true_path_times);
   c.raw_path.resize(a.path.size());
+  // The turn after the last pose kept: the cut poses' and what followed them.
+  a.turn_after_path_rad = c.turn_acc;
+  for (size_t k = a.path.size(); k < a.path_turn_rad.size(); ++k) a.turn_after_path_rad += a.path_turn_rad[k];
+  a.path_turn_rad.resize(a.path.size());
   if (exit) a.exits.push_back(*exit);
   a.end_time_s = std::max(a.start_time_s, end_time_s);
   if (options_.close_in_background && !odometry_filter_) {

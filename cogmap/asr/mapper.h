@@ -204,6 +204,9 @@ class CognitiveMapper {
     // local position, the bent position and the distance driven so far.
     Vec2 bend_last{0.0, 0.0}, bend_at{0.0, 0.0};
     double bend_s = 0.0;
+    // The turn summed since the last path pose (Asr::path_turn_rad).
+    double turn_acc = 0.0, turn_last = 0.0;
+    bool turn_started = false;
     // A raw local pose as the grids take it: re-integrated under the pre-bend.
     Pose2 Bent(const Pose2& raw_local);
   };

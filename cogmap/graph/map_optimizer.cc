@@ -58,6 +58,8 @@ MapOptimizer::Node MapOptimizer::MakeNode(const asr::Asr& a) const {
   n.asr_id = a.id;
   n.raw = a.world_from_local_raw;
   n.path_raw = a.path;
+  n.path_turn = a.path_turn_rad;
+  n.turn_after = a.turn_after_path_rad;
   n.pre_rate = a.pre_bend_rad_per_m;
   const Pose2 local_from_world = a.world_from_local_raw.inverse();
   // The path in the frame its walls were mapped in.
@@ -138,8 +140,14 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
     path.reserve(prev.path_raw.size() + 1);
     path.assign(prev.path_raw.begin(), prev.path_raw.end());
     path.push_back(a.world_from_local_raw);
-    const OdometryMeasurement m =
-        MeasureOdometry(asr::CorrectedPath(path, prev.raw, Pose2{}, prev.pre_rate), options_.odometry);
+    // The turns between the poses (on the spot too), where both ASRs know them.
+    std::vector<double> turns;
+    if (prev.path_turn.size() == prev.path_raw.size() && !prev.path_turn.empty()) {
+      turns = prev.path_turn;
+      turns.push_back(prev.turn_after);
+    }
+    const OdometryMeasurement m = MeasureOdometry(asr::CorrectedPath(path, prev.raw, Pose2{}, prev.pre_rate),
+                                                  options_.odometry, 24, turns.empty() ? nullptr : &turns);
     driven_m_ += m.distance_m;
     // Prediction with the previous node's drift rate.
     const double r = graph_.rate(idx - 1) - prev.pre_rate;

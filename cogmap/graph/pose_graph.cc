@@ -288,7 +288,8 @@ const char* FactorKindName(FactorKind k) {
   return "?";
 }
 
-OdometryMeasurement MeasureOdometry(const std::vector<Pose2>& path, const OdometryNoiseOptions& o, int max_steps) {
+OdometryMeasurement MeasureOdometry(const std::vector<Pose2>& path, const OdometryNoiseOptions& o, int max_steps,
+                                    const std::vector<double>* turns) {
   OdometryMeasurement m;
   if (path.empty()) {
     m.covariance = Eigen::Vector3d(o.min_sigma_m * o.min_sigma_m, o.min_sigma_m * o.min_sigma_m,
@@ -302,10 +303,11 @@ OdometryMeasurement MeasureOdometry(const std::vector<Pose2>& path, const Odomet
   Pose2 prev{0.0, 0.0, path.front().theta};
   std::vector<Eigen::Vector3d> fine;  // (dx, dy, s mid)
   double s = 0.0;
-  auto step = [&](const Pose2& q) {
+  auto step = [&](const Pose2& q, double turned) {
     const Vec2 d = q.translation() - prev.translation();
     const double ds = d.norm();
     const double dth = NormalizeAngle(q.theta - prev.theta);
+    const double turn = std::max(std::abs(dth), turned);
     if (ds > 0.0) fine.emplace_back(d.x(), d.y(), s + 0.5 * ds);
     Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
     F(0, 2) = -d.y();
@@ -318,13 +320,15 @@ OdometryMeasurement MeasureOdometry(const std::vector<Pose2>& path, const Odomet
     Eigen::Matrix2d Q = Eigen::Matrix2d::Zero();
     Q(0, 0) = o.trans_sigma_m_per_sqrt_m * o.trans_sigma_m_per_sqrt_m * ds;
     Q(1, 1) = o.heading_sigma_rad_per_sqrt_m * o.heading_sigma_rad_per_sqrt_m * ds +
-              o.rot_sigma_rad_per_sqrt_rad * o.rot_sigma_rad_per_sqrt_rad * std::abs(dth);
+              o.rot_sigma_rad_per_sqrt_rad * o.rot_sigma_rad_per_sqrt_rad * turn;
     P = F * P * F.transpose() + G * Q * G.transpose();
     s += ds;
-    m.turn_rad += std::abs(dth);
+    m.turn_rad += turn;
     prev = q;
   };
-  for (const Pose2& q : path) step(q);
+  // (The first pose's turn came before node i's origin.)
+  const bool with_turns = turns && turns->size() == path.size();
+  for (size_t k = 0; k < path.size(); ++k) step(path[k], with_turns && k > 0 ? (*turns)[k] : 0.0);
   m.distance_m = s;
   // Merge the fine steps into at most max_steps (consecutive sums; the mid
   // distance is the length-weighted mean).

@@ -45,8 +45,11 @@ struct OdometryMeasurement {
 // 'path_i' are the raw poses from node i's origin to node j's, in node i's
 // frame (the first near the identity, the last = delta). Steps are merged to
 // at most max_steps for the rate model (exact for the drift-free part).
+// 'turns' (optional, one per path pose): the heading's summed absolute turn
+// since the previous pose (asr::Asr::path_turn_rad), where it exceeds the
+// net change between the two poses (a turn on the spot).
 OdometryMeasurement MeasureOdometry(const std::vector<Pose2>& path_i, const OdometryNoiseOptions& options = {},
-                                    int max_steps = 24);
+                                    int max_steps = 24, const std::vector<double>* turns = nullptr);
 
 // The raw path's end of 'm' re-integrated under a drift rate, composed with
 // the raw end's inverse: the rigid move that takes raw coordinates near the

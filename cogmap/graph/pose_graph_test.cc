@@ -344,5 +344,25 @@ TEST(PoseGraph, ChiSquareQuantileIsTheSameAskedAgainOrFromAnotherThread) {
   EXPECT_LT(first[0], first[1]);
 }
 
+
+TEST(PoseGraph, OdometryCountsTurnsOnTheSpotBetweenPathPoses) {
+  // The robot drives 1 m, spins a whole turn on the spot, and drives 1 m: the
+  // path keeps poses by distance, so the spin falls between two poses whose
+  // headings are equal. With the summed turns given, its heading noise
+  // (rot^2 x 2 pi) is in the covariance; without, none of it is.
+  OdometryNoiseOptions o;
+  const std::vector<Pose2> path = {Pose2{0, 0, 0}, Pose2{1, 0, 0}, Pose2{2, 0, 0}};
+  const std::vector<double> turns = {0.0, 0.0, 2.0 * kPi};
+  const OdometryMeasurement plain = MeasureOdometry(path, o);
+  const OdometryMeasurement spun = MeasureOdometry(path, o, 24, &turns);
+  const double rot2 = o.rot_sigma_rad_per_sqrt_rad * o.rot_sigma_rad_per_sqrt_rad;
+  EXPECT_NEAR(spun.covariance(2, 2) - plain.covariance(2, 2), rot2 * 2.0 * kPi, 1e-12);
+  EXPECT_NEAR(spun.turn_rad, 2.0 * kPi, 1e-12);
+  EXPECT_NEAR(plain.turn_rad, 0.0, 1e-12);
+  // The first pose's turn came before the node's origin: not counted.
+  const std::vector<double> before = {1.0, 0.0, 0.0};
+  EXPECT_NEAR(MeasureOdometry(path, o, 24, &before).covariance(2, 2), plain.covariance(2, 2), 1e-15);
+}
+
 }  // namespace
 }  // namespace cogmap::graph
