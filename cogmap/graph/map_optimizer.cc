@@ -148,6 +148,7 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
     }
     const OdometryMeasurement m = MeasureOdometry(asr::CorrectedPath(path, prev.raw, Pose2{}, prev.pre_rate),
                                                   options_.odometry, 24, turns.empty() ? nullptr : &turns);
+    std::vector<double>().swap(nodes_[idx - 1].path_turn);  // served its one odometry factor
     driven_m_ += m.distance_m;
     // Prediction with the previous node's drift rate.
     const double r = graph_.rate(idx - 1) - prev.pre_rate;

@@ -213,7 +213,7 @@ class MapOptimizer {
     int sample_count = 0;            // SampleFaces(faces): made again when a loop closure needs them
     std::vector<Vec2> path_local;    // robot path, local frame, every ~0.2 m
     std::vector<Pose2> path_raw;     // raw path (world raw), for the odometry factor
-    std::vector<double> path_turn;   // asr::Asr::path_turn_rad (empty: not known)
+    std::vector<double> path_turn;   // asr::Asr::path_turn_rad (empty: not known, or used)
     double turn_after = 0.0;         // asr::Asr::turn_after_path_rad
     double pre_rate = 0.0;           // drift removed while it was mapped (asr::Asr::pre_bend_rad_per_m)
     std::vector<Polyline> walls;     // local frame, as mapped
