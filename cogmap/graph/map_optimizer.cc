@@ -140,15 +140,14 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
     path.reserve(prev.path_raw.size() + 1);
     path.assign(prev.path_raw.begin(), prev.path_raw.end());
     path.push_back(a.world_from_local_raw);
-    // The turns between the poses (on the spot too), where both ASRs know them.
+    // The turns between the poses (on the spot too), where the previous ASR
+    // knows them; taken from its node, which needs them for this factor only.
     std::vector<double> turns;
-    if (prev.path_turn.size() == prev.path_raw.size() && !prev.path_turn.empty()) {
-      turns = prev.path_turn;
-      turns.push_back(prev.turn_after);
-    }
+    turns.swap(nodes_[idx - 1].path_turn);
+    if (turns.size() == prev.path_raw.size() && !turns.empty()) turns.push_back(prev.turn_after);
+    else turns.clear();
     const OdometryMeasurement m = MeasureOdometry(asr::CorrectedPath(path, prev.raw, Pose2{}, prev.pre_rate),
                                                   options_.odometry, 24, turns.empty() ? nullptr : &turns);
-    std::vector<double>().swap(nodes_[idx - 1].path_turn);  // served its one odometry factor
     driven_m_ += m.distance_m;
     // Prediction with the previous node's drift rate.
     const double r = graph_.rate(idx - 1) - prev.pre_rate;
