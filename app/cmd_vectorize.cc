@@ -112,6 +112,7 @@ struct EvalArgs {
   double range_m = -1.0;
   bool json = false;
   std::string png;
+  std::string rooms;
 };
 
 int RunEval(const EvalArgs& a) {
@@ -119,6 +120,7 @@ int RunEval(const EvalArgs& a) {
   o.world = a.world;
   o.range_m = a.range_m;
   o.png = a.png;
+  o.rooms = a.rooms;
   const mapping::Evaluation e = mapping::EvaluateFolder(a.dir, o);
   if (a.json) std::cout << e.metrics.dump(2) << "\n";
   else std::fputs(e.text.c_str(), stdout);
@@ -134,6 +136,11 @@ std::function<int()> SetupEval(CLI::App& sub) {
   sub.add_option("--range", a->range_m,
                  "Sensor range for recall, metres (default: the effective range recorded by vectorize, "
                  "min(max range, window))");
+  sub.add_option("--rooms", a->rooms,
+                 "The true rooms as a room-segmentation image of a PNG world (the benchmark's "
+                 "*_gt_segmentation.png: each room a region of white or coloured pixels, doors closed; placed as "
+                 "the world's pixels): room precision/recall and the floor plan's room IoU against them instead of "
+                 "the world's Room cairns");
   sub.add_flag("--json", a->json, "Print the metrics as JSON");
   sub.add_option("--png", a->png, "Also draw the map walls (black, red vertices) over the true walls (light blue)");
   return [a] { return RunEval(*a); };

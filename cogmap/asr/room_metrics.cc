@@ -15,12 +15,16 @@ std::vector<Pose2> AreaPath(const Asr& asr, bool prefer_true_path) {
   return out;
 }
 
-RoomMetrics EvaluateRooms(const std::vector<Asr>& asrs, const std::vector<NamedBox>& rooms,
-                          const RoomMatchOptions& options) {
+namespace {
+
+// rooms_of(c, counts) adds one to counts[r] for every room r holding the point c.
+template <class RoomsOf>
+RoomMetrics Evaluate(const std::vector<Asr>& asrs, size_t room_count, RoomsOf rooms_of,
+                     const RoomMatchOptions& options) {
   RoomMetrics m;
   m.asr_count = static_cast<int>(asrs.size());
-  m.room_count = static_cast<int>(rooms.size());
-  std::vector<bool> room_taken(rooms.size(), false);
+  m.room_count = static_cast<int>(room_count);
+  std::vector<bool> room_taken(room_count, false);
   for (const Asr& a : asrs) {
     std::set<std::pair<long, long>> cells;
     for (const auto& p : AreaPath(a, options.prefer_true_path))
@@ -28,13 +32,9 @@ RoomMetrics EvaluateRooms(const std::vector<Asr>& asrs, const std::vector<NamedB
                     static_cast<long>(std::floor(p.y / options.cell_m))});
     int best = -1;
     if (!cells.empty()) {
-      std::vector<int> counts(rooms.size(), 0);
-      for (const auto& [cx, cy] : cells) {
-        const Vec2 c((cx + 0.5) * options.cell_m, (cy + 0.5) * options.cell_m);
-        for (size_t r = 0; r < rooms.size(); ++r)
-          if (rooms[r].Contains(c)) ++counts[r];
-      }
-      for (size_t r = 0; r < rooms.size(); ++r)
+      std::vector<int> counts(room_count, 0);
+      for (const auto& [cx, cy] : cells) rooms_of(Vec2((cx + 0.5) * options.cell_m, (cy + 0.5) * options.cell_m), &counts);
+      for (size_t r = 0; r < room_count; ++r)
         if (counts[r] > options.majority * static_cast<double>(cells.size()) &&
             (best < 0 || counts[r] > counts[best]))
           best = static_cast<int>(r);
@@ -49,6 +49,23 @@ RoomMetrics EvaluateRooms(const std::vector<Asr>& asrs, const std::vector<NamedB
   m.room_precision = m.asr_count ? static_cast<double>(m.matched_asrs) / m.asr_count : 0.0;
   m.room_recall = m.room_count ? static_cast<double>(m.matched_rooms) / m.room_count : 0.0;
   return m;
+}
+
+}  // namespace
+
+RoomMetrics EvaluateRooms(const std::vector<Asr>& asrs, const std::vector<NamedBox>& rooms,
+                          const RoomMatchOptions& options) {
+  return Evaluate(asrs, rooms.size(), [&](const Vec2& c, std::vector<int>* counts) {
+    for (size_t r = 0; r < rooms.size(); ++r)
+      if (rooms[r].Contains(c)) ++(*counts)[r];
+  }, options);
+}
+
+RoomMetrics EvaluateRooms(const std::vector<Asr>& asrs, const RoomLabels& rooms, const RoomMatchOptions& options) {
+  return Evaluate(asrs, rooms.names.size(), [&](const Vec2& c, std::vector<int>* counts) {
+    const int r = rooms.At(c);
+    if (r >= 0) ++(*counts)[r];
+  }, options);
 }
 
 }  // namespace cogmap::asr

@@ -32,6 +32,10 @@ struct RoomMetrics {
 RoomMetrics EvaluateRooms(const std::vector<Asr>& asrs, const std::vector<NamedBox>& rooms,
                           const RoomMatchOptions& options = {});
 
+// The same against rooms given as a raster (a room-segmentation image): a
+// cell centre lies in the room whose label holds it.
+RoomMetrics EvaluateRooms(const std::vector<Asr>& asrs, const RoomLabels& rooms, const RoomMatchOptions& options = {});
+
 // The poses used for an ASR's area (see EvaluateRooms).
 std::vector<Pose2> AreaPath(const Asr& asr, bool prefer_true_path = true);
 

@@ -26,6 +26,23 @@ TEST(RoomMetrics, OneAsrPerRoomIsPerfect) {
   EXPECT_DOUBLE_EQ(m.room_recall, 1.0);
 }
 
+TEST(RoomMetrics, RoomsFromARaster) {
+  // The three rooms of kRooms as 1 m cells over 15 x 4 m.
+  RoomLabels l;
+  l.cell_m = 1.0;
+  l.width = 15;
+  l.height = 4;
+  l.names = {"a", "b", "c"};
+  l.cells = {20, 20, 20};
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 15; ++x) l.label.push_back(x / 5);
+  const auto m = EvaluateRooms({PathAsr(0, {1, 2}, {4.5, 2}), PathAsr(1, {5.5, 2}, {9, 2}), PathAsr(2, {6, 2}, {9, 3})},
+                               l);
+  EXPECT_EQ(m.asr_room, (std::vector<int>{0, 1, 1}));
+  EXPECT_DOUBLE_EQ(m.room_precision, 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(m.room_recall, 2.0 / 3.0);
+}
+
 TEST(RoomMetrics, SecondAsrInTheSameRoomLowersPrecision) {
   const auto m = EvaluateRooms({PathAsr(0, {1, 2}, {2.5, 2}), PathAsr(1, {2.6, 2}, {4.5, 2}),
                                 PathAsr(2, {5.5, 2}, {9, 2})},

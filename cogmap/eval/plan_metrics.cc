@@ -333,8 +333,48 @@ PlanMetrics DescribePlan(const plan::Plan& plan) {
   return m;
 }
 
+// Cells of each labelled room that each plan room's polygon covers (cell
+// centres inside, even-odd rule, filled row by row): inter[label] maps a
+// plan room index to its count.
+std::vector<std::unordered_map<int, int64_t>> LabelCover(const plan::Plan& plan, const RoomLabels& L) {
+  std::vector<std::unordered_map<int, int64_t>> inter(L.names.size());
+  std::vector<double> xs;
+  for (size_t j = 0; j < plan.rooms.size(); ++j) {
+    const std::vector<Vec2>& ring = plan.rooms[j].polygon;
+    if (ring.size() < 3) continue;
+    double ymin = ring[0].y(), ymax = ymin;
+    for (const Vec2& v : ring) {
+      ymin = std::min(ymin, v.y());
+      ymax = std::max(ymax, v.y());
+    }
+    // Rows whose centre lies within the polygon's span.
+    const int r0 = std::max(0, static_cast<int>(std::ceil((ymin - L.origin.y()) / L.cell_m - 0.5)));
+    const int r1 = std::min(L.height - 1, static_cast<int>(std::floor((ymax - L.origin.y()) / L.cell_m - 0.5)));
+    for (int r = r0; r <= r1; ++r) {
+      const double yc = L.origin.y() + (r + 0.5) * L.cell_m;
+      xs.clear();
+      for (size_t k = 0; k < ring.size(); ++k) {
+        const Vec2& a = ring[k];
+        const Vec2& b = ring[(k + 1) % ring.size()];
+        if ((a.y() <= yc) != (b.y() <= yc)) xs.push_back(a.x() + (yc - a.y()) * (b.x() - a.x()) / (b.y() - a.y()));
+      }
+      std::sort(xs.begin(), xs.end());
+      for (size_t k = 0; k + 1 < xs.size(); k += 2) {
+        // Columns whose centre lies in [xs[k], xs[k + 1]).
+        const int c0 = std::max(0, static_cast<int>(std::ceil((xs[k] - L.origin.x()) / L.cell_m - 0.5)));
+        const int c1 = std::min(L.width - 1, static_cast<int>(std::ceil((xs[k + 1] - L.origin.x()) / L.cell_m - 0.5)) - 1);
+        for (int c = c0; c <= c1; ++c) {
+          const int l = L.label[static_cast<size_t>(r) * L.width + c];
+          if (l >= 0) ++inter[l][static_cast<int>(j)];
+        }
+      }
+    }
+  }
+  return inter;
+}
+
 PlanMetrics EvaluatePlan(const plan::Plan& plan, const FloorPlan& truth, const std::vector<Vec2>& true_path,
-                         const PlanMetricsOptions& o) {
+                         const PlanMetricsOptions& o, const RoomLabels* room_labels) {
   PlanMetrics m = DescribePlan(plan);
   const double cell = std::max(0.5, 2.0 * o.match_m);
   const SegGrid true_grid(truth.walls, cell);
@@ -388,6 +428,38 @@ PlanMetrics EvaluatePlan(const plan::Plan& plan, const FloorPlan& truth, const s
     m.recall = WallRecall(lines, truth.walls, true_path, wo).recall();
   }
 
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+  };
+  if (room_labels && !room_labels->empty()) {
+    // Rooms from a segmentation raster: each against its best plan room.
+    const RoomLabels& L = *room_labels;
+    const double cell_area = L.cell_m * L.cell_m;
+    const auto inter = LabelCover(plan, L);
+    std::vector<bool> entered(L.names.size(), false);
+    for (const Vec2& p : true_path)
+      if (const int l = L.At(p); l >= 0) entered[l] = true;
+    std::vector<double> area(plan.rooms.size());
+    for (size_t j = 0; j < plan.rooms.size(); ++j) area[j] = bg::area(Poly(plan.rooms[j].polygon));
+    std::vector<double> entered_iou;
+    for (size_t l = 0; l < L.names.size(); ++l) {
+      double best = 0.0;
+      for (const auto& [j, n] : inter[l]) {
+        const double in = n * cell_area;
+        const double uni = L.cells[l] * cell_area + area[j] - in;
+        if (uni > 0) best = std::max(best, in / uni);
+      }
+      m.room_iou.push_back(best);
+      m.room_entered.push_back(entered[l]);
+      if (entered[l]) entered_iou.push_back(best);
+    }
+    m.room_iou_median = median(m.room_iou);
+    m.rooms_entered = static_cast<int>(entered_iou.size());
+    if (!entered_iou.empty()) m.room_iou_median_entered = median(entered_iou);
+    return m;
+  }
   // Rooms: each true room against its best plan room (candidates through a box grid).
   if (!truth.rooms.empty()) {
     std::vector<BPoly> polys;
@@ -450,11 +522,6 @@ PlanMetrics EvaluatePlan(const plan::Plan& plan, const FloorPlan& truth, const s
       m.room_entered.push_back(entered);
       if (entered) entered_iou.push_back(best);
     }
-    auto median = [](std::vector<double> v) {
-      std::sort(v.begin(), v.end());
-      const size_t n = v.size();
-      return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-    };
     m.room_iou_median = median(m.room_iou);
     m.rooms_entered = static_cast<int>(entered_iou.size());
     if (!entered_iou.empty()) m.room_iou_median_entered = median(entered_iou);

@@ -51,8 +51,13 @@ struct PlanMetrics {
 
 // Linear in the sizes of the plan and the world (grid indexes), except the
 // recall's sight test, which is eval::WallRecall's.
+// With 'room_labels' (rooms from a segmentation image; not empty), the room
+// metrics are taken against them instead of truth.rooms: each labelled room
+// (its whole floor) against the plan room covering most of it (IoU over the
+// raster's cells, a cell counting as covered when its centre is inside the
+// polygon); a room is entered when a true path point lies on its floor.
 PlanMetrics EvaluatePlan(const plan::Plan& plan, const FloorPlan& truth, const std::vector<Vec2>& true_path,
-                         const PlanMetricsOptions& options = {});
+                         const PlanMetricsOptions& options = {}, const RoomLabels* room_labels = nullptr);
 
 // Metrics that need no truth (counts, vertices per metre, overlap).
 PlanMetrics DescribePlan(const plan::Plan& plan);

@@ -32,6 +32,39 @@ struct Case {
   }
 };
 
+// Rooms from a segmentation raster (0.1 m cells over 10 x 10 m): the lower
+// half is room 0, the upper half room 1, a 1 m band between them no room.
+// One plan room covers room 0 exactly, another half of room 1 and the band.
+TEST(PlanMetrics, RoomsFromASegmentationRaster) {
+  RoomLabels l;
+  l.cell_m = 0.1;
+  l.width = l.height = 100;
+  l.label.assign(100 * 100, -1);
+  l.names = {"room 1", "room 2"};
+  l.cells = {0, 0};
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 100; ++x) {
+      const int r = y < 45 ? 0 : y >= 55 ? 1 : -1;
+      l.label[y * 100 + x] = r;
+      if (r >= 0) ++l.cells[r];
+    }
+  Case c;
+  c.plan.rooms = {R(0, {{0, 0}, {10, 0}, {10, 4.5}, {0, 4.5}}), R(1, {{0, 4.5}, {10, 4.5}, {10, 7.7}, {0, 7.7}})};
+  const PlanMetrics m = EvaluatePlan(c.plan, c.truth, {{5, 8}}, {}, &l);
+  ASSERT_EQ(m.room_iou.size(), 2u);
+  EXPECT_NEAR(m.room_iou[0], 1.0, 1e-9);
+  // Room 2: 45 m2, of which the plan room covers 22 m2 (the rows whose
+  // centres lie below 7.7 m: 55-76); the plan room is 32 m2: 22 / (45 + 32 - 22).
+  EXPECT_NEAR(m.room_iou[1], 0.4, 1e-9);
+  EXPECT_EQ(m.room_entered, (std::vector<bool>{false, true}));
+  EXPECT_EQ(m.rooms_entered, 1);
+  ASSERT_TRUE(m.room_iou_median_entered.has_value());
+  EXPECT_NEAR(*m.room_iou_median_entered, 0.4, 1e-9);
+  EXPECT_NEAR(*m.room_iou_median, 0.5 * (1.0 + 0.4), 1e-9);
+  // Without the raster the world's room cairns are used.
+  EXPECT_EQ(EvaluatePlan(c.plan, c.truth, {{5, 8}}).room_iou.size(), 3u);
+}
+
 // A ring corridor 2 m wide around a walled 6 x 6 m block: its room cairn is
 // the 10 x 10 m box, the block included. The true room is the floor the robot
 // could reach: 100 x 100 cells of 0.1 m less the block's 59 x 59 inside ones

@@ -274,6 +274,61 @@ void WriteAriaMap(const std::string& path, const FloorPlan& plan) {
   WriteFileAtomically(path, FormatAriaMap(plan));
 }
 
+RoomLabels RoomLabelsFromSegmentation(const RgbImage& img, double m_per_pixel, double min_room_m2) {
+  if (!(m_per_pixel > 0)) throw InputError("room segmentation: metres per pixel must be positive");
+  const int W = img.width(), H = img.height();
+  RoomLabels out;
+  out.cell_m = m_per_pixel;
+  out.width = W;
+  out.height = H;
+  out.label.assign(static_cast<size_t>(W) * H, -1);
+  auto room_colour = [](const Rgb& c) {
+    return (c.r == 255 && c.g == 255 && c.b == 255) || c.r != c.g || c.g != c.b;
+  };
+  // Cell (x, y up) of image pixel (x, row): y = H - 1 - row.
+  auto cell = [&](int x, int row) { return static_cast<size_t>(H - 1 - row) * W + x; };
+  const int64_t min_cells = static_cast<int64_t>(std::ceil(min_room_m2 / (m_per_pixel * m_per_pixel)));
+  std::vector<std::pair<int, int>> stack, region;
+  int next = 0;
+  for (int row = 0; row < H; ++row)
+    for (int x = 0; x < W; ++x) {
+      if (out.label[cell(x, row)] != -1 || !room_colour(img.at(x, row))) continue;
+      // Flood the region of this pixel's colour (4-connected).
+      const Rgb c = img.at(x, row);
+      region.clear();
+      stack.assign(1, {x, row});
+      out.label[cell(x, row)] = next;
+      while (!stack.empty()) {
+        const auto [px, py] = stack.back();
+        stack.pop_back();
+        region.push_back({px, py});
+        const int nb[4][2] = {{px + 1, py}, {px - 1, py}, {px, py + 1}, {px, py - 1}};
+        for (const auto& n : nb) {
+          if (!img.Inside(n[0], n[1]) || !(img.at(n[0], n[1]) == c) || out.label[cell(n[0], n[1])] != -1) continue;
+          out.label[cell(n[0], n[1])] = next;
+          stack.push_back({n[0], n[1]});
+        }
+      }
+      if (static_cast<int64_t>(region.size()) < min_cells) {
+        // Too small for a room: no room, and never flooded again (-2 until the end).
+        for (const auto& [px, py] : region) out.label[cell(px, py)] = -2;
+        continue;
+      }
+      out.names.push_back("room " + std::to_string(next + 1));
+      out.cells.push_back(static_cast<int64_t>(region.size()));
+      ++next;
+    }
+  for (int32_t& l : out.label) l = std::max(l, -1);
+  return out;
+}
+
+RoomLabels ReadRoomSegmentation(const std::string& path, const BitmapWorldOptions& bitmap) {
+  RoomLabels out = RoomLabelsFromSegmentation(ReadRgbPng(path), bitmap.m_per_pixel);
+  if (out.empty())
+    throw InputError(path, 0, "no rooms in the segmentation image (a room is a region of white or coloured pixels)");
+  return out;
+}
+
 FloorPlan FloorPlanFromOccupancy(const GreyImage& img, const BitmapWorldOptions& o) {
   const int W = img.width, H = img.height;
   const double m = o.m_per_pixel;

@@ -45,6 +45,20 @@ struct BitmapWorldOptions {
 };
 FloorPlan FloorPlanFromOccupancy(const GreyImage& image, const BitmapWorldOptions& options = {});
 
+// Ground-truth rooms from a room-segmentation image (the benchmark's
+// *_gt_segmentation.png: the building's map with its doors closed): a room is
+// a 4-connected region of pixels of one colour that is white or not grey
+// (r, g, b not all equal: a benchmark that fills each room with its own
+// colour); grey and black pixels (walls, the outside, unlabelled floor) are
+// no room. Regions smaller than min_room_m2 are dropped (a few pixels left
+// between a door line and a jamb). Pixels as in a bitmap world (row 0 on
+// top, the lower-left corner at the origin, m_per_pixel); rooms named
+// "room 1", "room 2", ... in the order of their first pixel from the top
+// left. InputError naming the file for an unreadable image or one without
+// a room.
+RoomLabels RoomLabelsFromSegmentation(const RgbImage& image, double m_per_pixel, double min_room_m2 = 0.25);
+RoomLabels ReadRoomSegmentation(const std::string& path, const BitmapWorldOptions& bitmap = {});
+
 // A ROS map_server map as a world: the YAML (image, resolution, origin,
 // negate, occupied_thresh, free_thresh, mode; grid_io.h) and its PGM or PNG.
 // Each pixel is classified as map_server does (occupied: 100, free: 0, else

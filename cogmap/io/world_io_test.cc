@@ -156,6 +156,53 @@ TEST(WorldIo, ReadsRoomSegmentationBitmap) {
   EXPECT_TRUE(r.plan.home.has_value());
 }
 
+// A 9 x 5 px segmentation, 1 m pixels: grey all round, a white room (3 x 3
+// px) and a coloured one (3 x 3 px) either side of a black wall column, and
+// a white speck at the top right touching the coloured room only corner to
+// corner (4-connected regions: not joined).
+TEST(WorldIo, RoomSegmentationLabelsWhiteAndColouredRegions) {
+  RgbImage img(9, 5, Rgb{180, 180, 180});
+  for (int row = 1; row <= 3; ++row) {
+    for (int x = 1; x <= 3; ++x) img.at(x, row) = Rgb{255, 255, 255};
+    img.at(4, row) = Rgb{0, 0, 0};
+    for (int x = 5; x <= 7; ++x) img.at(x, row) = Rgb{200, 100, 50};
+  }
+  img.at(8, 0) = Rgb{255, 255, 255};
+  const RoomLabels l = RoomLabelsFromSegmentation(img, 1.0, /*min_room_m2=*/2.0);
+  ASSERT_EQ(l.names.size(), 2u);  // the speck (1 m2) is no room
+  EXPECT_EQ(l.cells, (std::vector<int64_t>{9, 9}));
+  // Pixel (x, row) covers x..x+1, 4-row..5-row (row 0 on top, y up).
+  EXPECT_EQ(l.At({1.5, 3.5}), 0);   // pixel (1, 1)
+  EXPECT_EQ(l.At({3.5, 1.5}), 0);   // pixel (3, 3)
+  EXPECT_EQ(l.At({4.5, 2.5}), -1);  // the wall
+  EXPECT_EQ(l.At({7.5, 1.5}), 1);
+  EXPECT_EQ(l.At({8.5, 4.5}), -1);  // the speck
+  EXPECT_EQ(l.At({0.5, 0.5}), -1);  // grey: outside
+  EXPECT_EQ(l.At({-0.5, 2.0}), -1);
+  EXPECT_EQ(l.At({9.5, 2.0}), -1);
+}
+
+TEST(WorldIo, RoomSegmentationOfTheBenchmarkBuilding) {
+  // lab_a's ground truth: its rooms with their doors closed.
+  const RoomLabels l = ReadRoomSegmentation(kShared + "/data/room-segmentation/lab_a_scan_gt_segmentation.png");
+  EXPECT_EQ(l.names.size(), 46u);
+  EXPECT_EQ(l.width, 824);
+  EXPECT_EQ(l.height, 708);
+  int64_t total = 0;
+  for (int64_t c : l.cells) total += c;
+  EXPECT_GT(total, 300000);  // most of the white floor
+  const std::string path = ::cogmap::testing_util::TestTempPath("grey.png");
+  WritePng(path, RgbImage(4, 4, Rgb{180, 180, 180}));
+  try {
+    ReadRoomSegmentation(path);
+    FAIL() << "a segmentation without rooms was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no rooms"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
 TEST(WorldIo, CorruptPngIsAnError) {
   const std::string path = ::cogmap::testing_util::TestTempPath("corrupt.png");
   {

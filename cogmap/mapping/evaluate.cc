@@ -1,6 +1,7 @@
 #include "cogmap/mapping/evaluate.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -44,6 +45,20 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
     world = io::ReadWorld(o.world);
     if (world.plan.walls.empty()) throw InputError(o.world, 0, "the world has no walls (LINES)");
   }
+  // True rooms from a segmentation image, on the world's raster.
+  RoomLabels room_labels;
+  if (!o.rooms.empty()) {
+    if (!have_world) throw InputError(o.rooms, 0, "the rooms image needs the world it segments (--world)");
+    room_labels = io::ReadRoomSegmentation(o.rooms);
+    const Vec2 extent(room_labels.width * room_labels.cell_m, room_labels.height * room_labels.cell_m);
+    std::string ext = std::filesystem::path(o.world).extension().string();
+    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (ext == ".png" && (world.plan.max - extent).cwiseAbs().maxCoeff() > 0.5 * room_labels.cell_m)
+      throw InputError(o.rooms, 0, "the rooms image covers " + Num(extent.x()) + " x " + Num(extent.y()) +
+                                       " m, the world " + Num(world.plan.max.x()) + " x " + Num(world.plan.max.y()) +
+                                       " m: not the same building's raster");
+  }
+  const bool label_rooms = !room_labels.empty();
   if (!wf.has_truth)
     throw InputError(wf.log_path, 0, "the log has no ground-truth poses: eval needs a run with truth "
                                      "(e.g. from cogmap simulate, or a corrected CARMEN log)");
@@ -125,9 +140,9 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
   std::optional<eval::TrajectoryMetrics> trajectory;
   std::optional<eval::PoseCalibration> calibration;
   if (have_store) {
-    rooms = asr::EvaluateRooms(asrs, world.plan.rooms);
+    rooms = label_rooms ? asr::EvaluateRooms(asrs, room_labels) : asr::EvaluateRooms(asrs, world.plan.rooms);
     j["asr_count"] = rooms->asr_count;
-    if (have_world && !world.plan.rooms.empty()) {
+    if (have_world && (label_rooms || !world.plan.rooms.empty())) {
       j["room_precision"] = rooms->room_precision;
       j["room_recall"] = rooms->room_recall;
     } else {
@@ -161,12 +176,13 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
     const plan::Plan fp = plan::TransformPlan(wf.world_from_map, plan::ReadPlanJson(plan_path.string()));
     eval::PlanMetricsOptions po;
     po.sensor_range_m = mo.sensor_range_m;
-    plan_metrics = have_world ? eval::EvaluatePlan(fp, world.plan, true_path, po) : eval::DescribePlan(fp);
+    plan_metrics = have_world ? eval::EvaluatePlan(fp, world.plan, true_path, po, label_rooms ? &room_labels : nullptr)
+                              : eval::DescribePlan(fp);
     for (const auto& [key, value] : eval::PlanEvalKeys(*plan_metrics, have_world)) {
       if (value) j[key] = *value;
       else j[key] = nullptr;
     }
-    if (have_world && world.plan.rooms.empty())  // no true rooms
+    if (have_world && world.plan.rooms.empty() && !label_rooms)  // no true rooms
       j["room_iou_median"] = j["rooms_entered"] = j["room_iou_median_entered"] = nullptr;
   }
   j["mode"] = wf.mode;
@@ -201,9 +217,10 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
                     "room IoU median %s (%s over the %d of %zu rooms the robot entered)\n",
                     *pm.precision_p50_m, *pm.precision_p95_m, pm.recall,
                     pm.duplication ? Num(*pm.duplication).c_str() : "n/a",
-                    pm.room_iou_median && !world.plan.rooms.empty() ? Num(*pm.room_iou_median).c_str() : "n/a",
+                    pm.room_iou_median && (label_rooms || !world.plan.rooms.empty()) ? Num(*pm.room_iou_median).c_str()
+                                                                                    : "n/a",
                     pm.room_iou_median_entered ? Num(*pm.room_iou_median_entered).c_str() : "n/a", pm.rooms_entered,
-                    world.plan.rooms.size());
+                    pm.room_iou.size());
     }
     if (j.contains("heading_error_deg_median")) {
       AppendF(&out.text, "  heading error (deg, one global rotation removed): corrected median %.2f, max %.2f; "

@@ -12,6 +12,9 @@ struct EvaluateOptions {
   std::string world;     // the world the log was driven in ("" = none)
   double range_m = -1.0; // sensor range for recall (< 0: what the folder recorded)
   std::string png;       // also draw the map walls over the true walls here ("" = no)
+  // The true rooms as a room-segmentation image (io::ReadRoomSegmentation;
+  // "" = the world's Room cairns): placed as a bitmap world is.
+  std::string rooms;
 };
 
 struct Evaluation {

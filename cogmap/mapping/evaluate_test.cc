@@ -1,0 +1,90 @@
+// `cogmap eval` on a map folder against a bitmap world and its room
+// segmentation (issue 11: rooms of real buildings).
+#include "cogmap/mapping/evaluate.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+#include "cogmap/core/error.h"
+#include "cogmap/core/test_temp.h"
+#include "cogmap/io/image.h"
+#include "cogmap/io/log_reader.h"
+#include "cogmap/io/native_log.h"
+#include "cogmap/io/world_io.h"
+#include "cogmap/mapping/map_job.h"
+#include "cogmap/sim/simulator.h"
+
+namespace cogmap::mapping {
+namespace {
+
+using ::cogmap::testing_util::TestTempPath;
+
+// Two 4 x 4 m rooms side by side (0.05 m pixels, walls 0.1 m thick), joined
+// by a 1 m door in the wall between them; 'closed' draws the door shut (the
+// room segmentation's convention).
+io::RgbImage TwoRooms(bool closed) {
+  const int W = 162, H = 82;
+  io::RgbImage img(W, H, io::Rgb{255, 255, 255});
+  const io::Rgb black{0, 0, 0};
+  for (int x = 0; x < W; ++x)
+    for (int row = 0; row < H; ++row) {
+      const bool border = x < 2 || x >= W - 2 || row < 2 || row >= H - 2;
+      const bool middle = x >= 80 && x < 82 && (closed || row < 31 || row >= 51);
+      if (border || middle) img.at(x, row) = black;
+    }
+  return img;
+}
+
+TEST(EvaluateFolder, RoomsFromASegmentationImage) {
+  const std::string world_png = TestTempPath("two_rooms.png"), rooms_png = TestTempPath("two_rooms_gt.png");
+  io::WritePng(world_png, TwoRooms(false));
+  io::WritePng(rooms_png, TwoRooms(true));
+  const FloorPlan world = io::ReadWorld(world_png).plan;
+  sim::SimulatorOptions so;
+  so.mode = sim::SimMode::kExplore;
+  so.seed = 3;
+  so.max_time_s = 240.0;
+  so.explore_idle_s = 40.0;
+  so.start = Pose2{2.0, 2.0, 0.0};
+  const std::string log_path = TestTempPath("two_rooms.log");
+  {
+    std::ofstream out(log_path);
+    io::NativeLogWriter w(out, sensors::BuiltinRobot("laser"));
+    sim::Simulate(world, sensors::BuiltinRobot("laser"), so, [&w](const sensors::LogRecord& r) { w.Write(r); });
+  }
+  MapJob job;
+  job.log_path = log_path;
+  job.output_dir = TestTempPath("two_rooms_map");
+  auto log = io::OpenLog(log_path);
+  RunMapJob(*log, job);
+
+  EvaluateOptions o;
+  o.world = world_png;
+  o.rooms = rooms_png;
+  const nlohmann::json m = EvaluateFolder(job.output_dir, o).metrics;
+  // Both rooms were entered, and the plan's rooms are the two rooms.
+  ASSERT_TRUE(m["rooms_entered"].is_number());
+  EXPECT_EQ(m["rooms_entered"].get<int>(), 2);
+  ASSERT_TRUE(m["room_iou_median"].is_number());
+  EXPECT_GT(m["room_iou_median"].get<double>(), 0.7);
+  EXPECT_DOUBLE_EQ(m["room_recall"].get<double>(), 1.0);
+  // Without the image the world (a bitmap) has no rooms to compare with.
+  o.rooms.clear();
+  EXPECT_TRUE(EvaluateFolder(job.output_dir, o).metrics["room_iou_median"].is_null());
+  // An image of another size is not this world's segmentation.
+  const std::string other = TestTempPath("other_gt.png");
+  io::WritePng(other, io::RgbImage(100, 82, io::Rgb{255, 255, 255}));
+  o.rooms = other;
+  try {
+    EvaluateFolder(job.output_dir, o);
+    FAIL() << "a segmentation of another size was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(other), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not the same building"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace cogmap::mapping
