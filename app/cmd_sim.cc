@@ -55,7 +55,7 @@ int RunSimulate(SimulateArgs& a) {
 std::function<int()> SetupSimulate(CLI::App& sub) {
   auto a = std::make_shared<SimulateArgs>();
   sub.add_option("WORLD", a->job.world_path,
-                 "World: an ARIA 2D-Map file (.map), a PNG occupancy image (dark pixels are walls), or a ROS "
+                 "World: an ARIA 2D-Map file (.map), a PNG occupancy image (white pixels are free, every other pixel a wall), or a ROS "
                  "map_server map.yaml with its PGM or PNG (occupied cells are walls)")
       ->required();
   sub.add_option("--start", a->start,

@@ -436,6 +436,7 @@ WorldReadResult ReadMapServerWorld(const std::string& yaml_path) {
   }
   BitmapWorldOptions o;
   o.m_per_pixel = yaml.resolution;
+  o.occupied_below = kUnknown;  // only occupied pixels are walls (unknown ones are not free either: never home)
   WorldReadResult r;
   r.plan = FloorPlanFromOccupancy(grey, o);
   // Image frame (lower-left corner at 0, 0) -> map frame.

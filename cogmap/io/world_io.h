@@ -32,15 +32,19 @@ WorldReadResult ParseAriaMap(const std::string& text, const std::string& path_fo
 void WriteAriaMap(const std::string& path, const FloorPlan& plan);
 std::string FormatAriaMap(const FloorPlan& plan);
 
-// Bitmap worlds: dark pixels (grey < occupied_below) are walls. Each run of
-// pixel edges between an occupied and a free pixel along a row or a column
-// becomes one wall segment, so the walls trace the outline of every occupied
-// blob exactly. Row 0 is the top of the image; the world origin is the
-// lower-left corner. The RobotHome is placed at the free (grey >=
+// Bitmap worlds: pixels darker than occupied_below are walls; by default
+// every pixel that is not white. The room-segmentation maps draw free floor
+// white, walls light grey (Freiburg52: 211, with no dark outline) and the
+// outside mid grey (180); taking only dark pixels (below 128) as walls let
+// the simulated robot, and its sensors, pass through Freiburg52's walls. Each
+// run of pixel edges between an occupied and a free pixel along a row or a
+// column becomes one wall segment, so the walls trace the outline of every
+// occupied blob exactly. Row 0 is the top of the image; the world origin is
+// the lower-left corner. The RobotHome is placed at the free (grey >=
 // free_above) pixel farthest from any occupied pixel.
 struct BitmapWorldOptions {
   double m_per_pixel = 0.05;  // the room-segmentation maps' resolution
-  int occupied_below = 128;
+  int occupied_below = 250;
   int free_above = 250;
 };
 FloorPlan FloorPlanFromOccupancy(const GreyImage& image, const BitmapWorldOptions& options = {});
