@@ -333,8 +333,10 @@ FloorPlan FloorPlanFromOccupancy(const GreyImage& img, const BitmapWorldOptions&
   const int W = img.width, H = img.height;
   const double m = o.m_per_pixel;
   if (!(m > 0)) throw InputError("bitmap world: metres per pixel must be positive");
+  // Beyond the image is a wall: the world is closed by the image's border
+  // (free pixels on it get a wall; a grey outside touching it gets none).
   auto occ = [&](int x, int y) {
-    return x >= 0 && y >= 0 && x < W && y < H && img.pixels[static_cast<size_t>(y) * W + x] < o.occupied_below;
+    return x < 0 || y < 0 || x >= W || y >= H || img.pixels[static_cast<size_t>(y) * W + x] < o.occupied_below;
   };
   FloorPlan plan;
   // Horizontal edges: the top of row y (between rows y-1 and y), y = 0..H.
@@ -376,6 +378,8 @@ FloorPlan FloorPlanFromOccupancy(const GreyImage& img, const BitmapWorldOptions&
     for (int y = 0; y < H; ++y)
       for (int x = 0; x < W; ++x) {
         int& v = at(x, y);
+        // The border counts as a wall (3 from a pixel on it).
+        if (x == 0 || y == 0 || x + 1 == W || y + 1 == H) v = std::min(v, 3);
         if (x > 0) v = std::min(v, at(x - 1, y) + 3);
         if (y > 0) v = std::min(v, at(x, y - 1) + 3);
         if (x > 0 && y > 0) v = std::min(v, at(x - 1, y - 1) + 4);

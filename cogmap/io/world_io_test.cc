@@ -120,34 +120,44 @@ TEST(WorldIo, RoundTrip) {
 }
 
 TEST(WorldIo, BitmapOutlinesOccupiedPixels) {
-  // A 4x3 image with one dark pixel at column 1, row 0 (top).
+  // A 4x3 image with one dark pixel at column 1, row 0 (top), 0.5 m pixels:
+  // the world is closed by the image's border.
   GreyImage img{4, 3, std::vector<uint8_t>(12, 255)};
   img.pixels[1] = 0;
   BitmapWorldOptions o;
   o.m_per_pixel = 0.5;
   const FloorPlan p = FloorPlanFromOccupancy(img, o);
-  ASSERT_EQ(p.walls.size(), 4u);  // the four sides of the pixel
-  // Pixel (1, 0) covers x in [0.5, 1], y in [1, 1.5].
-  double xmin = 9, xmax = -9, ymin = 9, ymax = -9;
-  for (const auto& w : p.walls)
-    for (const Vec2& v : {w.a, w.b}) {
-      xmin = std::min(xmin, v.x());
-      xmax = std::max(xmax, v.x());
-      ymin = std::min(ymin, v.y());
-      ymax = std::max(ymax, v.y());
-    }
-  EXPECT_DOUBLE_EQ(xmin, 0.5);
-  EXPECT_DOUBLE_EQ(xmax, 1.0);
-  EXPECT_DOUBLE_EQ(ymin, 1.0);
-  EXPECT_DOUBLE_EQ(ymax, 1.5);
+  // The pixel (1, 0) covers x in [0.5, 1], y in [1, 1.5]: its left, right and
+  // bottom sides; its top lies on the border, which has two runs beside it
+  // (x 0-0.5 and 1-2); the bottom, left and right borders one each.
+  auto has = [&](Vec2 a, Vec2 b) {
+    for (const auto& w : p.walls)
+      if (((w.a - a).norm() < 1e-12 && (w.b - b).norm() < 1e-12) || ((w.a - b).norm() < 1e-12 && (w.b - a).norm() < 1e-12))
+        return true;
+    return false;
+  };
+  EXPECT_EQ(p.walls.size(), 8u);
+  EXPECT_TRUE(has({0.5, 1.0}, {0.5, 1.5}));
+  EXPECT_TRUE(has({1.0, 1.0}, {1.0, 1.5}));
+  EXPECT_TRUE(has({0.5, 1.0}, {1.0, 1.0}));
+  EXPECT_TRUE(has({0.0, 1.5}, {0.5, 1.5}));
+  EXPECT_TRUE(has({1.0, 1.5}, {2.0, 1.5}));
+  EXPECT_TRUE(has({0.0, 0.0}, {2.0, 0.0}));
+  EXPECT_TRUE(has({0.0, 1.5}, {0.0, 0.0}) || has({0.0, 0.0}, {0.0, 1.5}));
+  EXPECT_TRUE(has({2.0, 1.5}, {2.0, 0.0}) || has({2.0, 0.0}, {2.0, 1.5}));
+  // Home: the free pixel farthest from the walls and the border.
   ASSERT_TRUE(p.home.has_value());
+  EXPECT_GT(p.home->x, 0.0);
+  EXPECT_LT(p.home->x, 2.0);
 }
 
 TEST(WorldIo, BitmapRunsMergeIntoLongWalls) {
   GreyImage img{10, 3, std::vector<uint8_t>(30, 255)};
   for (int x = 0; x < 10; ++x) img.pixels[10 + x] = 0;  // the middle row is a wall
   const FloorPlan p = FloorPlanFromOccupancy(img);
-  EXPECT_EQ(p.walls.size(), 4u);  // top, bottom, and the two ends
+  // Each side of the wall row one wall; the border closes the two free rows
+  // (top and bottom one each, and the left and right sides of each row).
+  EXPECT_EQ(p.walls.size(), 8u);
 }
 
 TEST(WorldIo, ReadsRoomSegmentationBitmap) {
@@ -242,9 +252,10 @@ std::string WriteRoomMap(const std::string& name, const std::string& image_ext) 
 }
 
 void ExpectRoomWorld(const FloorPlan& p) {
-  // Outer and inner outline of the one-pixel border, plus the unknown pixel's
-  // nothing: 8 segments.
-  EXPECT_EQ(p.walls.size(), 8u);
+  // The inner outline of the one-pixel border (its outer side meets the
+  // image's border, itself a wall), plus the unknown pixel's nothing: 4
+  // segments.
+  EXPECT_EQ(p.walls.size(), 4u);
   double xmin = 9, xmax = -9, ymin = 9, ymax = -9;
   for (const auto& wall : p.walls)
     for (const Vec2& v : {wall.a, wall.b}) {
@@ -253,10 +264,10 @@ void ExpectRoomWorld(const FloorPlan& p) {
       ymin = std::min(ymin, v.y());
       ymax = std::max(ymax, v.y());
     }
-  EXPECT_NEAR(xmin, -1.0, 1e-12);
-  EXPECT_NEAR(xmax, 3.0, 1e-12);
-  EXPECT_NEAR(ymin, -2.0, 1e-12);
-  EXPECT_NEAR(ymax, 1.0, 1e-12);
+  EXPECT_NEAR(xmin, -0.9, 1e-12);
+  EXPECT_NEAR(xmax, 2.9, 1e-12);
+  EXPECT_NEAR(ymin, -1.9, 1e-12);
+  EXPECT_NEAR(ymax, 0.9, 1e-12);
   EXPECT_NEAR(p.min.x(), -1.0, 1e-12);
   EXPECT_NEAR(p.max.y(), 1.0, 1e-12);
   ASSERT_TRUE(p.home.has_value());
