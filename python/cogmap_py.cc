@@ -403,14 +403,16 @@ PYBIND11_MODULE(cogmap, m) {
       .def("floor_plan", &Store::FloorPlan, "The floor plan built from the store, as floor_plan() returns it");
   m.def(
       "evaluate",
-      [](const std::string& dir, const std::string& world, double range_m) {
+      [](const std::string& dir, const std::string& world, double range_m, const std::string& rooms) {
         cogmap::mapping::EvaluateOptions o;
         o.world = world;
         o.range_m = range_m;
+        o.rooms = rooms;
         return Json(cogmap::mapping::EvaluateFolder(dir, o).metrics);
       },
-      py::arg("folder"), py::arg("world") = "", py::arg("range_m") = -1.0,
-      "Scores a map folder as `cogmap eval --json` does (against a world when given); returns the metrics as a dict");
+      py::arg("folder"), py::arg("world") = "", py::arg("range_m") = -1.0, py::arg("rooms") = "",
+      "Scores a map folder as `cogmap eval --json` does (against a world when given; rooms: a room-segmentation "
+      "image of a bitmap world, as --rooms); returns the metrics as a dict");
   m.def("open_store", [](const std::string& path) { return Store(path); }, py::arg("path"));
   m.def(
       "floor_plan", [](const std::string& path) { return PlanDict(LoadPlan(path)); }, py::arg("path"),
