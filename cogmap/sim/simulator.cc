@@ -311,7 +311,7 @@ SimStats Simulate(const FloorPlan& plan, const sensors::RobotDescription& robot,
   long tick = 0;
   double t = 0.0;
   long last_seen_free = -1;
-  double last_seen_t = 0.0;
+  double last_seen_t = 0.0, last_give_up_t = 0.0, blocked_since = -1.0;
   if (o.mode == SimMode::kRoute) start_next_waypoint(t);
   for (;; ++tick) {
     t = tick * o.step_s;
@@ -340,8 +340,20 @@ SimStats Simulate(const FloorPlan& plan, const sensors::RobotDescription& robot,
           break;
         }
         bool need = path.empty() || tick % replan_every == 0 || seen[goal_cell] || given_up[goal_cell];
-        if (!path.empty() && t - last_progress_t > o.stall_timeout_s) {
-          given_up[goal_cell] = 1;  // cannot get there; try elsewhere
+        // Stalled: no closer to the target, or (the nearest unseen cell
+        // changing as the robot wriggles in front of a blocked way) nothing
+        // new seen, for stall_timeout_s.
+        if (!path.empty() && (t - last_progress_t > o.stall_timeout_s ||
+                              t - std::max(last_seen_t, last_give_up_t) > o.stall_timeout_s)) {
+          last_give_up_t = t;
+          // Cannot get there; nor to the unseen cells around it, which the
+          // same blocked way (chairs round a table) leads to: try elsewhere.
+          const int gx = static_cast<int>(goal_cell % lim.width()), gy = static_cast<int>(goal_cell / lim.width());
+          const int rc = static_cast<int>(std::ceil(o.explore_give_up_radius_m / lim.cell_m()));
+          for (int dy = -rc; dy <= rc; ++dy)
+            for (int dx = -rc; dx <= rc; ++dx)
+              if (dx * dx + dy * dy <= rc * rc && lim.Contains({gx + dx, gy + dy}))
+                given_up[lim.Flat({gx + dx, gy + dy})] = 1;
           need = true;
         }
         if (need) {
@@ -368,8 +380,14 @@ SimStats Simulate(const FloorPlan& plan, const sensors::RobotDescription& robot,
               : VfhSteer(nav, pos, want, radius, o.vfh, (c - pos).norm());
       // Everything blocked: with the true walls, turn toward the aim point in
       // place; with the robot's own certainty grid (phantom echoes), trust the
-      // planner's aim point, whose straight line is known to be clear.
-      const bool go = steer.free || o.vfh_from_readings;
+      // planner's aim point, whose straight line is known to be clear. Blocked
+      // for longer than blocked_escape_s (wedged between chairs, where the
+      // histogram's safety distance closes every sector but the planner's
+      // clearance does not), the aim point is trusted too: the physics still
+      // stops the robot short of any wall.
+      if (steer.free) blocked_since = -1.0;
+      else if (blocked_since < 0.0) blocked_since = t;
+      const bool go = steer.free || o.vfh_from_readings || t - blocked_since > o.blocked_escape_s;
       const double heading = steer.free ? steer.heading_rad : want;
       const double err = AngleDiff(heading, truth.theta);
       v_cmd = (!go || std::abs(err) > DegToRad(60.0)) ? 0.0 : o.cruise_mps * std::cos(err);

@@ -52,6 +52,15 @@ struct SimulatorOptions {
   // of the straight legs / cruise + 30 s per waypoint; explore: 3600 s.
   double max_time_s = 0.0;
   double explore_idle_s = 300.0;  // explore ends when no new free cell was seen for this long
+  // A target given up (stall_timeout_s without progress) takes the unseen
+  // cells within this radius with it: the way to them is the same blocked
+  // one, and giving them up one by one used the whole explore_idle_s
+  // (Freiburg52 with furniture: the sonar robot stopped after one room).
+  double explore_give_up_radius_m = 1.0;
+  // VFH blocked in every sector for this long: drive to the planner's aim
+  // point anyway (the physics keeps the robot off the walls). Without it a
+  // robot wedged among chairs turned in place for the rest of the run.
+  double blocked_escape_s = 3.0;
   double seen_range_m = 3.0;  // coverage: cells along sensor rays up to this range count as seen
 
   // VFH's certainty grid: false: the true walls (c = 1 on every cell a wall
