@@ -169,8 +169,23 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
       // The walls are raw: so is the registration, and its guess is the raw
       // odometry (the graph's prediction without the drift's bend).
       const Pose2 guess = graph_.Bend(idx - 1, m).inverse() * graph_.pose(idx - 1).inverse() * graph_.pose(idx);
-      Registration reg = RegisterWalls(prev.faces, node.faces, guess, options_.registration);
-      if (reg.converged && reg.match_fraction >= options_.min_match_fraction && reg.matches >= options_.min_matches) {
+      // The odometry's covariance of the guess (with the drift rate's
+      // uncertainty in the heading, as in the gate below), turned from the
+      // end pose's frame into the previous ASR's. With it the registration
+      // keeps the guess along what the walls cannot tell better than the
+      // odometry; without it, ICP slid a corridor's walls along their
+      // length to wherever they overlapped most (hallway_loop: 5-19 m, one
+      // or two door periods, every one rejected by the gate below). Only a
+      // registration that determines all three directions better than the
+      // odometry is a factor.
+      Eigen::Matrix3d prior = m.covariance;
+      prior(2, 2) += std::pow(options_.odometry.rate_prior_sigma_rad_per_m * m.distance_m, 2);
+      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+      R.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(m.delta.theta).toRotationMatrix();
+      prior = R * prior * R.transpose();
+      Registration reg = RegisterWalls(prev.faces, node.faces, guess, options_.registration, &prior);
+      if (reg.converged && reg.match_fraction >= options_.min_match_fraction && reg.matches >= options_.min_matches &&
+          reg.degenerate_directions == 0) {
         // Gate against the odometry: both can be wrong, the test uses both
         // covariances (drift-rate uncertainty folded into the heading).
         Eigen::Matrix3d S = reg.covariance + m.covariance;

@@ -163,7 +163,7 @@ std::vector<FacedPoint> SampleFaces(const std::vector<FacedSegment>& faces, doub
 }
 
 Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::vector<FacedSegment>& source,
-                           const Pose2& initial, const RegistrationOptions& o) {
+                           const Pose2& initial, const RegistrationOptions& o, const Eigen::Matrix3d* prior) {
   Registration r;
   r.target_from_source = initial;
   const std::vector<FacedPoint> samples = SampleFaces(source, o.sample_step_m);
@@ -175,6 +175,21 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
   double sum_w_e2 = 0.0, sum_w = 0.0;
   int matches = 0;
+  const double inflate = std::max(1.0, o.correlation_length_m / o.sample_step_m);
+  // With a prior: its Cholesky factor L (prior = L L^T) whitens the pose.
+  Eigen::Matrix3d L = Eigen::Matrix3d::Identity();
+  if (prior) {
+    Eigen::LLT<Eigen::Matrix3d> llt(0.5 * (*prior + prior->transpose()));
+    if (llt.info() != Eigen::Success) prior = nullptr;
+    else L = llt.matrixL();
+  }
+  // The data's information in the prior's whitened coordinates, and the
+  // directions it determines (eigenvalue >= 1), at the last iteration.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> whitened;
+  auto data_variance = [&](int m) {
+    const double dof = std::max(1, m - 3);
+    return std::max(o.min_sigma_m * o.min_sigma_m, sum_w_e2 / dof) * inflate;
+  };
   for (int it = 0; it < o.iterations; ++it) {
     const double frac = o.iterations > 1 ? static_cast<double>(it) / (o.iterations - 1) : 1.0;
     const double max_d = o.max_correspondence_m + frac * (o.final_correspondence_m - o.max_correspondence_m);
@@ -204,10 +219,27 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
       r.matches = matches;
       return r;
     }
-    // Levenberg damping keeps degenerate directions (a corridor) where they are.
-    Eigen::Matrix3d A = H;
-    for (int i = 0; i < 3; ++i) A(i, i) += 1e-6 + 1e-3 * H(i, i);
-    const Eigen::Vector3d dx = -A.ldlt().solve(g);
+    Eigen::Vector3d dx;
+    if (prior) {
+      // Gauss-Newton in the whitened coordinates u = L^-1 x, along the
+      // eigenvectors the data determines better than the prior only.
+      const double s2 = data_variance(matches);
+      whitened.compute(L.transpose() * (H / s2) * L);
+      const Eigen::Vector3d gu = L.transpose() * (g / s2);
+      Eigen::Vector3d du = Eigen::Vector3d::Zero();
+      for (int i = 0; i < 3; ++i) {
+        const double lambda = whitened.eigenvalues()(i);
+        if (lambda < 1.0) continue;
+        const Eigen::Vector3d v = whitened.eigenvectors().col(i);
+        du -= v * (v.dot(gu) / lambda);
+      }
+      dx = L * du;
+    } else {
+      // Levenberg damping keeps degenerate directions (a corridor) where they are.
+      Eigen::Matrix3d A = H;
+      for (int i = 0; i < 3; ++i) A(i, i) += 1e-6 + 1e-3 * H(i, i);
+      dx = -A.ldlt().solve(g);
+    }
     T = Pose2{T.x + dx(0), T.y + dx(1), NormalizeAngle(T.theta + dx(2))};
     if (dx.head<2>().norm() < 1e-5 && std::abs(dx(2)) < 1e-6 && frac >= 1.0) break;
   }
@@ -215,9 +247,24 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
   r.matches = matches;
   r.match_fraction = r.samples > 0 ? static_cast<double>(matches) / r.samples : 0.0;
   r.rmse_m = sum_w > 0 ? std::sqrt(sum_w_e2 / sum_w) : 0.0;
-  const double dof = std::max(1, matches - 3);
-  const double sigma2 = std::max(o.min_sigma_m * o.min_sigma_m, sum_w_e2 / dof);
-  const double inflate = std::max(1.0, o.correlation_length_m / o.sample_step_m);
+  const double sigma2 = data_variance(matches) / inflate;
+  if (prior) {
+    // The data's covariance along the directions it determined; along the
+    // others (left at the prior) as good as none: 10^4 times the prior's.
+    const double s2 = sigma2 * inflate;
+    whitened.compute(L.transpose() * (H / s2) * L);
+    Eigen::Vector3d inv;
+    for (int i = 0; i < 3; ++i) {
+      const double lambda = whitened.eigenvalues()(i);
+      const bool determined = lambda >= 1.0;
+      r.degenerate_directions += determined ? 0 : 1;
+      inv(i) = determined ? 1.0 / lambda : 1e4;
+    }
+    const Eigen::Matrix3d V = whitened.eigenvectors();
+    r.covariance = L * V * inv.asDiagonal() * V.transpose() * L.transpose();
+    r.converged = true;
+    return r;
+  }
   // Pseudo-inverse on the eigen-decomposition: a direction without
   // information gets a large variance, not a NaN.
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(H);

@@ -89,10 +89,22 @@ struct Registration {
   double match_fraction = 0; // matches / samples
   double rmse_m = 0.0;       // of the matched point-to-line residuals
   int iterations = 0;
+  int degenerate_directions = 0;  // with a prior: directions left at the prior (0-3)
 };
 
+//
+// 'prior_covariance' (optional): the covariance of the initial pose (x, y in
+// the target frame, theta), for example the odometry's between the two
+// frames. With it, the registration moves only along the directions where
+// the walls say more than the prior does (in the prior's whitened
+// coordinates, the data's information eigenvalues of at least 1: solution
+// remapping, Zhang, Kaess and Singh, ICRA 2016), and its covariance says
+// nothing along the others. A corridor's length, or the period of its
+// doors, then stays where the prior put it instead of sliding to wherever the
+// walls overlap most; without it the walls decide every direction.
 Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::vector<FacedSegment>& source,
-                           const Pose2& initial_target_from_source, const RegistrationOptions& options = {});
+                           const Pose2& initial_target_from_source, const RegistrationOptions& options = {},
+                           const Eigen::Matrix3d* prior_covariance = nullptr);
 
 // Samples of faced segments every 'step_m' (point, normal).
 struct FacedPoint {

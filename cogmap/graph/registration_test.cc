@@ -51,6 +51,60 @@ TEST(Registration, CorridorLengthIsUncertain) {
   EXPECT_GT(r.covariance(0, 0), 100.0 * r.covariance(1, 1));
 }
 
+// A corridor 2.4 m wide along x from 'x0' to 'x1', in the frame of a robot
+// standing at (at, 1.2), heading +x: its lower wall has a 0.9 m door every
+// 6 m (gaps centred on x = 6, 12, 18, ...), as hallway_loop's corridors.
+std::vector<FacedSegment> CorridorSeenFrom(double at, double x0, double x1) {
+  std::vector<Polyline> walls = {{Vec2(x0 - at, 1.2), Vec2(x1 - at, 1.2)}};
+  double start = x0;
+  for (double door = 6.0; door < x1; door += 6.0) {
+    if (door + 0.45 <= x0) continue;
+    if (door - 0.45 > start) walls.push_back({Vec2(start - at, -1.2), Vec2(door - 0.45 - at, -1.2)});
+    start = door + 0.45;
+  }
+  if (start < x1) walls.push_back({Vec2(start - at, -1.2), Vec2(x1 - at, -1.2)});
+  return FaceWalls(walls, {Vec2(0.5 * (x0 + x1) - at, 0.0)});
+}
+
+TEST(Registration, APriorKeepsACorridorFromSlidingAlongItsLength) {
+  // Two 15 m pieces of one corridor meeting at x = 15, the second seen from
+  // its own start: its walls overlap the first's over 3 m, around no door
+  // (the sensors reach 3 m behind). The odometry guess is 5 cm and 1 degree
+  // off the truth (15, 0, 0).
+  const auto first = CorridorSeenFrom(0.0, 0.0, 15.0);
+  const auto second = CorridorSeenFrom(15.0, 12.6, 27.0);
+  const Pose2 guess{15.05, 0.04, DegToRad(1.0)};
+  Eigen::Matrix3d prior = Eigen::Vector3d(0.2 * 0.2, 0.2 * 0.2, std::pow(DegToRad(1.5), 2)).asDiagonal();
+  const Registration r = RegisterWalls(first, second, guess, {}, &prior);
+  ASSERT_TRUE(r.converged);
+  // Across the corridor and in heading the walls decide; along it, the
+  // prior: the guess's x is kept, and the covariance says so.
+  EXPECT_NEAR(r.target_from_source.y, 0.0, 0.01);
+  EXPECT_NEAR(r.target_from_source.theta, 0.0, DegToRad(0.1));
+  EXPECT_NEAR(r.target_from_source.x, guess.x, 0.01);
+  EXPECT_EQ(r.degenerate_directions, 1);
+  EXPECT_GT(r.covariance(0, 0), 100.0 * prior(0, 0));
+  EXPECT_LT(r.covariance(1, 1), prior(1, 1));
+}
+
+TEST(Registration, APriorLeavesADeterminedPoseToTheWalls) {
+  // The L-shaped room: every direction is determined, far better than the
+  // prior, which then changes nothing (the same pose as without it).
+  const Pose2 truth{0.3, -0.2, DegToRad(4.0)};
+  const auto target = FaceWalls(Room(), Inside());
+  std::vector<Vec2> inside;
+  for (const auto& q : Inside()) inside.push_back(truth.inverse() * q);
+  const auto source = FaceWalls(Transform(truth.inverse(), Room()), inside);
+  const Eigen::Matrix3d prior = Eigen::Vector3d(0.3 * 0.3, 0.3 * 0.3, std::pow(DegToRad(5.0), 2)).asDiagonal();
+  const Registration r = RegisterWalls(target, source, Pose2{}, {}, &prior);
+  ASSERT_TRUE(r.converged);
+  EXPECT_EQ(r.degenerate_directions, 0);
+  EXPECT_NEAR(r.target_from_source.x, truth.x, 1e-4);
+  EXPECT_NEAR(r.target_from_source.y, truth.y, 1e-4);
+  EXPECT_NEAR(r.target_from_source.theta, truth.theta, 1e-5);
+  EXPECT_LT(r.covariance(0, 0), 1e-3);
+}
+
 TEST(Registration, TwoFacesOfAThickWallDoNotMatch) {
   // Room A sees the wall's face at y = 0 from below; room B the face at y = 0.25 from above.
   const auto a = FaceWalls({{Vec2(0, 0), Vec2(5, 0)}}, {Vec2(2.5, -1)});
