@@ -282,6 +282,33 @@ TEST(MapOptimizer, IdenticalRoomsFarApartAreNotMerged) {
     EXPECT_LE(PoseError(r.asrs[i].pose, v[i].entry), PoseError(asrs[i].world_from_local_raw, v[i].entry) + 0.02) << i;
 }
 
+TEST(MapOptimizer, AClosureOnOneWallIsNotAccepted) {
+  // A long wall seen from one side (a hall's side, the rest beyond the
+  // sensors), a room 10 m away, then the same wall again. The two visits
+  // share one face only: every pose sliding along it, and every heading its
+  // line allows, fits exactly (no residual), so nothing checks the closure.
+  const std::vector<Polyline> wall = {{Vec2(-4, -1), Vec2(4, -1)}};
+  std::vector<Visit> v = {{wall, Pose2{-3.0, 0.0, 0.0}},
+                          {Box(8, -2, 12, 2), Pose2{8.0, 0.0, 0.0}},
+                          {wall, Pose2{-2.5, 0.0, 0.0}}};
+  const auto asrs = Simulate(v, 0.0);
+  MapOptimizerOptions o;
+  o.odometry.trans_sigma_m_per_sqrt_m = 0.2;
+  MapOptimizer opt(o);
+  for (const auto& a : asrs) opt.Place(a);
+  const OptimizerResult r = opt.Finish();
+  bool candidate = false;
+  for (const auto& c : r.closures) {
+    if (c.from_asr != 0 || c.to_asr != 2) continue;
+    candidate = true;
+    EXPECT_FALSE(c.accepted);
+    EXPECT_NE(c.reason.find("one wall"), std::string::npos) << c.reason;
+    EXPECT_LT(c.rmse_m, 1e-9);
+  }
+  EXPECT_TRUE(candidate);
+  EXPECT_NE(opt.RoomOf(2), opt.RoomOf(0));
+}
+
 TEST(MapOptimizer, QuarterTurnAmbiguousRoomNeverFlipsTheMap) {
   // A chain of axis-aligned rooms with one diamond room (walls at 45 deg: its
   // direction is exactly between two branches) in the middle.

@@ -175,6 +175,7 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
   double sum_w_e2 = 0.0, sum_w = 0.0;
   int matches = 0;
+  std::vector<char> face_hit(target.size(), 0);
   const double inflate = std::max(1.0, o.correlation_length_m / o.sample_step_m);
   // With a prior: its Cholesky factor L (prior = L L^T) whitens the pose.
   Eigen::Matrix3d L = Eigen::Matrix3d::Identity();
@@ -198,12 +199,14 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
     sum_w_e2 = sum_w = 0.0;
     matches = 0;
+    std::fill(face_hit.begin(), face_hit.end(), 0);  // this iteration's matches only
     for (const FacedPoint& fp : samples) {
       const Vec2 q = T * fp.p;
       const Vec2 n(c * fp.normal.x() - s * fp.normal.y(), s * fp.normal.x() + c * fp.normal.y());
       double e = 0.0;
       const int k = index.Nearest(q, n, max_d, cos_max, &e);
       if (k < 0) continue;
+      face_hit[k] = 1;
       const Vec2& nt = target[k].normal;
       const Vec2 dq(-(q.y() - T.y), q.x() - T.x);  // d(T p)/d theta
       const Eigen::Vector3d J(nt.x(), nt.y(), nt.dot(dq));
@@ -245,6 +248,7 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
   }
   r.target_from_source = T;
   r.matches = matches;
+  r.faces_matched = static_cast<int>(std::count(face_hit.begin(), face_hit.end(), 1));
   r.match_fraction = r.samples > 0 ? static_cast<double>(matches) / r.samples : 0.0;
   r.rmse_m = sum_w > 0 ? std::sqrt(sum_w_e2 / sum_w) : 0.0;
   const double sigma2 = data_variance(matches) / inflate;

@@ -90,6 +90,10 @@ struct Registration {
   double rmse_m = 0.0;       // of the matched point-to-line residuals
   int iterations = 0;
   int degenerate_directions = 0;  // with a prior: directions left at the prior (0-3)
+  // Target faces with at least one matched sample at the end. One face (a
+  // line: two constraints on three unknowns) is met exactly by a whole
+  // family of poses, so the residuals cannot check the fit.
+  int faces_matched = 0;
 };
 
 //

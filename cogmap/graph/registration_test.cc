@@ -105,6 +105,24 @@ TEST(Registration, APriorLeavesADeterminedPoseToTheWalls) {
   EXPECT_LT(r.covariance(0, 0), 1e-3);
 }
 
+TEST(Registration, OneWallIsMetExactlyAndCountsAsOneFace) {
+  // A single wall: the source slid 0.7 m along it and turned by 2 degrees
+  // from the target's. ICP lays it on the line exactly (no residual) and
+  // leaves the slide: one face matched, nothing to check the fit.
+  const auto target = FaceWalls({{Vec2(-3, 0), Vec2(3, 0)}}, {Vec2(0, 1)});
+  const Pose2 shifted{0.7, 0.02, DegToRad(2.0)};
+  const auto source = FaceWalls(Transform(shifted, std::vector<Polyline>{{Vec2(-2, 0), Vec2(2, 0)}}),
+                                {shifted * Vec2(0, 1)});
+  const Registration r = RegisterWalls(target, source, Pose2{}, {});
+  ASSERT_TRUE(r.converged);
+  EXPECT_EQ(r.faces_matched, 1);
+  EXPECT_LT(r.rmse_m, 1e-9);
+  // The L-shaped room matches on all of its faces.
+  const auto room = FaceWalls(Room(), Inside());
+  const Registration all = RegisterWalls(room, room, Pose2{0.05, -0.03, DegToRad(1.0)}, {});
+  EXPECT_EQ(all.faces_matched, static_cast<int>(room.size()));
+}
+
 TEST(Registration, TwoFacesOfAThickWallDoNotMatch) {
   // Room A sees the wall's face at y = 0 from below; room B the face at y = 0.25 from above.
   const auto a = FaceWalls({{Vec2(0, 0), Vec2(5, 0)}}, {Vec2(2.5, -1)});
