@@ -174,8 +174,8 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
       // end pose's frame into the previous ASR's. With it the registration
       // keeps the guess along what the walls cannot tell better than the
       // odometry; without it, ICP slid a corridor's walls along their
-      // length to wherever they overlapped most (hallway_loop: 5-19 m, one
-      // or two door periods, every one rejected by the gate below). Only a
+      // length to wherever they overlapped most (hallway_loop: 2-19 m, up
+      // to three door periods, all rejected by the gate below). Only a
       // registration that determines all three directions better than the
       // odometry is a factor.
       Eigen::Matrix3d prior = m.covariance;
