@@ -45,6 +45,22 @@ std::string Fmt(const char* f, double v) {
   return b;
 }
 
+// The narrowest page whose bands hold their text: the title beside the scale
+// note ("1 m = ... px", at its widest), and the widest legend item between a
+// scale bar of full length and the north arrow (a tall, narrow map drew its
+// title over the note and its legend past the page's edge).
+double DecorationWidth(const std::string& title, const std::vector<LegendItem>& legend) {
+  double w = kMinPageWidthPx;
+  if (!title.empty()) {
+    const double note = Drawing::MeasureText("1 m = 00000 px", kSmallFont).width();
+    w = std::max(w, 2 * kSidePx + Drawing::MeasureText(title, kTitleFont).width() + 24 + note);
+  }
+  double widest = 0.0;
+  for (const auto& it : legend) widest = std::max(widest, LegendItemWidth(it));
+  if (widest > 0.0) w = std::max(w, 2 * kSidePx + kBarMaxPx + 36 + widest + kArrowBoxPx + 10);
+  return w;
+}
+
 }  // namespace
 
 std::vector<Font> PageFonts() { return {kTitleFont, kSmallFont, kLegendFont, kNorthFont}; }
@@ -87,10 +103,14 @@ MapPage::MapPage(const Vec2& min_m, const Vec2& max_m, const PictureOptions& opt
   const double budget = std::clamp<double>(options.max_side_px, 64, kMaxSidePx);
   auto bottom_for = [&](double page_w) {
     if (!deco) return kSidePx / 2;
-    const int rows = LegendRows(legend_, std::max(100.0, page_w - 2 * kSidePx - kBarMaxPx - kArrowBoxPx - 40));
+    // The span Decorate gives the legend with a full-length scale bar.
+    const int rows = LegendRows(legend_, std::max(100.0, page_w - 2 * kSidePx - kBarMaxPx - 36 - kArrowBoxPx - 10));
     return std::max(kArrowBoxPx + 16, rows * 20.0 + 20);
   };
   const double side = deco ? kSidePx : kSidePx / 2;
+  // Never wider than the budget allows (a budget that small squeezes the bands).
+  const double min_w =
+      deco ? std::min(DecorationWidth(options.title, legend_), options.px_per_m > 0 ? kMaxSidePx : budget) : 0.0;
   auto fit = [&](double page_w_guess) {
     bottom_band_ = bottom_for(page_w_guess);
     const double avail_w = budget - 2 * side, avail_h = budget - top_band_ - bottom_band_;
@@ -99,7 +119,7 @@ MapPage::MapPage(const Vec2& min_m, const Vec2& max_m, const PictureOptions& opt
   double k = fit(budget);
   if (options.px_per_m > 0) k = options.px_per_m;
   for (int iter = 0; iter < 3; ++iter) {
-    const double page_w = std::max(deco ? kMinPageWidthPx : 0.0, wm * k + 2 * side);
+    const double page_w = std::max(min_w, wm * k + 2 * side);
     bottom_band_ = bottom_for(page_w);
     const double limit = options.px_per_m > 0 ? kMaxSidePx : budget;
     const double page_h = hm * k + top_band_ + bottom_band_;
@@ -110,7 +130,7 @@ MapPage::MapPage(const Vec2& min_m, const Vec2& max_m, const PictureOptions& opt
   }
   px_per_m_ = k;
   const double map_w = wm * k, map_h = hm * k;
-  width_ = std::max(deco ? kMinPageWidthPx : 1.0, map_w + 2 * side);
+  width_ = std::max(deco ? min_w : 1.0, map_w + 2 * side);
   height_ = map_h + top_band_ + bottom_band_;
   origin_ = Vec2((width_ - map_w) / 2, top_band_);
   map_box_ = Box{origin_.x(), origin_.y(), origin_.x() + map_w, origin_.y() + map_h};
@@ -126,12 +146,16 @@ std::vector<Vec2> MapPage::Px(const std::vector<Vec2>& world_m) const {
 std::vector<Box> MapPage::Decorate(Drawing& d) {
   std::vector<Box> used;
   if (!options_.decorations) return used;
-  // Title band.
+  // Title band: the title, and the scale note where it does not cover it
+  // (only a page squeezed below its decorations' width lacks the room).
+  Box title_box{kSidePx, 9, kSidePx, 9};
   if (!options_.title.empty())
-    used.push_back(d.Text(Vec2(kSidePx, 9), options_.title, kTitleFont, kBlack, Align::kLeft, VAlign::kTop));
+    used.push_back(title_box =
+                       d.Text(Vec2(kSidePx, 9), options_.title, kTitleFont, kBlack, Align::kLeft, VAlign::kTop));
   const std::string scale_note = "1 m = " + Fmt(px_per_m_ >= 10 ? "%.0f" : "%.3g", px_per_m_) + " px";
-  used.push_back(d.Text(Vec2(width_ - kSidePx, 13), scale_note, kSmallFont, Rgb8(90, 90, 90), Align::kRight,
-                        VAlign::kTop));
+  if (Drawing::MeasureText(scale_note, kSmallFont).width() + 12 <= width_ - kSidePx - title_box.x1)
+    used.push_back(d.Text(Vec2(width_ - kSidePx, 13), scale_note, kSmallFont, Rgb8(90, 90, 90), Align::kRight,
+                          VAlign::kTop));
   const double band_top = height_ - bottom_band_;
   used.push_back(Box{0, band_top, width_, height_});
   d.Line(Vec2(0, band_top + 0.5), Vec2(width_, band_top + 0.5), Stroke{Rgb8(200, 200, 200), 1, {}, false});
@@ -152,7 +176,8 @@ std::vector<Box> MapPage::Decorate(Drawing& d) {
   // North arrow, bottom right: the map frame's +y.
   const double ax = width_ - kSidePx - 12, ay0 = height_ - 10, ay1 = height_ - kArrowBoxPx + 6;
   d.Polygon({Vec2(ax, ay1), Vec2(ax + 7, ay0), Vec2(ax, ay0 - 6), Vec2(ax - 7, ay0)}, kBlack);
-  d.Text(Vec2(ax - 12, (ay0 + ay1) / 2), "N", kNorthFont, kBlack, Align::kRight, VAlign::kMiddle);
+  const Box north = d.Text(Vec2(ax - 12, (ay0 + ay1) / 2), "N", kNorthFont, kBlack, Align::kRight, VAlign::kMiddle);
+  used.push_back(Box{north.x0, ay1, ax + 7, ay0});
 
   // Legend between them, wrapped in rows.
   const double lx0 = kSidePx + std::max(len_px, 60.0) + 36;
@@ -179,7 +204,7 @@ std::vector<Box> MapPage::Decorate(Drawing& d) {
         d.Rectangle(Box{x + 2, cy - 6, x + 20, cy + 6}, it.colour, Stroke{Rgb8(120, 120, 120), 1, {}, false});
         break;
     }
-    d.Text(Vec2(x + 30, cy), it.label, kLegendFont, kBlack, Align::kLeft, VAlign::kMiddle);
+    used.push_back(d.Text(Vec2(x + 30, cy), it.label, kLegendFont, kBlack, Align::kLeft, VAlign::kMiddle));
     x += w;
   }
   return used;

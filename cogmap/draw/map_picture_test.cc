@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 
 #include "cogmap/draw/svg_test_util.h"
@@ -130,6 +131,33 @@ TEST(DrawMasterMap, LabelsDoNotOverlap) {
   const MapPicture p = DrawMasterMap(m);
   EXPECT_EQ(p.labels_placed + p.labels_dropped, 20);
   EXPECT_GT(p.labels_placed, 5);
+}
+
+TEST(MapPage, ANarrowMapKeepsItsTitleScaleNoteAndLegendApartAndOnThePage) {
+  // A corridor 60 m long and 3 m wide, standing up, with a long title: the
+  // map alone would make a page some 130 px wide.
+  PictureOptions o;
+  o.max_side_px = 1000;
+  o.title = "After: pose graph (default)";
+  const std::vector<LegendItem> legend = {{LegendItem::Kind::kLine, kBlack, "walls (a colour per ASR)"},
+                                          {LegendItem::Kind::kLine, kBlack, "robot path"},
+                                          {LegendItem::Kind::kDisc, kBlack, "exit"},
+                                          {LegendItem::Kind::kDashed, kBlack, "room graph"}};
+  MapPage page(Vec2(0, 0), Vec2(3, 90), o, legend);
+  ASSERT_LT(page.px_per_m(), 10.0);  // the scale note at its longest: "1 m = 9.99 px"
+  Drawing d = page.NewDrawing();
+  std::vector<Box> used = page.Decorate(d);
+  const Box whole{0, 0, page.width_px(), page.height_px()};
+  // (Less the bottom band's own box, which holds the legend, bar and arrow.)
+  used.erase(std::remove_if(used.begin(), used.end(), [&](const Box& b) { return b.width() >= whole.width(); }),
+             used.end());
+  ASSERT_EQ(used.size(), 2u + legend.size() + 1u);  // title, note, legend labels, north arrow
+  for (size_t i = 0; i < used.size(); ++i) {
+    EXPECT_TRUE(used[i].Inside(whole)) << i << ": " << used[i].x0 << " " << used[i].x1 << " of " << page.width_px();
+    for (size_t j = i + 1; j < used.size(); ++j) EXPECT_FALSE(used[i].Overlaps(used[j])) << i << " and " << j;
+  }
+  EXPECT_LE(page.height_px(), 1000);
+  EXPECT_LE(page.width_px(), 1000);
 }
 
 TEST(DrawSideBySide, BothPanelsFitTheBudget) {
