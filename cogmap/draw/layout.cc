@@ -65,6 +65,67 @@ double DecorationWidth(const std::string& title, const std::vector<LegendItem>& 
 
 std::vector<Font> PageFonts() { return {kTitleFont, kSmallFont, kLegendFont, kNorthFont}; }
 
+double LegendSpan(double width_px) {
+  return std::max(100.0, width_px - 2 * kSidePx - kBarMaxPx - 36 - kArrowBoxPx - 10);
+}
+
+double BottomBandHeight(const std::vector<LegendItem>& legend, double legend_span_px) {
+  return std::max(kArrowBoxPx + 16, LegendRows(legend, legend_span_px) * 20.0 + 20);
+}
+
+double LegendStart(double left_px, double bar_px) { return left_px + std::max(bar_px, 60.0) + 36; }
+
+ScaleBar DrawScaleBar(Drawing& d, double px_per_m, double left_px, double bar_y) {
+  // A black bar with end ticks, its length above.
+  const double len_m = NiceScaleLength(px_per_m, kBarMaxPx);
+  const double len_px = len_m * px_per_m;
+  const Vec2 a(left_px, bar_y), b(left_px + len_px, bar_y);
+  const double thick = 5;
+  d.Rectangle(Box{a.x(), bar_y - thick / 2, b.x(), bar_y + thick / 2}, kBlack);
+  d.Line(Vec2(a.x(), bar_y - 9), Vec2(a.x(), bar_y - thick / 2), Stroke{kBlack, 1.5, {}, false});
+  d.Line(Vec2(b.x(), bar_y - 9), Vec2(b.x(), bar_y - thick / 2), Stroke{kBlack, 1.5, {}, false});
+  d.Text(Vec2((a.x() + b.x()) / 2, bar_y - 7), FormatLength(len_m), kSmallFont, kBlack, Align::kCenter,
+         VAlign::kBottom);
+  return ScaleBar{len_m, a, b, thick};
+}
+
+Box DrawNorthArrow(Drawing& d, double right_px, double bottom_px) {
+  const double ax = right_px - 12, ay0 = bottom_px - 10, ay1 = bottom_px - kArrowBoxPx + 6;
+  d.Polygon({Vec2(ax, ay1), Vec2(ax + 7, ay0), Vec2(ax, ay0 - 6), Vec2(ax - 7, ay0)}, kBlack);
+  const Box north = d.Text(Vec2(ax - 12, (ay0 + ay1) / 2), "N", kNorthFont, kBlack, Align::kRight, VAlign::kMiddle);
+  return Box{north.x0, ay1, ax + 7, ay0};
+}
+
+std::vector<Box> DrawLegend(Drawing& d, const std::vector<LegendItem>& legend, double lx0, double lx1, double y) {
+  std::vector<Box> used;
+  double x = lx0;
+  for (const auto& it : legend) {
+    const double w = LegendItemWidth(it);
+    if (x > lx0 && x + w > lx1) {
+      x = lx0;
+      y += 20;
+    }
+    const double cy = y + 8;
+    switch (it.kind) {
+      case LegendItem::Kind::kLine:
+        d.Line(Vec2(x, cy), Vec2(x + 22, cy), Stroke{it.colour, 3});
+        break;
+      case LegendItem::Kind::kDashed:
+        d.Line(Vec2(x, cy), Vec2(x + 22, cy), Stroke{it.colour, 2, {5, 3}, false});
+        break;
+      case LegendItem::Kind::kDisc:
+        d.Circle(Vec2(x + 11, cy), 5, it.colour);
+        break;
+      case LegendItem::Kind::kFill:
+        d.Rectangle(Box{x + 2, cy - 6, x + 20, cy + 6}, it.colour, Stroke{Rgb8(120, 120, 120), 1, {}, false});
+        break;
+    }
+    used.push_back(d.Text(Vec2(x + 30, cy), it.label, kLegendFont, kBlack, Align::kLeft, VAlign::kMiddle));
+    x += w;
+  }
+  return used;
+}
+
 double NiceScaleLength(double px_per_m, double max_px) {
   const double max_m = max_px / std::max(px_per_m, 1e-12);
   double p = std::pow(10.0, std::floor(std::log10(max_m)));
@@ -103,9 +164,7 @@ MapPage::MapPage(const Vec2& min_m, const Vec2& max_m, const PictureOptions& opt
   const double budget = std::clamp<double>(options.max_side_px, 64, kMaxSidePx);
   auto bottom_for = [&](double page_w) {
     if (!deco) return kSidePx / 2;
-    // The span Decorate gives the legend with a full-length scale bar.
-    const int rows = LegendRows(legend_, std::max(100.0, page_w - 2 * kSidePx - kBarMaxPx - 36 - kArrowBoxPx - 10));
-    return std::max(kArrowBoxPx + 16, rows * 20.0 + 20);
+    return BottomBandHeight(legend_, LegendSpan(page_w));
   };
   const double side = deco ? kSidePx : kSidePx / 2;
   // Never wider than the budget allows (a budget that small squeezes the bands).
@@ -160,53 +219,12 @@ std::vector<Box> MapPage::Decorate(Drawing& d) {
   used.push_back(Box{0, band_top, width_, height_});
   d.Line(Vec2(0, band_top + 0.5), Vec2(width_, band_top + 0.5), Stroke{Rgb8(200, 200, 200), 1, {}, false});
 
-  // Scale bar, bottom left: a black bar with end ticks, its length above.
-  const double len_m = NiceScaleLength(px_per_m_, kBarMaxPx);
-  const double len_px = len_m * px_per_m_;
-  const double bar_y = height_ - 16;
-  const Vec2 a(kSidePx, bar_y), b(kSidePx + len_px, bar_y);
-  const double thick = 5;
-  d.Rectangle(Box{a.x(), bar_y - thick / 2, b.x(), bar_y + thick / 2}, kBlack);
-  d.Line(Vec2(a.x(), bar_y - 9), Vec2(a.x(), bar_y - thick / 2), Stroke{kBlack, 1.5, {}, false});
-  d.Line(Vec2(b.x(), bar_y - 9), Vec2(b.x(), bar_y - thick / 2), Stroke{kBlack, 1.5, {}, false});
-  d.Text(Vec2((a.x() + b.x()) / 2, bar_y - 7), FormatLength(len_m), kSmallFont, kBlack, Align::kCenter,
-         VAlign::kBottom);
-  bar_ = ScaleBar{len_m, a, b, thick};
-
-  // North arrow, bottom right: the map frame's +y.
-  const double ax = width_ - kSidePx - 12, ay0 = height_ - 10, ay1 = height_ - kArrowBoxPx + 6;
-  d.Polygon({Vec2(ax, ay1), Vec2(ax + 7, ay0), Vec2(ax, ay0 - 6), Vec2(ax - 7, ay0)}, kBlack);
-  const Box north = d.Text(Vec2(ax - 12, (ay0 + ay1) / 2), "N", kNorthFont, kBlack, Align::kRight, VAlign::kMiddle);
-  used.push_back(Box{north.x0, ay1, ax + 7, ay0});
-
-  // Legend between them, wrapped in rows.
-  const double lx0 = kSidePx + std::max(len_px, 60.0) + 36;
+  // Scale bar bottom left, north arrow bottom right, the legend between.
+  bar_ = DrawScaleBar(d, px_per_m_, kSidePx, height_ - 16);
+  used.push_back(DrawNorthArrow(d, width_ - kSidePx, height_));
+  const double lx0 = LegendStart(kSidePx, bar_.end_px.x() - bar_.start_px.x());
   const double lx1 = width_ - kSidePx - kArrowBoxPx - 10;
-  double x = lx0, y = band_top + 10;
-  for (const auto& it : legend_) {
-    const double w = LegendItemWidth(it);
-    if (x > lx0 && x + w > lx1) {
-      x = lx0;
-      y += 20;
-    }
-    const double cy = y + 8;
-    switch (it.kind) {
-      case LegendItem::Kind::kLine:
-        d.Line(Vec2(x, cy), Vec2(x + 22, cy), Stroke{it.colour, 3});
-        break;
-      case LegendItem::Kind::kDashed:
-        d.Line(Vec2(x, cy), Vec2(x + 22, cy), Stroke{it.colour, 2, {5, 3}, false});
-        break;
-      case LegendItem::Kind::kDisc:
-        d.Circle(Vec2(x + 11, cy), 5, it.colour);
-        break;
-      case LegendItem::Kind::kFill:
-        d.Rectangle(Box{x + 2, cy - 6, x + 20, cy + 6}, it.colour, Stroke{Rgb8(120, 120, 120), 1, {}, false});
-        break;
-    }
-    used.push_back(d.Text(Vec2(x + 30, cy), it.label, kLegendFont, kBlack, Align::kLeft, VAlign::kMiddle));
-    x += w;
-  }
+  for (const Box& b : DrawLegend(d, legend_, lx0, lx1, band_top + 10)) used.push_back(b);
   return used;
 }
 

@@ -78,6 +78,24 @@ class MapPage {
   ScaleBar bar_;
 };
 
+// The bottom band's pieces, for a page laid out by hand (the stages strip)
+// as MapPage lays out its own. The band's height for 'legend' when its rows
+// may span 'legend_span_px' (at least the north arrow's).
+double BottomBandHeight(const std::vector<LegendItem>& legend, double legend_span_px);
+// The span a band of 'width_px' gives its legend beside a full-length scale bar.
+double LegendSpan(double width_px);
+// A scale bar at 'px_per_m' starting at 'left_px' on the line 'bar_y_px' (its
+// length the longest NiceScaleLength within kBarMaxPx), its length above it.
+ScaleBar DrawScaleBar(Drawing& d, double px_per_m, double left_px, double bar_y_px);
+// The north arrow (the map frame's +y) in the band's bottom right corner
+// ('right_px', 'bottom_px'); returns its box.
+Box DrawNorthArrow(Drawing& d, double right_px, double bottom_px);
+// The legend's items in rows of 20 px from (x0, y), wrapped at x1; returns
+// its labels' boxes.
+std::vector<Box> DrawLegend(Drawing& d, const std::vector<LegendItem>& legend, double x0, double x1, double y);
+// Where DrawLegend starts beside a scale bar of 'bar_px' drawn from 'left_px'.
+double LegendStart(double left_px, double bar_px);
+
 // The length of a scale bar: 1, 2 or 5 times a power of ten metres, the
 // longest of them not over 'max_px' pixels at 'px_per_m'.
 double NiceScaleLength(double px_per_m, double max_px);

@@ -107,20 +107,30 @@ TEST(DrawStages, FivePanelsWithinTheBudget) {
   const Polyline path = {Vec2(1.8, 1.8), Vec2(4.2, 1.8), Vec2(4.2, 3.2)};
   const auto grid = vectorize::MakeSyntheticGrid(walls, path);
   const auto r = vectorize::Vectorize(grid);
-  const Drawing d = DrawStages(grid, r);
+  const StagesPicture pic = DrawStages(grid, r);
+  const Drawing& d = pic.drawing;
   EXPECT_LE(d.width(), 2000);
+  EXPECT_LE(d.height(), 2000);
   EXPECT_GE(d.width(), 1990);
+  // One scale for every panel, with its bar in the band below them: the
+  // bar's pixels are its metres at that scale.
+  EXPECT_GT(pic.px_per_m, 0.0);
+  EXPECT_GT(pic.scale_bar.start_px.y(), pic.band_top_px);
+  EXPECT_LT(pic.scale_bar.start_px.y(), d.height());
+  EXPECT_NEAR(pic.scale_bar.end_px.x() - pic.scale_bar.start_px.x(), pic.scale_bar.length_m * pic.px_per_m, 1e-9);
+  // The panel holds the grid's cells at that scale: the 4 m room (plus the
+  // crop margin) spans its width.
   const io::RgbImage img = d.Rasterize();
   // The fitted panel (the fifth) has black wall pixels; the raw panel too.
   int black_fifth = 0, black_first = 0;
   const int panel = static_cast<int>((d.width() - 60) / 5);
-  for (int y = 70; y < img.height(); ++y)
+  for (int y = 70; y < static_cast<int>(pic.band_top_px); ++y)
     for (int x = 0; x < img.width(); ++x)
       if (img.at(x, y) == kBlackRgb) (x > img.width() - panel - 10 ? black_fifth : black_first) += x < panel + 10 || x > img.width() - panel - 10;
   EXPECT_GT(black_fifth, 100);
   EXPECT_GT(black_first, 100);
   // An empty result draws blank panels.
-  EXPECT_GT(DrawStages(grid::Grid2D<float>(), vectorize::VectorizeResult{}).width(), 0);
+  EXPECT_GT(DrawStages(grid::Grid2D<float>(), vectorize::VectorizeResult{}).drawing.width(), 0);
 }
 
 TEST(DrawWalls, WallsOverTruth) {

@@ -68,8 +68,8 @@ grid::Grid2D<float> Crop(const grid::Grid2D<float>& g, int x0, int y0, int w, in
 
 }  // namespace
 
-Drawing DrawStages(const grid::Grid2D<float>& raw_full, const vectorize::VectorizeResult& r,
-                   const StagesPictureOptions& options) {
+StagesPicture DrawStages(const grid::Grid2D<float>& raw_full, const vectorize::VectorizeResult& r,
+                         const StagesPictureOptions& options) {
   // Crop to the cells that hold anything (not unknown), plus a margin.
   const auto& flim = raw_full.limits();
   int x0 = flim.width(), y0 = flim.height(), x1 = -1, y1 = -1;
@@ -85,11 +85,25 @@ Drawing DrawStages(const grid::Grid2D<float>& raw_full, const vectorize::Vectori
 
   const double gap = options.gap_px, title_h = 34, label_h = 24;
   const double budget = std::max(200, options.max_side_px);
-  // Five panels and six gaps across the budget; the panel's height follows.
+  const std::vector<LegendItem> legend = {{LegendItem::Kind::kFill, Rgb8(0, 0, 0), "occupied"},
+                                          {LegendItem::Kind::kFill, Rgb8(255, 255, 255), "empty"},
+                                          {LegendItem::Kind::kFill, Rgb8(160, 160, 160), "unknown"},
+                                          {LegendItem::Kind::kLine, Rgb8(220, 0, 0), "robot path"},
+                                          {LegendItem::Kind::kLine, ChainColour(0), "chains (a colour each)"},
+                                          {LegendItem::Kind::kLine, kBlue, "simplified"},
+                                          {LegendItem::Kind::kLine, kBlack, "fitted"},
+                                          {LegendItem::Kind::kDisc, kVertexRed, "vertices"}};
+  // Five panels and six gaps across the budget; the panel's height follows,
+  // above the band (whose legend rows the strip's width decides).
   const double panel_w_max = (budget - 6 * gap) / 5;
-  const double s = (w > 0 && h > 0) ? std::min(panel_w_max / w, (budget - title_h - label_h - 2 * gap) / h) : 1.0;
+  const double band_max = BottomBandHeight(legend, LegendSpan(budget));
+  const double s =
+      (w > 0 && h > 0) ? std::min(panel_w_max / w, (budget - title_h - label_h - 2 * gap - band_max) / h) : 1.0;
   const double pw = std::max(1.0, w * s), ph = std::max(1.0, h * s);
-  Drawing out(6 * gap + 5 * pw, title_h + label_h + ph + 2 * gap, Rgb8(235, 235, 235));
+  const double strip_w = 6 * gap + 5 * pw;
+  const double band = BottomBandHeight(legend, LegendSpan(strip_w));
+  const double band_top = title_h + label_h + ph + 2 * gap;
+  Drawing out(strip_w, band_top + band, Rgb8(235, 235, 235));
   out.Text(Vec2(gap, 8), options.title, Font{18, true});
   const char* titles[] = {"raw grid", "cleaned", "extracted", "simplified", "fitted"};
   // Cell coordinates (x right, y up, cell (i, j) spans [i, i+1) x [j, j+1))
@@ -132,7 +146,16 @@ Drawing DrawStages(const grid::Grid2D<float>& raw_full, const vectorize::Vectori
         for (const auto& v : p) out.Circle(v, dot, k == 3 ? kBlue : kVertexRed);
       }
   }
-  return out;
+  // The band: white as on a map page, the panels' scale (pixels per cell
+  // over the cell's size), the legend, the north arrow (the grid's +y).
+  const double px_per_m = s / raw_full.limits().cell_m();
+  out.Rectangle(Box{0, band_top, strip_w, band_top + band}, kWhite);
+  out.Line(Vec2(0, band_top + 0.5), Vec2(strip_w, band_top + 0.5), Stroke{Rgb8(200, 200, 200), 1, {}, false});
+  const double side = 16;
+  const ScaleBar bar = DrawScaleBar(out, px_per_m, side, band_top + band - 16);
+  const Box arrow = DrawNorthArrow(out, strip_w - side, band_top + band);
+  DrawLegend(out, legend, LegendStart(side, bar.end_px.x() - bar.start_px.x()), arrow.x0 - 10, band_top + 10);
+  return StagesPicture{std::move(out), px_per_m, bar, band_top};
 }
 
 MapPicture DrawWalls(const std::vector<Polyline>& walls, const std::vector<Segment2>& truth, const Polyline& path,

@@ -21,11 +21,19 @@ struct StagesPictureOptions {
 // The stages side by side, like the thesis's figure 3.3: raw grid, cleaned
 // grid, extracted points (one colour per chain), simplified (vertex simplify +
 // Douglas-Peucker) and fitted, each panel titled, cropped to the cells that
-// hold anything. Grids: unknown grey, empty white, occupied black, robot path
-// red. When a panel has fewer pixels than cells, a pixel shows the strongest
-// of its cells (path over occupied over the rest), so thin walls stay visible.
-Drawing DrawStages(const grid::Grid2D<float>& raw, const vectorize::VectorizeResult& result,
-                   const StagesPictureOptions& options = {});
+// hold anything, all at one scale; below them a band with the scale bar, the
+// legend and the north arrow, as on every map page. Grids: unknown grey,
+// empty white, occupied black, robot path red. When a panel has fewer pixels
+// than cells, a pixel shows the strongest of its cells (path over occupied
+// over the rest), so thin walls stay visible.
+struct StagesPicture {
+  Drawing drawing;
+  double px_per_m = 0.0;     // every panel's scale
+  ScaleBar scale_bar;
+  double band_top_px = 0.0;  // the panels end above it
+};
+StagesPicture DrawStages(const grid::Grid2D<float>& raw, const vectorize::VectorizeResult& result,
+                         const StagesPictureOptions& options = {});
 
 // Walls (black, vertices red) over the true walls (light blue, when given)
 // and a path (faint red, when given), on a page fitted to the pixel budget.

@@ -198,7 +198,7 @@ VectorizeJobResult RunVectorizeJob(io::LogReader& log, const VectorizeJob& job) 
     draw::PictureOptions walls_picture;
     walls_picture.title = "Walls: " + fs::path(job.log_path).filename().string();
     draw::DrawWalls(out.walls.polylines, {}, fused.path, walls_picture).drawing.Write(folder->Staged("walls.svg"));
-    draw::DrawStages(values, out.walls).Write(folder->Staged("stages.png"));
+    draw::DrawStages(values, out.walls).drawing.Write(folder->Staged("stages.png"));
     out.report = MakeVectorizeReport(job, vo, out, wf.log_path);
     io::WriteFileAtomically(folder->Staged("report.json"), out.report.dump(2) + "\n");
     out.written = {"walls.json", "walls.svg", "stages.png", "report.json"};
