@@ -168,7 +168,13 @@ struct LiveMapper::Impl {
   std::thread thread;
   mutable std::mutex state_mutex;  // snapshot, grid, error, finished
   MapSnapshot snapshot;
-  GridSnapshot current_grid;
+  // The last snapshot of each open room's grid (raw odometry frame), by ASR
+  // id, taken by the mapping thread every 50 records; a room's goes to
+  // free_layers when its ASR is placed (on the pipeline's placing thread,
+  // by then the mapping thread may be rooms ahead: the id, not the time,
+  // says whose grid it is). current_room: the id of the latest snapshot.
+  std::map<int, GridSnapshot> room_grids;
+  int current_room = -1;
   // Per closed ASR: the last snapshot of its room grid (raw odometry frame)
   // and where the map puts that frame (corrected from raw, at close; the final
   // placements after the run).
@@ -334,13 +340,15 @@ void LiveMapper::Impl::Run(std::function<void()> on_asr) {
         }
         ++snapshot.asrs;
         // The room's grid is gone once it closes: its last snapshot (at most
-        // 50 records old) gives the free space the whole map shows.
-        if (!current_grid.data.empty())
-          free_layers.push_back({x.id, std::move(current_grid),
-                                 x.world_from_local_corrected * x.world_from_local_raw.inverse()});
-        current_grid = {};
-        if (const auto* g = pipeline.mapper().current_grid())
-          current_grid = FromValues(*g, pipeline.mapper().current_world_from_local());
+        // 50 records old) gives the free space the whole map shows. (This
+        // runs on the placing thread: the mapper's current grid is the
+        // mapping thread's, and by now may be a later room's.)
+        if (auto it = room_grids.find(x.id); it != room_grids.end()) {
+          if (!it->second.data.empty())
+            free_layers.push_back({x.id, std::move(it->second),
+                                   x.world_from_local_corrected * x.world_from_local_raw.inverse()});
+          room_grids.erase(it);
+        }
       }
       if (on_asr) on_asr();
     });
@@ -356,8 +364,10 @@ void LiveMapper::Impl::Run(std::function<void()> on_asr) {
       if (++n % 50 == 0)
         if (const auto* g = pipeline.mapper().current_grid()) {
           GridSnapshot grid = FromValues(*g, pipeline.mapper().current_world_from_local());
+          const int id = pipeline.mapper().current_id();
           std::lock_guard lock(state_mutex);
-          current_grid = std::move(grid);
+          room_grids[id] = std::move(grid);
+          current_room = id;
         }
     }
     pipeline.Finish();
@@ -441,7 +451,8 @@ MapSnapshot LiveMapper::Snapshot() const {
 
 GridSnapshot LiveMapper::CurrentRoomGrid() const {
   std::lock_guard lock(impl_->state_mutex);
-  return impl_->current_grid;
+  const auto it = impl_->room_grids.find(impl_->current_room);
+  return it == impl_->room_grids.end() ? GridSnapshot{} : it->second;
 }
 
 GridSnapshot LiveMapper::WholeMapGrid(double cell_m) const {
