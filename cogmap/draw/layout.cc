@@ -8,13 +8,17 @@ namespace cogmap::draw {
 
 namespace {
 
-constexpr double kSidePx = 16;        // page margin left and right
+constexpr double kSidePx = kPageSidePx;
 constexpr double kTitleFontPx = 20;
 constexpr double kSmallFontPx = 12;
 constexpr double kLegendFontPx = 13;
 constexpr double kBarMaxPx = 220;     // the scale bar's longest length
 constexpr double kArrowBoxPx = 44;    // north arrow's box
 constexpr double kMinPageWidthPx = 420;
+// A band's width less its legend's span: the margins, a full-length scale
+// bar with the gap after it (LegendStart) and the north arrow with the gap
+// before it (LegendEnd).
+constexpr double kLegendMarginsPx = 2 * kSidePx + kBarMaxPx + 36 + kArrowBoxPx + 10;
 
 const Font kTitleFont{kTitleFontPx, true};
 const Font kSmallFont{kSmallFontPx, false};
@@ -57,7 +61,7 @@ double DecorationWidth(const std::string& title, const std::vector<LegendItem>& 
   }
   double widest = 0.0;
   for (const auto& it : legend) widest = std::max(widest, LegendItemWidth(it));
-  if (widest > 0.0) w = std::max(w, 2 * kSidePx + kBarMaxPx + 36 + widest + kArrowBoxPx + 10);
+  if (widest > 0.0) w = std::max(w, widest + kLegendMarginsPx);
   return w;
 }
 
@@ -65,9 +69,9 @@ double DecorationWidth(const std::string& title, const std::vector<LegendItem>& 
 
 std::vector<Font> PageFonts() { return {kTitleFont, kSmallFont, kLegendFont, kNorthFont}; }
 
-double LegendSpan(double width_px) {
-  return std::max(100.0, width_px - 2 * kSidePx - kBarMaxPx - 36 - kArrowBoxPx - 10);
-}
+double LegendSpan(double width_px) { return std::max(100.0, width_px - kLegendMarginsPx); }
+
+double LegendEnd(double width_px) { return width_px - kSidePx - kArrowBoxPx - 10; }
 
 double BottomBandHeight(const std::vector<LegendItem>& legend, double legend_span_px) {
   return std::max(kArrowBoxPx + 16, LegendRows(legend, legend_span_px) * 20.0 + 20);
@@ -223,8 +227,7 @@ std::vector<Box> MapPage::Decorate(Drawing& d) {
   bar_ = DrawScaleBar(d, px_per_m_, kSidePx, height_ - 16);
   used.push_back(DrawNorthArrow(d, width_ - kSidePx, height_));
   const double lx0 = LegendStart(kSidePx, bar_.end_px.x() - bar_.start_px.x());
-  const double lx1 = width_ - kSidePx - kArrowBoxPx - 10;
-  for (const Box& b : DrawLegend(d, legend_, lx0, lx1, band_top + 10)) used.push_back(b);
+  for (const Box& b : DrawLegend(d, legend_, lx0, LegendEnd(width_), band_top + 10)) used.push_back(b);
   return used;
 }
 

@@ -13,6 +13,8 @@ namespace cogmap::draw {
 
 // The largest side a picture may take even with a px_per_m override.
 constexpr int kMaxSidePx = 16000;
+// A page's margin left and right (the scale bar and north arrow stand in it).
+constexpr double kPageSidePx = 16;
 
 // The fonts of every page's bands (title, scale, legend, north arrow): the
 // ones worth loading before a picture is drawn (Drawing::PrepareFonts).
@@ -84,6 +86,8 @@ class MapPage {
 double BottomBandHeight(const std::vector<LegendItem>& legend, double legend_span_px);
 // The span a band of 'width_px' gives its legend beside a full-length scale bar.
 double LegendSpan(double width_px);
+// Where the legend of a band of 'width_px' ends (before the north arrow).
+double LegendEnd(double width_px);
 // A scale bar at 'px_per_m' starting at 'left_px' on the line 'bar_y_px' (its
 // length the longest NiceScaleLength within kBarMaxPx), its length above it.
 ScaleBar DrawScaleBar(Drawing& d, double px_per_m, double left_px, double bar_y_px);

@@ -118,8 +118,6 @@ TEST(DrawStages, FivePanelsWithinTheBudget) {
   EXPECT_GT(pic.scale_bar.start_px.y(), pic.band_top_px);
   EXPECT_LT(pic.scale_bar.start_px.y(), d.height());
   EXPECT_NEAR(pic.scale_bar.end_px.x() - pic.scale_bar.start_px.x(), pic.scale_bar.length_m * pic.px_per_m, 1e-9);
-  // The panel holds the grid's cells at that scale: the 4 m room (plus the
-  // crop margin) spans its width.
   const io::RgbImage img = d.Rasterize();
   // The fitted panel (the fifth) has black wall pixels; the raw panel too.
   int black_fifth = 0, black_first = 0;

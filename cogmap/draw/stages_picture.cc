@@ -151,10 +151,10 @@ StagesPicture DrawStages(const grid::Grid2D<float>& raw_full, const vectorize::V
   const double px_per_m = s / raw_full.limits().cell_m();
   out.Rectangle(Box{0, band_top, strip_w, band_top + band}, kWhite);
   out.Line(Vec2(0, band_top + 0.5), Vec2(strip_w, band_top + 0.5), Stroke{Rgb8(200, 200, 200), 1, {}, false});
-  const double side = 16;
-  const ScaleBar bar = DrawScaleBar(out, px_per_m, side, band_top + band - 16);
-  const Box arrow = DrawNorthArrow(out, strip_w - side, band_top + band);
-  DrawLegend(out, legend, LegendStart(side, bar.end_px.x() - bar.start_px.x()), arrow.x0 - 10, band_top + 10);
+  const ScaleBar bar = DrawScaleBar(out, px_per_m, kPageSidePx, band_top + band - 16);
+  DrawNorthArrow(out, strip_w - kPageSidePx, band_top + band);
+  DrawLegend(out, legend, LegendStart(kPageSidePx, bar.end_px.x() - bar.start_px.x()), LegendEnd(strip_w),
+             band_top + 10);
   return StagesPicture{std::move(out), px_per_m, bar, band_top};
 }
 

@@ -251,12 +251,11 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
   r.faces_matched = static_cast<int>(std::count(face_hit.begin(), face_hit.end(), 1));
   r.match_fraction = r.samples > 0 ? static_cast<double>(matches) / r.samples : 0.0;
   r.rmse_m = sum_w > 0 ? std::sqrt(sum_w_e2 / sum_w) : 0.0;
-  const double sigma2 = data_variance(matches) / inflate;
+  const double s2 = data_variance(matches);  // residual variance times the correlation inflation
   if (prior) {
     // The data's covariance along the directions it determined; along the
     // others (left at the prior) as good as none: 10^4 times the prior's.
-    const double s2 = sigma2 * inflate;
-    whitened.compute(L.transpose() * (H / s2) * L);
+    // ('whitened' is the last iteration's: H and the residuals are its.)
     Eigen::Vector3d inv;
     for (int i = 0; i < 3; ++i) {
       const double lambda = whitened.eigenvalues()(i);
@@ -274,7 +273,7 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(H);
   Eigen::Vector3d inv = Eigen::Vector3d::Zero();
   for (int i = 0; i < 3; ++i) inv(i) = es.eigenvalues()(i) > 1e-9 ? 1.0 / es.eigenvalues()(i) : 1e9;
-  r.covariance = sigma2 * inflate * es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
+  r.covariance = s2 * es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
   r.converged = true;
   return r;
 }
