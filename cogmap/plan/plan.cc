@@ -278,7 +278,54 @@ class TiledLattice {
   T fill_;
   std::vector<std::unique_ptr<T[]>> tiles_;
 };
-using Mask = TiledLattice<uint8_t>;    // 1: blocked (a wall or a door line)
+// A w x h lattice of 2-bit values (0-3) in tiles of 16 x 16 cells, one
+// 32-bit word per tile row, allocated on the first non-zero write; unwritten
+// cells read 0. The room grid's masks: a quarter of a byte lattice's memory
+// (at 1000 rooms the wall mask was the plan's largest structure, 10.8 MB).
+class Mask {
+ public:
+  static constexpr int kShift = 4;
+  static constexpr int kSide = 1 << kShift;
+  static constexpr int kLow = kSide - 1;
+
+  Mask(int w, int h) : w_(w), h_(h), tw_((w + kLow) >> kShift), tiles_(static_cast<size_t>(tw_) * ((h + kLow) >> kShift)) {}
+
+  // (x, y) inside the lattice.
+  uint8_t Get(int x, int y) const {
+    const auto& t = tiles_[Tile(x, y)];
+    return t ? static_cast<uint8_t>((t[y & kLow] >> (2 * (x & kLow))) & 3u) : 0;
+  }
+  void Set(int x, int y, uint8_t v) {  // v < 4
+    auto& t = tiles_[Tile(x, y)];
+    if (!t) {
+      if (v == 0) return;
+      t = std::make_unique<uint32_t[]>(kSide);  // zeroed
+    }
+    const int shift = 2 * (x & kLow);
+    uint32_t& row = t[y & kLow];
+    row = (row & ~(3u << shift)) | (static_cast<uint32_t>(v & 3u) << shift);
+  }
+  // f(x, y, value) for every cell of an allocated tile, row-major (y, then
+  // x), unwritten cells left out.
+  template <class F>
+  void ForEachStored(F&& f) const {
+    for (int y = 0; y < h_; ++y) {
+      const int ty = y >> kShift;
+      for (int tx = 0; tx < tw_; ++tx) {
+        const auto& t = tiles_[static_cast<size_t>(ty) * tw_ + tx];
+        if (!t) continue;
+        const int x0 = tx << kShift, x1 = std::min(w_, x0 + kSide);
+        const uint32_t row = t[y & kLow];
+        for (int x = x0; x < x1; ++x) f(x, y, static_cast<uint8_t>((row >> (2 * (x - x0))) & 3u));
+      }
+    }
+  }
+
+ private:
+  size_t Tile(int x, int y) const { return static_cast<size_t>(y >> kShift) * tw_ + (x >> kShift); }
+  int w_, h_, tw_;
+  std::vector<std::unique_ptr<uint32_t[]>> tiles_;
+};
 
 // Room per cell, -1: none, on tiles: 16-bit labels while the rooms number
 // fewer than 32768 (half the memory of int labels: at 1000 rooms the labels
@@ -361,6 +408,21 @@ using RoomHulls = std::vector<std::vector<Vec2>>;
 constexpr uint8_t kBlocked = 1;  // a wall or a door line
 constexpr uint8_t kTight = 2;    // free, but within the robot's radius of a wall (TightCells)
 
+// The wall mask with the door lines of one split of the rooms drawn over it:
+// the door lines on a lattice of their own (a few tiles), the walls read
+// through, so that a split costs its doors and not a copy of every wall tile
+// (at 1000 rooms the copy was 7 MB of the plan's peak).
+class DoorMask {
+ public:
+  DoorMask(const Mask& walls, int w, int h) : walls_(&walls), doors_(w, h) {}
+  uint8_t Get(int x, int y) const { return doors_.Get(x, y) == kBlocked ? kBlocked : walls_->Get(x, y); }
+  Mask* doors() { return &doors_; }
+
+ private:
+  const Mask* walls_;
+  Mask doors_;
+};
+
 // Marks kTight the free cells of 'walls' within radius_m of a wall (walls
 // only: door lines are openings the robot took), except within radius_m of
 // the robot's 'paths' (map frame): where the robot's centre cannot be. A gap
@@ -415,7 +477,7 @@ int TightCells(const RoomGrid& g, Mask* walls, double radius_m, const std::vecto
 // beside its own floor (at most grow_steps deep): a room spreads through a
 // gap in its walls only if the robot could have driven through it, instead
 // of flooding whatever lies behind it within its hull.
-Labels Flood(const RoomGrid& g, const Mask& blocked, const std::vector<std::vector<size_t>>& seeds,
+Labels Flood(const RoomGrid& g, const DoorMask& blocked, const std::vector<std::vector<size_t>>& seeds,
              const std::vector<RoomHulls>& hulls_frame, int grow_steps = 0, int max_depth = 0) {
   Labels label(g.w, g.h, static_cast<int>(seeds.size()));
   std::deque<size_t> q;
@@ -1534,7 +1596,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     g.w = static_cast<int>(std::ceil((hi.x() - lo.x()) / g.cell));
     g.h = static_cast<int>(std::ceil((hi.y() - lo.y()) / g.cell));
   }
-  Mask wall_mask(g.w, g.h, 0);
+  Mask wall_mask(g.w, g.h);
   for (const auto& s : segs) g.Block(s.a, s.b, &wall_mask);
   const int grow_steps = TightCells(g, &wall_mask, o.gap_closing ? o.robot_radius_m : 0.0, path);
   const int reach_steps = o.reach_m > 0.0 ? static_cast<int>(std::ceil(std::sqrt(2.0) * o.reach_m / g.cell)) : 0;
@@ -1651,13 +1713,13 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       if ((*seeds)[r].empty()) (*seeds)[r] = all_path[r];
   };
   auto door_mask = [&](const std::vector<int>& room_of_unit) {
-    Mask m = wall_mask;
+    DoorMask m(wall_mask, g.w, g.h);
     for (const auto& d : door_cands) {
       auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
       if (a != index_of.end() && b != index_of.end() &&
           room_of_unit[unit_root(unit_of[a->second])] == room_of_unit[unit_root(unit_of[b->second])])
         continue;  // inside one room: no door
-      g.Block(d.a, d.b, &m);
+      g.Block(d.a, d.b, m.doors());
     }
     return m;
   };
@@ -1680,7 +1742,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // y-steps, so its length is about cell * hypot(x-steps, y-steps).
   std::map<std::pair<int, int>, std::pair<int, int>> touching_xy;
   {  // pass 1's labels go before pass 2 floods
-    const Mask blocked1 = door_mask(unit_room);
+    const DoorMask blocked1 = door_mask(unit_room);
     const Labels label1 = Flood(g, blocked1, seeds, hulls, grow_steps, reach_steps);
     shapes = RegionShapes(g, label1, n1);
     // Two regions meet where a row or column of cells goes from one to the
@@ -1911,7 +1973,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     // Contacts of each small room: cell pairs along a row or a column, next
     // to each other or across door-line cells (not wall cells) and unclaimed
     // floor, up to corridor_touch_m apart.
-    const Mask doors = door_mask(plan_of_unit);
+    const DoorMask doors = door_mask(plan_of_unit);
     const int reach = std::max(1, static_cast<int>(std::lround(o.corridor_touch_m / g.cell)));
     std::map<std::pair<int, int>, long> contact;  // (small room, neighbour) -> cell pairs
     label2->ForEachStored([&](int x, int y, int r) {
