@@ -402,12 +402,8 @@ struct PoseGraph::Impl {
 
   bool Free(int node, int first_free) const { return node >= first_free && !fixed[node]; }
 
-  // 'copy_of': the blocks to use in place of the graph's own (null: its own).
-  void Build(ceres::Problem* problem, int first_free, bool all,
-             const std::unordered_map<const double*, double*>* copy_of = nullptr) {
-    auto at = [copy_of](const double* block) {
-      return copy_of ? copy_of->at(block) : const_cast<double*>(block);
-    };
+  void Build(ceres::Problem* problem, int first_free, bool all) {
+    auto at = [](const double* block) { return const_cast<double*>(block); };  // Factor::params are const
     std::vector<double*> params;
     for (Factor& f : factors) {
       if (!f.enabled) continue;
@@ -648,47 +644,79 @@ double PoseGraph::rate(int i) const { return impl_->rates[i]; }
 bool PoseGraph::has_direction() const { return impl_->has_phi; }
 double PoseGraph::building_direction() const { return impl_->phi; }
 
-std::vector<Eigen::Matrix3d> PoseGraph::Covariances() const {
-  // ceres::Covariance orders the parameter blocks by their addresses, and the
-  // nodes' and rates' blocks lie wherever the heap put them (which another
-  // thread's allocations change from run to run): the last digits of the
-  // covariances changed with it. The blocks are copied into one array here,
-  // the nodes first, then the rates, then the building's direction, so the
-  // order is the same in every run.
-  const size_t N = impl_->nodes.size();
-  std::vector<double> values(3 * N + N + 1);
-  std::unordered_map<const double*, double*> copy_of;
-  for (size_t n = 0; n < N; ++n) {
-    std::copy(impl_->nodes[n].begin(), impl_->nodes[n].end(), values.begin() + 3 * n);
-    copy_of[impl_->nodes[n].data()] = &values[3 * n];
-    values[3 * N + n] = impl_->rates[n];
-    copy_of[&impl_->rates[n]] = &values[3 * N + n];
-  }
-  values[4 * N] = impl_->phi;
-  copy_of[&impl_->phi] = &values[4 * N];
-  double* const node0 = values.data();
-  auto node = [&](size_t n) { return node0 + 3 * n; };
+// The enabled factors linearised at the graph's values: each factor's
+// weighted whitened Jacobian over its free columns (the loss's weight
+// rho'(s) as Ceres applies it for Cauchy and Huber losses, whose rho'' <= 0)
+// and the normal matrix H = J^T J they add up to.
+struct PoseGraph::Linearized {
+  struct Rows {
+    std::vector<int> col;  // global column of each free entry
+    Eigen::MatrixXd J;     // dof x col.size()
+  };
+  std::vector<Rows> rows;       // per factor (empty for disabled ones)
+  std::vector<double> weight;   // per factor
+  std::unordered_map<const double*, int> first_col;
+  int cols = 0;
+  Eigen::SparseMatrix<double> H;
+};
 
-  ceres::Problem::Options po;
-  po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(po);
-  impl_->Build(&problem, 0, true, &copy_of);
-  ceres::Covariance::Options co;
-  co.algorithm_type = ceres::SPARSE_QR;
-  co.num_threads = 1;
-  ceres::Covariance cov(co);
-  std::vector<std::pair<const double*, const double*>> blocks;
-  for (size_t n = 0; n < N; ++n)
-    if (!impl_->fixed[n] && problem.HasParameterBlock(node(n))) blocks.emplace_back(node(n), node(n));
+// The selected inverse S = (P H P^T)^-1 on the pattern of H's factor L:
+// every entry of the inverse a covariance block or a redundancy number
+// needs, at the cost of the factorisation (Takahashi's recurrences), where
+// the whole inverse (or one solve per column) grows with the square of the
+// graph.
+struct PoseGraph::SelectedInverse {
+  std::vector<double> sdiag, sval;
+  const Eigen::SparseMatrix<double>* L = nullptr;
+  Eigen::VectorXi perm;
+  // Entry (a, b) of H^-1, in H's own column order.
+  double operator()(int a, int b) const {
+    const int i = perm(a), k = perm(b);
+    if (i == k) return sdiag[i];
+    const int c = std::min(i, k), r = std::max(i, k);
+    const int* outer = L->outerIndexPtr();
+    const int* inner = L->innerIndexPtr();
+    const int* nnz = L->innerNonZeroPtr();
+    const int* bgn = inner + outer[c];
+    const int* end = inner + (nnz ? outer[c] + nnz[c] : outer[c + 1]);
+    const int* q = std::lower_bound(bgn, end, r);
+    return (q != end && *q == r) ? sval[q - inner] : 0.0;
+  }
+};
+
+std::vector<Eigen::Matrix3d> PoseGraph::Covariances() const {
+  // The marginal covariance of each free node: its 3 x 3 block of H^-1 for
+  // the Jacobian Ceres would use (every enabled factor, its loss applied),
+  // from the selected inverse. ceres::Covariance (SPARSE_QR) solved for every
+  // column and took a time growing with the square of the graph (1.1 s of a
+  // 1000-room building's 14 s).
+  const size_t N = impl_->nodes.size();
   std::vector<Eigen::Matrix3d> out(N, Eigen::Matrix3d::Zero());
-  if (blocks.empty()) return out;
-  if (!cov.Compute(blocks, &problem)) return {};
+  const Linearized lin = Linearize(!impl_->rates_zero);
+  std::vector<int> node_col(N, -1);
+  bool any = false;
   for (size_t n = 0; n < N; ++n) {
-    if (impl_->fixed[n] || !problem.HasParameterBlock(node(n))) continue;
-    double c[9];
-    cov.GetCovarianceBlock(node(n), node(n), c);
-    out[n] = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(c);
+    if (impl_->fixed[n]) continue;
+    auto it = lin.first_col.find(impl_->nodes[n].data());
+    if (it == lin.first_col.end()) continue;
+    node_col[n] = it->second;
+    any = true;
+  }
+  if (!any) return out;
+  // Rank deficiency as SuiteSparseQR's default tolerance would find it:
+  // a pivot of R below 20 (m + n) eps times the largest column norm, so a
+  // pivot of D below its square times H's largest diagonal entry.
+  size_t m = 0;
+  for (size_t k = 0; k < impl_->factors.size(); ++k)
+    if (impl_->factors[k].enabled) m += static_cast<size_t>(impl_->factors[k].dof);
+  const double tol = 20.0 * static_cast<double>(m + static_cast<size_t>(lin.cols)) * std::numeric_limits<double>::epsilon();
+  SelectedInverse S;
+  if (!Invert(lin, tol * tol, &S)) return {};
+  for (size_t n = 0; n < N; ++n) {
+    const int c = node_col[n];
+    if (c < 0) continue;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) out[n](a, b) = S(c + a, c + b);
   }
   return out;
 }
@@ -729,24 +757,21 @@ double CauchyConsistency(int dof, double a) {
 }
 }  // namespace
 
-std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
+PoseGraph::Linearized PoseGraph::Linearize(bool rates_free) const {
   const auto& factors = impl_->factors;
-  std::vector<FactorRedundancy> out(factors.size(), FactorRedundancy{0.0, 0.0});
+  Linearized lin;
   // The free parameter blocks: nodes not held, rates unless held at zero, phi.
   std::unordered_map<const double*, bool> is_free;
   for (size_t n = 0; n < impl_->nodes.size(); ++n) {
     is_free[impl_->nodes[n].data()] = !impl_->fixed[n];
-    is_free[&impl_->rates[n]] = !impl_->rates_zero;
+    is_free[&impl_->rates[n]] = rates_free;
   }
   is_free[&impl_->phi] = true;
-  std::unordered_map<const double*, int> first_col;
-  int cols = 0;
-  // Each enabled factor's weighted whitened Jacobian over its free columns.
-  struct Rows {
-    std::vector<int> col;       // global column of each free entry
-    Eigen::MatrixXd J;          // dof x col.size()
-  };
-  std::vector<Rows> rows(factors.size());
+  auto& first_col = lin.first_col;
+  int& cols = lin.cols;
+  auto& rows = lin.rows;
+  rows.resize(factors.size());
+  lin.weight.assign(factors.size(), 0.0);
   std::vector<Eigen::Triplet<double>> triplets;
   size_t most_triplets = 0;  // (the sum of the blocks' sizes)^2 per factor: no regrowth below
   for (const auto& f : factors) {
@@ -776,8 +801,8 @@ std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
       f.loss->Evaluate(s, rho);
       w = rho[1];
     }
-    out[k].weight = w;
-    Rows& R = rows[k];
+    lin.weight[k] = w;
+    Linearized::Rows& R = rows[k];
     std::vector<std::pair<size_t, int>> entries;  // (block, offset) of each free column
     for (size_t b = 0; b < sizes.size(); ++b) {
       const double* p = f.params[b];
@@ -799,21 +824,18 @@ std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
     for (size_t a = 0; a < R.col.size(); ++a)
       for (size_t b = 0; b < R.col.size(); ++b) triplets.emplace_back(R.col[a], R.col[b], H(a, b));
   }
-  if (cols == 0) {
-    for (size_t k = 0; k < factors.size(); ++k)
-      if (factors[k].enabled) out[k].redundancy = factors[k].dof;
-    return out;
-  }
-  Eigen::SparseMatrix<double> H(cols, cols);
-  H.setFromTriplets(triplets.begin(), triplets.end());
-  // A parameter nothing determines would make H singular: a relative
-  // regularisation far below any factor's information keeps it invertible.
-  double max_diag = 0.0;
-  for (int c = 0; c < cols; ++c) max_diag = std::max(max_diag, H.coeff(c, c));
-  for (int c = 0; c < cols; ++c) H.coeffRef(c, c) += 1e-12 * std::max(1.0, max_diag);
+  if (cols == 0) return lin;
+  lin.H.resize(cols, cols);
+  lin.H.setFromTriplets(triplets.begin(), triplets.end());
+  lin.H.makeCompressed();
+  return lin;
+}
+
+bool PoseGraph::Invert(const Linearized& lin, double min_pivot, SelectedInverse* out) const {
+  const Eigen::SparseMatrix<double>& H = lin.H;
+  const int cols = static_cast<int>(H.cols());
   // The symbolic part again only when the pattern changed (the same
   // ordering and the same numbers as analysing it afresh).
-  H.makeCompressed();
   auto& sym = impl_->symbolic;
   const bool same_pattern = sym && static_cast<int>(sym->outer.size()) == cols + 1 &&
                             std::equal(sym->outer.begin(), sym->outer.end(), H.outerIndexPtr()) &&
@@ -827,26 +849,27 @@ std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
   }
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>& ldlt = sym->ldlt;
   ldlt.factorize(H);
-  if (ldlt.info() != Eigen::Success) return {};
+  if (ldlt.info() != Eigen::Success) return false;
   const Eigen::SparseMatrix<double>& L = ldlt.matrixL().nestedExpression();  // strictly lower, unit diagonal
   const Eigen::VectorXd D = ldlt.vectorD();
-  // The selected inverse S = (P H P^T)^-1 on the pattern of L (Takahashi):
-  // from the last column back, S_ij = -sum_k L_kj S_ik and
+  // A pivot at or below min_pivot times H's largest diagonal entry: a
+  // direction the factors do not determine (min_pivot < 0: no test).
+  if (min_pivot >= 0.0) {
+    double largest = 0.0;
+    for (int c = 0; c < cols; ++c) largest = std::max(largest, H.coeff(c, c));
+    for (int j = 0; j < cols; ++j)
+      if (!(D(j) > min_pivot * largest)) return false;
+  }
+  // From the last column back, S_ij = -sum_k L_kj S_ik and
   // S_jj = 1/D_j - sum_k L_kj S_kj over the rows k of column j.
-  std::vector<double> sdiag(cols, 0.0);
-  std::vector<double> sval(L.nonZeros(), 0.0);
+  std::vector<double>& sdiag = out->sdiag;
+  std::vector<double>& sval = out->sval;
+  sdiag.assign(cols, 0.0);
+  sval.assign(L.nonZeros(), 0.0);
   const int* outer = L.outerIndexPtr();
   const int* inner = L.innerIndexPtr();
   const int* nnz = L.innerNonZeroPtr();
   auto col_end = [&](int c) { return nnz ? outer[c] + nnz[c] : outer[c + 1]; };
-  auto S = [&](int i, int k) -> double {
-    if (i == k) return sdiag[i];
-    const int c = std::min(i, k), r = std::max(i, k);
-    const int* b = inner + outer[c];
-    const int* e = inner + col_end(c);
-    const int* p = std::lower_bound(b, e, r);
-    return (p != e && *p == r) ? sval[p - inner] : 0.0;
-  };
   const double* lval = L.valuePtr();
   // Column j needs S over its rows R_j (all after j, so already known):
   // gathered once into a dense block from the columns of R_j, which hold
@@ -879,14 +902,38 @@ std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
     for (int t = b; t < e; ++t) d -= lval[t] * sval[t];
     sdiag[j] = d;
   }
-  const auto& perm = ldlt.permutationP().indices();
+  out->L = &L;
+  out->perm = ldlt.permutationP().indices();
+  return true;
+}
+
+std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
+  const auto& factors = impl_->factors;
+  std::vector<FactorRedundancy> out(factors.size(), FactorRedundancy{0.0, 0.0});
+  Linearized lin = Linearize(!impl_->rates_zero);
+  for (size_t k = 0; k < factors.size(); ++k) out[k].weight = lin.weight[k];
+  const int cols = lin.cols;
+  if (cols == 0) {
+    for (size_t k = 0; k < factors.size(); ++k)
+      if (factors[k].enabled) out[k].redundancy = factors[k].dof;
+    return out;
+  }
+  Eigen::SparseMatrix<double>& H = lin.H;
+  // A parameter nothing determines would make H singular: a relative
+  // regularisation far below any factor's information keeps it invertible.
+  double max_diag = 0.0;
+  for (int c = 0; c < cols; ++c) max_diag = std::max(max_diag, H.coeff(c, c));
+  for (int c = 0; c < cols; ++c) H.coeffRef(c, c) += 1e-12 * std::max(1.0, max_diag);
+  SelectedInverse S;
+  if (!Invert(lin, -1.0, &S)) return {};
+  const auto& rows = lin.rows;
   for (size_t k = 0; k < factors.size(); ++k) {
     if (!factors[k].enabled) continue;
-    const Rows& R = rows[k];
+    const Linearized::Rows& R = rows[k];
     const int m = static_cast<int>(R.col.size());
     Eigen::MatrixXd Sf(m, m);
     for (int a = 0; a < m; ++a)
-      for (int b = 0; b < m; ++b) Sf(a, b) = S(perm(R.col[a]), perm(R.col[b]));
+      for (int b = 0; b < m; ++b) Sf(a, b) = S(R.col[a], R.col[b]);
     const Eigen::MatrixXd JSJ = m == 0 ? Eigen::MatrixXd::Zero(factors[k].dof, factors[k].dof)
                                       : Eigen::MatrixXd(R.J * Sf * R.J.transpose());
     out[k].redundancy = std::clamp(factors[k].dof - JSJ.trace(), 0.0, static_cast<double>(factors[k].dof));

@@ -201,6 +201,14 @@ class PoseGraph {
 
  private:
   struct Impl;
+  struct Linearized;
+  struct SelectedInverse;
+  // The enabled factors' weighted whitened Jacobian and normal matrix over
+  // the free parameters (the rates free or held).
+  Linearized Linearize(bool rates_free) const;
+  // H^-1 on the pattern of H's sparse factor; false when H is singular
+  // (a pivot below min_pivot times H's largest diagonal entry; < 0: no test).
+  bool Invert(const Linearized& lin, double min_pivot, SelectedInverse* out) const;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -233,6 +233,55 @@ TEST(PoseGraph, RedundancyOfTwoMeasurementsOfOnePoseIsSharedByTheirVariances) {
   EXPECT_NEAR(red[0].consistency, 1.0, 1e-9);  // no robust loss
 }
 
+TEST(PoseGraph, CovarianceOfTwoMeasurementsOfOnePoseIsTheirInformationSummed) {
+  // Node 1 measured twice from the fixed node 0 with covariances 0.01 I and
+  // 0.04 I: (100 + 25)^-1 = 0.008 on the diagonal, nothing off it.
+  PoseGraph g;
+  g.AddNode({0, 0, 0}, true);
+  g.AddNode({1.0, 0.5, 0.3});
+  const Pose2 z{1.0, 0.5, 0.3};
+  g.AddRelative(0, 1, z, 0.01 * Eigen::Matrix3d::Identity(), FactorKind::kRegistration, 0.0);
+  g.AddRelative(0, 1, z, 0.04 * Eigen::Matrix3d::Identity(), FactorKind::kLoopClosure, 0.0);
+  const auto cov = g.Covariances();
+  ASSERT_EQ(cov.size(), 2u);
+  EXPECT_TRUE(cov[0].isZero());  // the fixed node
+  EXPECT_TRUE(cov[1].isApprox(0.008 * Eigen::Matrix3d::Identity(), 1e-9)) << cov[1];
+}
+
+TEST(PoseGraph, CovarianceAlongAChainIsTheFirstOrderPropagation) {
+  // 0 (fixed) -> 1 -> 2, each 1 m straight ahead, translation variance
+  // st2 and heading variance sh2 per step: node 2's x variance is 2 st2, its
+  // y variance 2 st2 + 1 m^2 sh2 (node 1's heading error swings the second
+  // step), its heading variance 2 sh2, and y and heading covary by sh2.
+  const double st2 = 0.01, sh2 = 0.002;
+  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+  c.diagonal() << st2, st2, sh2;
+  PoseGraph g;
+  g.AddNode({0, 0, 0}, true);
+  g.AddNode({1, 0, 0});
+  g.AddNode({2, 0, 0});
+  g.AddRelative(0, 1, {1, 0, 0}, c, FactorKind::kRegistration, 0.0);
+  g.AddRelative(1, 2, {1, 0, 0}, c, FactorKind::kRegistration, 0.0);
+  const auto cov = g.Covariances();
+  ASSERT_EQ(cov.size(), 3u);
+  EXPECT_TRUE(cov[1].isApprox(c, 1e-9)) << cov[1];
+  Eigen::Matrix3d want;
+  want << 2 * st2, 0, 0,  //
+      0, 2 * st2 + sh2, sh2,  //
+      0, sh2, 2 * sh2;
+  EXPECT_TRUE(cov[2].isApprox(want, 1e-9)) << cov[2];
+}
+
+TEST(PoseGraph, NoCovarianceForAPoseNothingDetermines) {
+  // Node 1's heading is measured only by a direction factor and its
+  // position by nothing: the graph is singular and says so (no numbers).
+  PoseGraph g;
+  g.AddNode({0, 0, 0}, true);
+  g.AddNode({1, 0, 0});
+  g.AddDirection(1, 0.0, 0.01);
+  EXPECT_TRUE(g.Covariances().empty());
+}
+
 TEST(PoseGraph, RedundanciesSumToTheDofLeftOverByTheParameters) {
   // A chain of 8 rooms with wall directions and one loop closure, held
   // rates: the free parameters are 7 poses and the building direction.

@@ -480,11 +480,32 @@ int TightCells(const RoomGrid& g, Mask* walls, double radius_m, const std::vecto
 Labels Flood(const RoomGrid& g, const DoorMask& blocked, const std::vector<std::vector<size_t>>& seeds,
              const std::vector<RoomHulls>& hulls_frame, int grow_steps = 0, int max_depth = 0) {
   Labels label(g.w, g.h, static_cast<int>(seeds.size()));
-  std::deque<size_t> q;
+  std::deque<std::pair<int32_t, int32_t>> q;  // cells (x, y): no division per step
+  // A region of many hulls (a corridor of hundreds of ASRs) is not tested
+  // hull by hull: the hulls are listed by the 32 x 32-cell blocks their boxes
+  // cover, and a cell tests its block's hulls of its region only.
+  constexpr int kBlockShift = 5;
+  const int bw = (g.w >> kBlockShift) + 1, bh = (g.h >> kBlockShift) + 1;
+  std::vector<std::vector<std::pair<int, const std::vector<Vec2>*>>> in_block(static_cast<size_t>(bw) * bh);
+  for (size_t r = 0; r < hulls_frame.size(); ++r)
+    for (const auto& hull : hulls_frame[r]) {
+      if (hull.size() < 3) continue;
+      Vec2 lo = hull[0], hi = hull[0];
+      for (const Vec2& v : hull) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+      auto block = [&](double v, double origin, int n) {
+        const double c = std::floor((v - origin) / g.cell);
+        return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(n - 1) * (1 << kBlockShift))) >> kBlockShift;
+      };
+      // One cell of margin: InConvex's tolerance reaches past the box by far less.
+      const int x0 = block(lo.x() - g.cell, g.lo.x(), bw), x1 = block(hi.x() + g.cell, g.lo.x(), bw);
+      const int y0 = block(lo.y() - g.cell, g.lo.y(), bh), y1 = block(hi.y() + g.cell, g.lo.y(), bh);
+      for (int by = y0; by <= y1; ++by)
+        for (int bx = x0; bx <= x1; ++bx) in_block[static_cast<size_t>(by) * bw + bx].push_back({static_cast<int>(r), &hull});
+    }
   auto allowed = [&](int r, int cx, int cy) {
     const Vec2 p(g.lo.x() + (cx + 0.5) * g.cell, g.lo.y() + (cy + 0.5) * g.cell);
-    for (const auto& hull : hulls_frame[r])
-      if (InConvex(hull, p)) return true;
+    for (const auto& [hr, hull] : in_block[static_cast<size_t>(cy >> kBlockShift) * bw + (cx >> kBlockShift)])
+      if (hr == r && InConvex(*hull, p)) return true;
     return false;
   };
   const bool two_phases = grow_steps > 0 && static_cast<uint64_t>(g.w) * static_cast<uint64_t>(g.h) <= UINT32_MAX;
@@ -493,7 +514,7 @@ Labels Flood(const RoomGrid& g, const DoorMask& blocked, const std::vector<std::
       const int cx = static_cast<int>(idx % g.w), cy = static_cast<int>(idx / g.w);
       if (blocked.Get(cx, cy) != kBlocked && label.Get(cx, cy) < 0) {
         label.Set(cx, cy, static_cast<int>(r));
-        q.push_back(idx);
+        q.push_back({cx, cy});
       }
     }
   // Phase 2 starts from the labelled cells beside a tight one (the rim of
@@ -507,10 +528,9 @@ Labels Flood(const RoomGrid& g, const DoorMask& blocked, const std::vector<std::
       left_in_level = q.size();
     }
     --left_in_level;
-    const size_t idx = q.front();
+    const auto [cx, cy] = q.front();
     q.pop_front();
     if (max_depth > 0 && depth >= max_depth) continue;
-    const int cx = static_cast<int>(idx % g.w), cy = static_cast<int>(idx / g.w);
     const int r = label.Get(cx, cy);
     const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
     bool rim_cell = false;
@@ -523,14 +543,14 @@ Labels Flood(const RoomGrid& g, const DoorMask& blocked, const std::vector<std::
         continue;
       }
       label.Set(nx[k], ny[k], r);
-      q.push_back(g.Idx(nx[k], ny[k]));
+      q.push_back({nx[k], ny[k]});
     }
-    if (rim_cell) rim.push_back(static_cast<uint32_t>(idx));
+    if (rim_cell) rim.push_back(static_cast<uint32_t>(g.Idx(cx, cy)));
   }
   if (!two_phases) return label;
   // Phase 2: the tight cells, breadth first from the rims, at most
   // grow_steps deep (one frontier per step).
-  std::deque<size_t>().swap(q);
+  std::deque<std::pair<int32_t, int32_t>>().swap(q);
   std::vector<uint32_t> next;
   for (int depth = 0; depth < grow_steps && !rim.empty(); ++depth) {
     next.clear();
