@@ -303,7 +303,7 @@ TEST(MapOptimizer, AClosureOnOneWallIsNotAccepted) {
     candidate = true;
     EXPECT_FALSE(c.accepted);
     EXPECT_NE(c.reason.find("one wall"), std::string::npos) << c.reason;
-    EXPECT_LT(c.rmse_m, 1e-9);
+    EXPECT_LT(c.rmse_m, 1e-6);  // a micrometre: the ICP stops within 1e-5 m of its fixed point
   }
   EXPECT_TRUE(candidate);
   EXPECT_NE(opt.RoomOf(2), opt.RoomOf(0));

@@ -82,7 +82,8 @@ FaceIndex::FaceIndex(const std::vector<FacedSegment>& faces, double cell_m) : fa
   }
 }
 
-int FaceIndex::Nearest(const Vec2& p, const Vec2& n, double max_d, double cos_max, double* residual) const {
+int FaceIndex::Nearest(const Vec2& p, const Vec2& n, double max_d, double cos_max, double* residual,
+                       double* distance) const {
   if (nx_ == 0) return -1;
   // A face closer than max_d has its nearest point, and so part of its box, in
   // the square of half-side max_d around p. CellOf never decreases as its
@@ -118,7 +119,10 @@ int FaceIndex::Nearest(const Vec2& p, const Vec2& n, double max_d, double cos_ma
       }
     }
   }
-  if (best >= 0) *residual = faces[best].normal.dot(p - faces[best].a);
+  if (best >= 0) {
+    *residual = faces[best].normal.dot(p - faces[best].a);
+    if (distance) *distance = best_d;
+  }
   return best;
 }
 
@@ -200,12 +204,14 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
     sum_w_e2 = sum_w = 0.0;
     matches = 0;
     std::fill(face_hit.begin(), face_hit.end(), 0);  // this iteration's matches only
+    double farthest = 0.0;  // of this iteration's matches
     for (const FacedPoint& fp : samples) {
       const Vec2 q = T * fp.p;
       const Vec2 n(c * fp.normal.x() - s * fp.normal.y(), s * fp.normal.x() + c * fp.normal.y());
-      double e = 0.0;
-      const int k = index.Nearest(q, n, max_d, cos_max, &e);
+      double e = 0.0, d = 0.0;
+      const int k = index.Nearest(q, n, max_d, cos_max, &e, &d);
       if (k < 0) continue;
+      farthest = std::max(farthest, d);
       face_hit[k] = 1;
       const Vec2& nt = target[k].normal;
       const Vec2 dq(-(q.y() - T.y), q.x() - T.x);  // d(T p)/d theta
@@ -244,7 +250,14 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
       dx = -A.ldlt().solve(g);
     }
     T = Pose2{T.x + dx(0), T.y + dx(1), NormalizeAngle(T.theta + dx(2))};
-    if (dx.head<2>().norm() < 1e-5 && std::abs(dx(2)) < 1e-6 && frac >= 1.0) break;
+    const bool still = dx.head<2>().norm() < 1e-5 && std::abs(dx(2)) < 1e-6;
+    if (still && frac >= 1.0) break;
+    // Settled, and every match nearer than the last iterations' radius: the
+    // iterations between would shrink the radius without dropping a match
+    // (a sample unmatched stays so), the same matches at the same pose, so
+    // the last one is run at once.
+    if (still && farthest < o.final_correspondence_m && o.final_correspondence_m <= max_d && it < o.iterations - 2)
+      it = o.iterations - 2;
   }
   r.target_from_source = T;
   r.matches = matches;

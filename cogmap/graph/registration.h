@@ -35,8 +35,10 @@ class FaceIndex {
 
   // The nearest face to p within max_d (strictly) whose normal agrees with n
   // (normal . n >= cos_max): its index, or -1; *residual is then the signed
-  // distance of p from the face's line along its normal.
-  int Nearest(const Vec2& p, const Vec2& n, double max_d, double cos_max, double* residual) const;
+  // distance of p from the face's line along its normal, and *distance (if
+  // given) the distance from p to the face.
+  int Nearest(const Vec2& p, const Vec2& n, double max_d, double cos_max, double* residual,
+              double* distance = nullptr) const;
 
  private:
   // Cell of a coordinate already scaled to cells: clamped, then truncated
