@@ -252,12 +252,19 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
     T = Pose2{T.x + dx(0), T.y + dx(1), NormalizeAngle(T.theta + dx(2))};
     const bool still = dx.head<2>().norm() < 1e-5 && std::abs(dx(2)) < 1e-6;
     if (still && frac >= 1.0) break;
-    // Settled, and every match nearer than the last iterations' radius: the
-    // iterations between would shrink the radius without dropping a match
-    // (a sample unmatched stays so), the same matches at the same pose, so
-    // the last one is run at once.
-    if (still && farthest < o.final_correspondence_m && o.final_correspondence_m <= max_d && it < o.iterations - 2)
-      it = o.iterations - 2;
+    // Settled: the next iterations whose radius still exceeds the farthest
+    // match shrink it without dropping a match (and a sample unmatched stays
+    // so): the same matches at the same pose. The run goes on at the first
+    // iteration whose radius drops a match, or at the last.
+    if (still) {
+      int next = it + 1;
+      while (next < o.iterations - 1) {
+        const double f = static_cast<double>(next) / (o.iterations - 1);
+        if (o.max_correspondence_m + f * (o.final_correspondence_m - o.max_correspondence_m) <= farthest) break;
+        ++next;
+      }
+      it = next - 1;
+    }
   }
   r.target_from_source = T;
   r.matches = matches;
