@@ -1873,51 +1873,105 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       meets[pair.first].insert(pair.second), meets[pair.second].insert(pair.first);
       if (edges * g.cell >= o.corridor_touch_m) nb[pair.first].insert(pair.second), nb[pair.second].insert(pair.first);
     }
-    // First the corners, then (a second sweep, so that they do not change
-    // which corners close a ring) the pieces in a straight corridor's band.
-    for (const bool band_sweep : {false, true}) {
+    // Would joining r to these corridor pieces close a loop? Two of them are
+    // one corridor already, or the pieces of the joined corridor meet in a
+    // cycle (at least as many meeting pairs as pieces).
+    auto closes_ring = [&](int r, const std::vector<int>& pieces) {
+      std::set<int> groups;
+      for (int q : pieces) groups.insert(corr.Find(q));
+      if (groups.size() < pieces.size()) return true;
+      std::vector<char> member(n1, 0);
+      int members = 1, pairs = 0;
+      member[r] = 1;
+      for (int q = 0; q < n1; ++q)
+        if (groups.count(corr.Find(q))) member[q] = 1, ++members;
+      for (int q = 0; q < n1; ++q)
+        if (member[q])
+          for (int t : meets[q]) pairs += t > q && member[t];
+      return pairs >= members;
+    };
+    // First the corners.
+    for (int r = 0; r < n1; ++r) {
+      if (in_corridor[r] || (narrow[r] && elongated[r]) || piece_path[r] <= 0) continue;
+      std::vector<int> pieces;
+      double sum = 0.0;
+      for (int q : nb[r])
+        if (in_corridor[q] || (narrow[q] && elongated[q])) pieces.push_back(q), sum += floor_per_m(q);
+      if (pieces.size() < 2 || floor_per_m(r) > o.corner_floor_ratio * sum / pieces.size()) continue;
+      // A corner turns: two of the pieces it joins run across each other
+      // (axes more than 45 degrees apart). A room the robot crossed between
+      // two pieces of one straight corridor joins nothing (a generated
+      // building's rooms off a straight corridor read as corners otherwise).
+      bool turns = false;
+      for (size_t a = 0; a < pieces.size() && !turns; ++a)
+        for (size_t b = a + 1; b < pieces.size() && !turns; ++b)
+          turns = std::abs(shapes[pieces[a]].axis.dot(shapes[pieces[b]].axis)) < std::cos(Deg(45.0));
+      if (!turns || closes_ring(r, pieces)) continue;
+      for (int q : pieces) corr.Unite(r, q), in_corridor[q] = 1;
+      in_corridor[r] = 1;
+    }
+    // Then (so that they do not change which corners close a ring) the
+    // pieces in a straight corridor's band: short pieces the boundary
+    // detector cut out of the corridor itself (the robot stopped at a door
+    // and looked in, every few metres along a corridor of offices), whose
+    // floor spans the corridor's width and no more, centred on it. A room
+    // off the corridor lies beside the band and reaches across it by its
+    // depth. One corridor neighbour is enough, and the sweep is repeated
+    // until nothing joins: a run of short pieces joins piece by piece from
+    // the elongated one it starts at. Their floor per metre of path is
+    // compared with the band's pieces' below, not with every neighbour's (a
+    // sliver beside one, a few tenths of a square metre, made that mean
+    // meaningless).
+    for (bool joined = true; joined;) {
+      joined = false;
       for (int r = 0; r < n1; ++r) {
         if (in_corridor[r] || (narrow[r] && elongated[r]) || piece_path[r] <= 0) continue;
         std::vector<int> pieces;
-        double sum = 0.0;
         for (int q : nb[r])
-          if (in_corridor[q] || (narrow[q] && elongated[q])) pieces.push_back(q), sum += floor_per_m(q);
-        if (pieces.size() < 2 || floor_per_m(r) > o.corner_floor_ratio * sum / pieces.size()) continue;
-        // A corner turns: two of the pieces it joins run across each other
-        // (axes more than 45 degrees apart). A room the robot crossed between
-        // two pieces of one straight corridor joins nothing (a generated
-        // building's rooms off a straight corridor read as corners otherwise).
+          if (in_corridor[q] || (narrow[q] && elongated[q])) pieces.push_back(q);
+        if (pieces.empty()) continue;
+        // Two of its neighbours one corridor already: r is the last gap of a
+        // ring, which stays cut (the meeting-pairs test of the corners would
+        // also refuse pieces whose straight neighbours touch each other).
+        std::set<int> groups;
+        for (int q : pieces) groups.insert(corr.Find(q));
+        if (groups.size() < pieces.size()) continue;
+        // The band is drawn by the elongated pieces of the neighbours'
+        // corridors (a short piece's axis says little: one 1.5 x 1.9 m piece
+        // read across the corridor) at least as wide as the robot (a sliver
+        // is no piece of a corridor it drove): the one nearest r and r's
+        // neighbours among them that run along it; r joins nothing where its
+        // neighbours run across each other (a corner or a junction: the
+        // corners' rule above).
+        std::vector<int> ref;
+        for (int q = 0; q < n1; ++q)
+          if (narrow[q] && elongated[q] && shapes[q].width_m >= 2.0 * o.robot_radius_m && groups.count(corr.Find(q)))
+            ref.push_back(q);
         bool turns = false;
-        for (size_t a = 0; a < pieces.size() && !turns; ++a)
-          for (size_t b = a + 1; b < pieces.size() && !turns; ++b)
-            turns = std::abs(shapes[pieces[a]].axis.dot(shapes[pieces[b]].axis)) < std::cos(Deg(45.0));
-        if (!band_sweep) {
-          if (!turns) continue;
-          // The joined corridor would be a loop when its pieces meet in a cycle:
-          // at least as many meeting pairs as pieces.
-          std::set<int> groups;
-          for (int q : pieces) groups.insert(corr.Find(q));
-          if (groups.size() < pieces.size()) continue;  // two of them are one corridor already
-          std::vector<char> member(n1, 0);
-          int members = 1, pairs = 0;
-          member[r] = 1;
-          for (int q = 0; q < n1; ++q)
-            if (groups.count(corr.Find(q))) member[q] = 1, ++members;
-          for (int q = 0; q < n1; ++q)
-            if (member[q])
-              for (int t : meets[q]) pairs += t > q && member[t];
-          if (pairs >= members) continue;
-        } else {
-          // In the band of a straight corridor: a short piece the boundary
-          // detector cut out of the corridor itself (the robot stopped at a
-          // door and looked in), whose floor spans the corridor's width and
-          // no more, centred on it. A room off the corridor lies beside the
-          // band and reaches across it by its depth. Pieces of one straight
-          // band cannot run round a block: no ring test.
-          if (turns || !in_corridor_band(r, pieces)) continue;
-        }
+        for (int a : pieces)
+          for (int b : pieces)
+            turns |= a < b && elongated[a] && elongated[b] &&
+                     std::abs(shapes[a].axis.dot(shapes[b].axis)) < std::cos(Deg(45.0));
+        if (ref.empty() || turns) continue;
+        const int nearest = *std::min_element(ref.begin(), ref.end(), [&](int a, int b) {
+          return (shapes[a].centre - shapes[r].centre).squaredNorm() < (shapes[b].centre - shapes[r].centre).squaredNorm();
+        });
+        // Near r only: over tens of metres the pieces' centre lines part by
+        // the map's small heading errors (2 degrees over 20 m is 0.7 m).
+        std::vector<int> arm = {nearest};
+        for (int q : pieces)
+          if (q != nearest && std::find(ref.begin(), ref.end(), q) != ref.end() &&
+              std::abs(shapes[q].axis.dot(shapes[nearest].axis)) >= std::cos(Deg(20.0)))
+            arm.push_back(q);
+        // And its floor per metre of the robot's path about a corridor's
+        // (the corners' rule, against the pieces of the band): a room the
+        // robot turned about in has more.
+        double sum = 0.0;
+        for (int q : arm) sum += floor_per_m(q);
+        if (floor_per_m(r) > o.corner_floor_ratio * sum / arm.size() || !in_corridor_band(r, arm)) continue;
         for (int q : pieces) corr.Unite(r, q), in_corridor[q] = 1;
         in_corridor[r] = 1;
+        joined = true;
       }
     }
   }

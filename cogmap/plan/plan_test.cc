@@ -857,6 +857,57 @@ TEST(BuildPlan, ShortPieceCutOutOfAStraightCorridorJoinsIt) {
   EXPECT_EQ(plan.rooms[0].graph_rooms.size(), 3u);
 }
 
+TEST(BuildPlan, CorridorOfOfficesCutAtEveryDoorIsOneCorridor) {
+  // A 2 m corridor along y = 1; the robot drives 10 m of it, looks into an
+  // office above (door at x = 10), drives 2.5 m, looks into an office below
+  // (door at x = 12.5), drives 2.5 m and then 10 m more: six ASRs, the two
+  // between the offices short pieces of corridor (2.5 x 2 m, not elongated)
+  // whose grids saw into the offices (floor wider than a corridor, so not
+  // narrow), each meeting one elongated piece only. Each lies in the
+  // corridor's band: one corridor of four pieces, the offices rooms.
+  auto there_and_back = [](const Vec2& a, const Vec2& b) {
+    std::vector<Vec2> p = Line(a, b), back = Line(b, a);
+    p.insert(p.end(), back.begin() + 1, back.end());
+    return p;
+  };
+  auto joined = [](std::vector<Vec2> a, const std::vector<Vec2>& b) {
+    a.insert(a.end(), b.begin() + 1, b.end());
+    return a;
+  };
+  std::vector<asr::Asr> asrs = {CorridorPiece(0, {{0, 1}, {10, 1}}, 0.0, true)};
+  asrs.push_back(MakeAsr(1, {{{9.6, 2}, {8, 2}, {8, 6}, {12, 6}, {12, 2}, {10.4, 2}}},
+                         there_and_back({10, 2}, {10, 5}), 10.0));
+  asrs.push_back(MakeAsr(2, {{{10, 0}, {12.1, 0}}, {{10.4, 2}, {12.5, 2}}},
+                         joined(Line({10, 2}, {10, 1}), Line({10, 1}, {12.5, 1})), 20.0));
+  asrs[2].free_hull_local = {{9, -2}, {13, -2}, {13, 4}, {9, 4}};
+  asrs.push_back(MakeAsr(3, {{{12.1, 0}, {11, 0}, {11, -4}, {14, -4}, {14, 0}, {12.9, 0}}},
+                         there_and_back({12.5, 0}, {12.5, -3}), 30.0));
+  asrs.push_back(MakeAsr(4, {{{12.9, 0}, {15, 0}}, {{12.5, 2}, {15, 2}}},
+                         joined(Line({12.5, 0}, {12.5, 1}), Line({12.5, 1}, {15, 1})), 40.0));
+  asrs[4].free_hull_local = {{11.5, -2}, {16, -2}, {16, 4}, {11.5, 4}};
+  asrs.push_back(CorridorPiece(5, {{15, 1}, {25, 1}}, 50.0, false, true));
+  const std::vector<asr::Exit> exits = {
+      {{10, 2}, 0.8, 0, 1}, {{10, 2}, 0.8, 1, 2}, {{12.5, 0}, 0.8, 2, 3}, {{12.5, 0}, 0.8, 3, 4}, {{15, 1}, 2.0, 4, 5}};
+  for (const asr::Exit& e : exits) {
+    asrs[e.from_asr].exits.push_back(e);
+    asrs[e.to_asr].exits.push_back(e);
+  }
+  const Plan plan = BuildPlan(asrs, {});
+  ASSERT_EQ(plan.rooms.size(), 3u);
+  int corridors = 0;
+  for (const Room& room : plan.rooms) {
+    if (!room.corridor) {
+      ASSERT_EQ(room.asr_ids.size(), 1u);
+      EXPECT_TRUE(room.asr_ids[0] == 1 || room.asr_ids[0] == 3) << room.asr_ids[0];
+      continue;
+    }
+    ++corridors;
+    EXPECT_EQ(room.asr_ids, (std::vector<int>{0, 2, 4, 5}));
+    EXPECT_EQ(room.graph_rooms.size(), 4u);  // the room graph keeps the pieces
+  }
+  EXPECT_EQ(corridors, 1);
+}
+
 TEST(BuildPlan, OpenFloorBetweenTwoAsrsOfOneRoomIsOneRoom) {
   // One 12 x 6 m lab with a desk (5.5..6.5 x 1.5..3): the robot drove along
   // y = 0.75 between the wall and the desk, where the way narrowed to 1.5 m,
