@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "cogmap/core/error.h"
 #include "cogmap/draw/layout.h"
 #include "cogmap/draw/svg_test_util.h"
@@ -81,6 +83,27 @@ TEST(Drawing, TextIsMeasuredAndDrawnInItsBox) {
     }
   EXPECT_GT(dark_in, 50);
   EXPECT_EQ(dark_out, 0);
+}
+
+TEST(Drawing, TextIsSetInDejaVuSansWhateverTheSystemsFonts) {
+  // DejaVu Sans (2048 units per em): 'A' advances 1401 units, '1' 1303, so
+  // at 14 px 9.58 and 8.91 px, laid out at whole pixels (pango rounds glyph
+  // positions): "A1" is 10 + 9 = 19 px wide, from the bundled faces whatever
+  // fonts the system's configuration would pick (Liberation Sans: 9 + 8).
+  EXPECT_EQ(Drawing::MeasureText("A1", Font{14}).width(),
+            std::round(1401.0 / 2048.0 * 14.0) + std::round(1303.0 / 2048.0 * 14.0));
+}
+
+TEST(Drawing, TextTheBundledFacesLackIsStillMeasuredAndDrawn) {
+  // A room or file name in another script goes to the system's fonts; bytes
+  // that are not UTF-8 too. Either way a box, and nothing drawn outside it.
+  for (const std::string& text : {std::string("\xe6\xbc\xa2\xe5\xad\x97 2"), std::string("bad \xff\xfe byte")}) {
+    const Box size = Drawing::MeasureText(text, Font{14});
+    EXPECT_GT(size.width(), 0.0) << text;
+    Drawing d(300, 60);
+    d.Text(Vec2(10, 10), text, Font{14}, kBlack);
+    EXPECT_EQ(d.Rasterize().width(), 300);
+  }
 }
 
 TEST(Drawing, ImageCellsStayCrisp) {
