@@ -215,16 +215,21 @@ TEST(PoseGraph, BendIsTheIdentityWithoutDrift) {
   EXPECT_NEAR(b.theta, 0.0, 1e-12);
 }
 
-TEST(PoseGraph, RedundancyOfTwoMeasurementsOfOnePoseIsSharedByTheirVariances) {
-  // Node 1 measured twice from the fixed node 0, sigmas 0.1 and 0.2: the
-  // three parameters take 3 of the 6 dof; each measurement keeps the share
-  // of its own variance, 3 x 0.01 / 0.05 = 0.6 and 3 x 0.04 / 0.05 = 2.4.
-  PoseGraph g;
-  g.AddNode({0, 0, 0}, true);
-  g.AddNode({1.0, 0.5, 0.3});
+// Node 1 measured twice from the fixed node 0, covariances 0.01 I and
+// 0.04 I (sigmas 0.1 and 0.2), no robust loss.
+void MeasureOnePoseTwice(PoseGraph* g) {
+  g->AddNode({0, 0, 0}, true);
+  g->AddNode({1.0, 0.5, 0.3});
   const Pose2 z{1.0, 0.5, 0.3};
-  g.AddRelative(0, 1, z, 0.01 * Eigen::Matrix3d::Identity(), FactorKind::kRegistration, 0.0);
-  g.AddRelative(0, 1, z, 0.04 * Eigen::Matrix3d::Identity(), FactorKind::kLoopClosure, 0.0);
+  g->AddRelative(0, 1, z, 0.01 * Eigen::Matrix3d::Identity(), FactorKind::kRegistration, 0.0);
+  g->AddRelative(0, 1, z, 0.04 * Eigen::Matrix3d::Identity(), FactorKind::kLoopClosure, 0.0);
+}
+
+TEST(PoseGraph, RedundancyOfTwoMeasurementsOfOnePoseIsSharedByTheirVariances) {
+  // The three parameters take 3 of the 6 dof; each measurement keeps the
+  // share of its own variance, 3 x 0.01 / 0.05 = 0.6 and 3 x 0.04 / 0.05 = 2.4.
+  PoseGraph g;
+  MeasureOnePoseTwice(&g);
   const auto red = g.Redundancies();
   ASSERT_EQ(red.size(), 2u);
   EXPECT_NEAR(red[0].redundancy, 0.6, 1e-6);
@@ -234,14 +239,9 @@ TEST(PoseGraph, RedundancyOfTwoMeasurementsOfOnePoseIsSharedByTheirVariances) {
 }
 
 TEST(PoseGraph, CovarianceOfTwoMeasurementsOfOnePoseIsTheirInformationSummed) {
-  // Node 1 measured twice from the fixed node 0 with covariances 0.01 I and
-  // 0.04 I: (100 + 25)^-1 = 0.008 on the diagonal, nothing off it.
+  // Information 100 + 25: (125)^-1 = 0.008 on the diagonal, nothing off it.
   PoseGraph g;
-  g.AddNode({0, 0, 0}, true);
-  g.AddNode({1.0, 0.5, 0.3});
-  const Pose2 z{1.0, 0.5, 0.3};
-  g.AddRelative(0, 1, z, 0.01 * Eigen::Matrix3d::Identity(), FactorKind::kRegistration, 0.0);
-  g.AddRelative(0, 1, z, 0.04 * Eigen::Matrix3d::Identity(), FactorKind::kLoopClosure, 0.0);
+  MeasureOnePoseTwice(&g);
   const auto cov = g.Covariances();
   ASSERT_EQ(cov.size(), 2u);
   EXPECT_TRUE(cov[0].isZero());  // the fixed node
