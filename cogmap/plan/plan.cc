@@ -2132,26 +2132,46 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       *x1 = std::min(half.w() - 1, 2 * boxes[r].x1 + 2), *y1 = std::min(half.h() - 1, 2 * boxes[r].y1 + 2);
     };
     const double site_m2 = 0.25 * g.cell * g.cell;
+    // A room's sites after its turn are its filled piece exactly; only a
+    // later room taking some of them (one it encloses, or whose hole it
+    // sits in) changes them. The pieces of rooms no later room touched are
+    // kept for the tracing below instead of being filled again, up to
+    // kKeptSites sites in all, a megabyte (a large building's corridor is
+    // filled again).
+    constexpr size_t kKeptSites = size_t{1} << 20;
+    std::vector<Region> kept(n_plan);
+    std::vector<char> touched(n_plan, 0);
+    size_t kept_sites = 0;
     for (int r = 0; r < n_plan; ++r) {
       if (boxes[r].x1 < 0) continue;
       int x0, y0, x1, y1;
       half_box(r, &x0, &y0, &x1, &y1);
-      const Region reg = FillRegion(x0, y0, x1, y1, [&](int i, int j) { return half.Get(i, j) == r; });
+      Region reg = FillRegion(x0, y0, x1, y1, [&](int i, int j) { return half.Get(i, j) == r; });
       const bool keep = reg.count * site_m2 >= o.min_room_area_m2;
       for (int y = 1; y < reg.H - 1; ++y)
         for (int x = 1; x < reg.W - 1; ++x) {
           const int i = x0 - 1 + x, j = y0 - 1 + y;
           const int cur = half.Get(i, j);
           const bool mine = keep && reg.at(x, y);
-          if (mine && cur != r) half.Set(i, j, r);
+          if (mine && cur != r) {
+            if (cur >= 0) touched[cur] = 1;
+            half.Set(i, j, r);
+          }
           if (!mine && cur == r) half.Set(i, j, -1);
         }
+      if (keep && kept_sites + reg.filled.size() <= kKeptSites) {
+        kept_sites += reg.filled.size();
+        kept[r] = std::move(reg);
+      }
     }
     for (int r = 0; r < n_plan; ++r) {
       if (boxes[r].x1 < 0) continue;
       int x0, y0, x1, y1;
       half_box(r, &x0, &y0, &x1, &y1);
-      const Region reg = FillRegion(x0, y0, x1, y1, [&](int i, int j) { return half.Get(i, j) == r; });
+      const Region reg = !touched[r] && !kept[r].filled.empty()
+                             ? std::move(kept[r])
+                             : FillRegion(x0, y0, x1, y1, [&](int i, int j) { return half.Get(i, j) == r; });
+      std::vector<uint8_t>().swap(kept[r].filled);
       Vec2 in_frame(0, 0);
       // A corner of the lattice where three or more labels (rooms, or none) meet.
       auto junction = [&](int i, int j) {

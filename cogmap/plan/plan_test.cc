@@ -157,6 +157,26 @@ TEST(BuildPlan, RoomFarAwayIsTracedAsWhenNear) {
   }
 }
 
+TEST(BuildPlan, RoomWhollyInsideALaterRoomIsTakenByIt) {
+  // A 2 x 2 m box, mapped first (its own ASR, the robot inside it), stands
+  // in the middle of a 10 x 10 m room mapped next, whose path goes round
+  // it. The later room's piece encloses the box, so the box and its floor
+  // become the room's and the first "room" disappears: one room, whose
+  // outline has no hole, and no two outlines overlap.
+  const asr::Asr box = MakeAsr(0, {Box(4, 4, 6, 6)}, Line({4.6, 5}, {5.4, 5}));
+  std::vector<Vec2> round;
+  for (const auto& [a, b] : std::vector<std::pair<Vec2, Vec2>>{
+           {{2, 2}, {8, 2}}, {{8, 2}, {8, 8}}, {{8, 8}, {2, 8}}, {{2, 8}, {2, 2.1}}})
+    for (const Vec2& p : Line(a, b)) round.push_back(p);
+  const asr::Asr hall = MakeAsr(1, {Box(0, 0, 10, 10)}, round, 10.0);
+  const Plan plan = BuildPlan({box, hall}, {{0, 0}, {1, 1}});
+  ASSERT_EQ(plan.rooms.size(), 1u);
+  EXPECT_EQ(plan.rooms[0].asr_ids, (std::vector<int>{1}));
+  EXPECT_TRUE(Inside({5, 5}, plan.rooms[0].polygon));  // the box is the room's
+  EXPECT_NEAR(plan.rooms[0].area_m2, 100.0, 5.0);
+  EXPECT_EQ(SampledOverlap(plan, 0.1), 0.0);
+}
+
 TEST(BuildPlan, SquareRoomSeenTwiceGivesFourWalls) {
   // Two ASRs of one room see the same 4 x 4 m walls, the second 4 cm off.
   std::vector<asr::Asr> asrs = {
