@@ -492,6 +492,7 @@ Labels Flood(const RoomGrid& g, const DoorMask& blocked, const std::vector<std::
       if (hull.size() < 3) continue;
       Vec2 lo = hull[0], hi = hull[0];
       for (const Vec2& v : hull) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+      if (!lo.allFinite() || !hi.allFinite()) continue;  // no block of the lattice (readers refuse such input)
       auto block = [&](double v, double origin, int n) {
         const double c = std::floor((v - origin) / g.cell);
         return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(n - 1) * (1 << kBlockShift))) >> kBlockShift;
