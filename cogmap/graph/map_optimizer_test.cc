@@ -58,6 +58,12 @@ std::vector<asr::Asr> Simulate(const std::vector<Visit>& visits, double rate_rad
   return out;
 }
 
+// Every ASR placed in order, then the run finished.
+OptimizerResult PlaceAll(MapOptimizer& opt, const std::vector<asr::Asr>& asrs) {
+  for (const auto& a : asrs) opt.Place(a);
+  return opt.Finish();
+}
+
 // Eight 4 x 4 m rooms around a block, then room 0 again.
 std::vector<Visit> SquareLoop() {
   std::vector<Visit> v;
@@ -80,8 +86,7 @@ TEST(MapOptimizer, SquareLoopWithKnownDriftCloses) {
   const auto visits = SquareLoop();
   const auto asrs = Simulate(visits, DegToRad(2.0));
   MapOptimizer opt;
-  for (const auto& a : asrs) opt.Place(a);
-  const OptimizerResult r = opt.Finish();
+  const OptimizerResult r = PlaceAll(opt, asrs);
   EXPECT_EQ(r.solution, "pose_graph");
   int accepted = 0;
   for (const auto& c : r.closures) accepted += c.accepted ? 1 : 0;
@@ -151,8 +156,7 @@ TEST(MapOptimizer, DriftInsideLongAsrsIsFoundFromWallsAlongThePath) {
       o.heading.grid_refine = false;  // laser walls
       o.direction_split_m = split_m;
       MapOptimizer opt(o);
-      for (const auto& a : asrs) opt.Place(a);
-      return opt.Finish();
+      return PlaceAll(opt, asrs);
     };
     const OptimizerResult split = solve(3.0);
     EXPECT_EQ(split.split_asrs, 2);
@@ -169,8 +173,7 @@ TEST(MapOptimizer, DriftInsideLongAsrsIsFoundFromWallsAlongThePath) {
   o.heading.grid_refine = false;
   o.direction_split_m = 3.0;
   MapOptimizer opt(o);
-  for (const auto& a : straight) opt.Place(a);
-  const OptimizerResult none = opt.Finish();
+  const OptimizerResult none = PlaceAll(opt, straight);
   EXPECT_FALSE(none.drift_detected);
   EXPECT_FALSE(none.split_used);
   EXPECT_NEAR(AngleDiff(none.asrs[1].pose.theta, 0.0), 0.0, DegToRad(0.5));
@@ -189,8 +192,7 @@ TEST(MapOptimizer, FittedSigmaFactorsNeverShrinkTheCovariances) {
   const auto asrs = Simulate(visits, DegToRad(1.0));
   auto solve = [&asrs](const MapOptimizerOptions& o) {
     MapOptimizer opt(o);
-    for (const auto& a : asrs) opt.Place(a);
-    return opt.Finish();
+    return PlaceAll(opt, asrs);
   };
   MapOptimizerOptions unfitted;  // the noise model as it is
   unfitted.variance_rounds = 0;
@@ -240,8 +242,7 @@ TEST(MapOptimizer, CorridorHeadingsAreCorrectedAndOdometrySigmaIsNotCollapsed) {
     asrs.push_back(a);
   }
   MapOptimizer opt;
-  for (const auto& a : asrs) opt.Place(a);
-  const OptimizerResult r = opt.Finish();
+  const OptimizerResult r = PlaceAll(opt, asrs);
   ASSERT_EQ(r.asrs.size(), asrs.size());
   std::vector<double> corrected_error;
   for (const auto& e : r.asrs) corrected_error.push_back(std::abs(NormalizeAngle(e.pose.theta)));
@@ -267,8 +268,7 @@ TEST(MapOptimizer, IdenticalRoomsFarApartAreNotMerged) {
   MapOptimizerOptions o;
   o.odometry.trans_sigma_m_per_sqrt_m = 0.5;
   MapOptimizer opt(o);
-  for (const auto& a : asrs) opt.Place(a);
-  const OptimizerResult r = opt.Finish();
+  const OptimizerResult r = PlaceAll(opt, asrs);
   bool candidate = false;
   for (const auto& c : r.closures) {
     candidate |= c.from_asr == 0 && c.to_asr == 2;
@@ -295,8 +295,7 @@ TEST(MapOptimizer, AClosureOnOneWallIsNotAccepted) {
   MapOptimizerOptions o;
   o.odometry.trans_sigma_m_per_sqrt_m = 0.2;
   MapOptimizer opt(o);
-  for (const auto& a : asrs) opt.Place(a);
-  const OptimizerResult r = opt.Finish();
+  const OptimizerResult r = PlaceAll(opt, asrs);
   bool candidate = false;
   for (const auto& c : r.closures) {
     if (c.from_asr != 0 || c.to_asr != 2) continue;
@@ -322,8 +321,7 @@ TEST(MapOptimizer, QuarterTurnAmbiguousRoomNeverFlipsTheMap) {
   }
   const auto asrs = Simulate(v, DegToRad(1.0));
   MapOptimizer opt;
-  for (const auto& a : asrs) opt.Place(a);
-  const OptimizerResult r = opt.Finish();
+  const OptimizerResult r = PlaceAll(opt, asrs);
   for (size_t i = 0; i < v.size(); ++i)
     EXPECT_NEAR(AngleDiff(r.asrs[i].pose.theta, v[i].entry.theta), 0.0, DegToRad(3.0)) << i;
 }
@@ -348,8 +346,7 @@ TEST(MapOptimizer, DriftThatItsAliasFitsAsWellIsNotCorrected) {
   }
   const auto asrs = Simulate(v, DegToRad(2.5));
   MapOptimizer opt;
-  for (const auto& a : asrs) opt.Place(a);
-  const OptimizerResult r = opt.Finish();
+  const OptimizerResult r = PlaceAll(opt, asrs);
   EXPECT_TRUE(r.drift_alias_risk);
   EXPECT_FALSE(r.drift_detected);
   EXPECT_NEAR(RadToDeg(r.drift_rate_rad_per_m), 0.0, 0.1);

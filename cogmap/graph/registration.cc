@@ -195,9 +195,15 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
     const double dof = std::max(1, m - 3);
     return std::max(o.min_sigma_m * o.min_sigma_m, sum_w_e2 / dof) * inflate;
   };
+  // Iteration it's fraction of the run and its correspondence radius,
+  // shrinking linearly from the first to the last.
+  auto fraction = [&](int it) { return o.iterations > 1 ? static_cast<double>(it) / (o.iterations - 1) : 1.0; };
+  auto radius = [&](int it) {
+    return o.max_correspondence_m + fraction(it) * (o.final_correspondence_m - o.max_correspondence_m);
+  };
   for (int it = 0; it < o.iterations; ++it) {
-    const double frac = o.iterations > 1 ? static_cast<double>(it) / (o.iterations - 1) : 1.0;
-    const double max_d = o.max_correspondence_m + frac * (o.final_correspondence_m - o.max_correspondence_m);
+    const double frac = fraction(it);
+    const double max_d = radius(it);
     const double c = std::cos(T.theta), s = std::sin(T.theta);
     H.setZero();
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
@@ -258,11 +264,7 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
     // iteration whose radius drops a match, or at the last.
     if (still) {
       int next = it + 1;
-      while (next < o.iterations - 1) {
-        const double f = static_cast<double>(next) / (o.iterations - 1);
-        if (o.max_correspondence_m + f * (o.final_correspondence_m - o.max_correspondence_m) <= farthest) break;
-        ++next;
-      }
+      while (next < o.iterations - 1 && radius(next) > farthest) ++next;
       it = next - 1;
     }
   }

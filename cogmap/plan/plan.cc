@@ -1877,9 +1877,13 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     // Would joining r to these corridor pieces close a loop? Two of them are
     // one corridor already, or the pieces of the joined corridor meet in a
     // cycle (at least as many meeting pairs as pieces).
-    auto closes_ring = [&](int r, const std::vector<int>& pieces) {
+    auto corridors_of = [&](const std::vector<int>& pieces) {
       std::set<int> groups;
       for (int q : pieces) groups.insert(corr.Find(q));
+      return groups;
+    };
+    auto closes_ring = [&](int r, const std::vector<int>& pieces) {
+      const std::set<int> groups = corridors_of(pieces);
       if (groups.size() < pieces.size()) return true;
       std::vector<char> member(n1, 0);
       int members = 1, pairs = 0;
@@ -1934,8 +1938,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         // Two of its neighbours one corridor already: r is the last gap of a
         // ring, which stays cut (the meeting-pairs test of the corners would
         // also refuse pieces whose straight neighbours touch each other).
-        std::set<int> groups;
-        for (int q : pieces) groups.insert(corr.Find(q));
+        const std::set<int> groups = corridors_of(pieces);
         if (groups.size() < pieces.size()) continue;
         // The band is drawn by the elongated pieces of the neighbours'
         // corridors (a short piece's axis says little: one 1.5 x 1.9 m piece
