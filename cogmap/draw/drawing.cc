@@ -104,6 +104,13 @@ struct Fonts {
           FcCharSet* cs = nullptr;
           if (FcPatternGetCharSet(set->fonts[i], FC_CHARSET, 0, &cs) == FcResultMatch) FcCharSetMerge(covered, cs, nullptr);
         }
+        // Also the process's current configuration, set before the first
+        // pango font map: pango starts a thread that initialises fontconfig
+        // (FcInit), which otherwise loads the system's configuration (its
+        // XML and its cache of every installed font) whether or not any
+        // text needs it. The system's is loaded for the text these faces
+        // lack only (Map).
+        FcConfigSetCurrent(config);
         own = pango_cairo_font_map_new_for_font_type(CAIRO_FONT_TYPE_FT);
         if (own && PANGO_IS_FC_FONT_MAP(own)) {
           pango_fc_font_map_set_config(PANGO_FC_FONT_MAP(own), config);
@@ -134,7 +141,17 @@ struct Fonts {
   }
   PangoFontMap* Map(bool own_faces) {
     if (own_faces) return own;
-    if (!system) system = pango_cairo_font_map_new();
+    if (!system) {
+      system = pango_cairo_font_map_new();
+      // The current configuration is the bundled faces' (Own): the
+      // system's is loaded for this map alone.
+      if (own_tried && covered && system && PANGO_IS_FC_FONT_MAP(system)) {
+        if (FcConfig* config = FcInitLoadConfigAndFonts()) {
+          pango_fc_font_map_set_config(PANGO_FC_FONT_MAP(system), config);
+          FcConfigDestroy(config);  // the font map holds its own reference
+        }
+      }
+    }
     return system;
   }
   PangoContext* Measure(const std::string& text) {

@@ -266,7 +266,7 @@ void HimmFusion::InsertRay(const CellIndex& r0, double sx, double sy, double cos
       const int x_hi = std::min(w - 1, static_cast<int>(std::floor((sx + bx1 - ox) * inv)));
       const int y_lo = std::max(0, static_cast<int>(std::floor((sy + by0 - oy) * inv)));
       const int y_hi = std::min(h - 1, static_cast<int>(std::floor((sy + by1 - oy) * inv)));
-      const double reach2 = reach * reach, cos2 = ca * ca;
+      const double reach2 = reach * reach, cos2 = ca * ca, inv_half = 1.0 / half;
       for (int y = y_lo; y <= y_hi; ++y) {
         // The row's cells that can lie in the sector: within the disk and
         // between the two edges (each a half-plane through the apex; the
@@ -284,17 +284,24 @@ void HimmFusion::InsertRay(const CellIndex& r0, double sx, double sy, double cos
         if (p_lo > p_hi + cell) continue;
         const int xa = std::max(x_lo, static_cast<int>(std::floor((sx + p_lo - ox) * inv - 0.5)) - 1);
         const int xb = std::min(x_hi, static_cast<int>(std::ceil((sx + p_hi - ox) * inv - 0.5)) + 1);
+        // Per cell one division and one square root (the cone is most of a
+        // sonar run's grid time): the row's terms hoisted, constant divisors
+        // as products.
+        const double py2 = py * py, along_y = py * sin_h, cross_y = py * cos_h;
+        float* row = cells + static_cast<long>(y) * w;
         for (int x = xa; x <= xb; ++x) {
-          const double px = ox + (x + 0.5) * cell - sx, py = oy + (y + 0.5) * cell - sy;
-          const double rr = px * px + py * py;
-          const double along = px * cos_h + py * sin_h;
+          const double px = ox + (x + 0.5) * cell - sx;
+          const double rr = px * px + py2;
+          const double along = px * cos_h + along_y;
           if (rr >= reach2 || along <= 0.0 || along * along < cos2 * rr) continue;
           // The angle off the axis from its sine (within a cone of at most
           // 90 degrees; asin's series to the cube is within 1e-4 rad at 15).
-          const double sn = std::abs(px * sin_h - py * cos_h) / std::sqrt(rr);
-          const double angle = std::min(half, sn * (1.0 + sn * sn / 6.0));
-          float& v = cells[static_cast<long>(y) * w + x];
-          if (v != path) v = std::max(v - static_cast<float>(dec * (1.0 - angle / half)), lo);
+          const double cross = px * sin_h - cross_y;
+          const double sn2 = cross * cross / rr;
+          const double sn = std::sqrt(sn2);
+          const double angle = std::min(half, sn * (1.0 + sn2 * (1.0 / 6.0)));
+          float& v = row[x];
+          if (v != path) v = std::max(v - static_cast<float>(dec * (1.0 - angle * inv_half)), lo);
         }
       }
     }

@@ -59,9 +59,12 @@ void SyncPath(const std::string& path, bool directory) {
   ::close(fd);
 }
 
-// Writes 'text' to 'path' through a temporary file, synced before the rename.
-void WriteSynced(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+// Writes 'text' to 'path' through a temporary file in 'tmp_dir' (on the
+// same file system), synced before the rename: a run killed while writing it
+// leaves the temporary there, not beside 'path'.
+void WriteSynced(const std::string& path, const std::string& text, const std::string& tmp_dir) {
+  const std::string tmp =
+      (fs::path(tmp_dir) / (fs::path(path).filename().string() + ".tmp-" + std::to_string(::getpid()))).string();
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     out << text;
@@ -207,8 +210,16 @@ std::unique_ptr<OutputFolder> OutputFolder::Open(const std::string& dir) {
   const std::string journal = (fs::path(dir) / kJournalName).string();
   if (auto l = ReadFileList(journal)) RollForward(dir, *l);
   // Staging folders of killed runs: set aside, as a failed run's would be.
+  // (Journal temporaries that earlier versions wrote beside the journal, of
+  // a run killed while writing one: never part of a map.)
+  const std::string journal_tmp = std::string(kJournalName) + ".tmp-";
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
+    if (name.rfind(journal_tmp, 0) == 0 && e.is_regular_file()) {
+      std::error_code rec;
+      fs::remove(e.path(), rec);
+      continue;
+    }
     if (name.rfind(kStagingPrefix, 0) != 0 || !e.is_directory()) continue;
     std::error_code rec;
     if (fs::is_empty(e.path(), rec) && !rec) {  // a commit killed after its last rename
@@ -286,7 +297,10 @@ void OutputFolder::Commit(const std::string& last) {
   // must not leave renamed but empty files).
   for (const auto& name : l.files) SyncPath(Staged(name), false);
   SyncPath(staging_, true);
-  WriteSynced(Final(kJournalName), ToJson(l));
+  // The journal's temporary in the staging folder: a kill while it is
+  // written leaves the output folder as it was (the next run sets the
+  // staging folder aside).
+  WriteSynced(Final(kJournalName), ToJson(l), staging_);
   SyncPath(dir_, true);
   RollForward(dir_, l);
   committed_ = true;

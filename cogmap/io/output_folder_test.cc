@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "cogmap/core/error.h"
@@ -129,6 +130,38 @@ TEST(OutputFolder, KilledRunsStagingIsSetAsideByTheNextOpen) {
   ASSERT_EQ(failed.size(), 1u);
   EXPECT_EQ(Read(failed[0] + "/map.sqlite"), "killed");
   EXPECT_EQ(Read(dir + "/map.sqlite"), "store one");
+}
+
+// kill_test found it: a run killed while it wrote the commit's journal left
+// the journal's temporary in the output folder, beside the map, for good.
+TEST(OutputFolder, KilledWhileWritingTheJournalLeavesTheFolderAsItWas) {
+  const std::string dir = Fresh("killed_journal");
+  FinishedRun(dir, "one");
+  std::set<std::string> before;
+  for (const auto& e : fs::directory_iterator(dir)) before.insert(e.path().filename().string());
+  // What such a kill leaves now: the staging folder, the journal's
+  // temporary inside it. And what earlier versions left: the temporary
+  // beside the journal.
+  fs::create_directories(dir + "/.staging-999998");
+  Write(dir + "/.staging-999998/map.sqlite", "killed");
+  Write(dir + "/.staging-999998/" + std::string(OutputFolder::kJournalName) + ".tmp-999998", "{\"format\": \"cogmap-ou");
+  Write(dir + "/" + std::string(OutputFolder::kJournalName) + ".tmp-999997", "{\"format\": \"cogmap-ou");
+  {
+    auto f = OutputFolder::Open(dir);
+    std::set<std::string> now;
+    for (const auto& e : fs::directory_iterator(dir)) {
+      const std::string name = e.path().filename().string();
+      if (name.rfind(".staging-", 0) != 0 && name.rfind("failed-run-", 0) != 0) now.insert(name);
+    }
+    EXPECT_EQ(now, before);
+    ASSERT_EQ(Named(dir, "failed-run-").size(), 1u);
+  }
+  EXPECT_EQ(Read(dir + "/map.sqlite"), "store one");
+  // A commit writes its journal's temporary in its staging folder.
+  FinishedRun(dir, "two");
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+  EXPECT_EQ(Read(dir + "/map.sqlite"), "store two");
 }
 
 TEST(OutputFolder, EmptyStagingOfAFinishedCommitIsRemovedNotKept) {
