@@ -98,6 +98,9 @@ struct OutputContext {
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();  // of the whole job
   double mapping_seconds = 0.0;
   long rss_mapping_kb = 0;
+  // Called once nothing WriteMapOutputs does next reads the store (its
+  // floor plan is built): the caller may close the store meanwhile.
+  std::function<void()> store_read;
 };
 
 // Every output of a mapped store, written into 'dir' (each file atomically):
