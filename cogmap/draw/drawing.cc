@@ -1,11 +1,5 @@
 #include "cogmap/draw/drawing.h"
 
-#include <cairo-pdf.h>
-#include <cairo-svg.h>
-#include <cairo.h>
-#include <fontconfig/fontconfig.h>
-#include <pango/pangocairo.h>
-#include <pango/pangofc-fontmap.h>
 
 #include <algorithm>
 #include <cctype>
@@ -18,6 +12,9 @@
 
 #include "cogmap/core/error.h"
 #include "cogmap/io/atomic_file.h"
+// Last: every drawing-stack call below goes through the table loaded on
+// first use (cairo_api.h).
+#include "cogmap/draw/cairo_api_calls.h"
 
 namespace cogmap::draw {
 
