@@ -7,6 +7,7 @@
 #include "cogmap/core/error.h"
 #include "cogmap/draw/layout.h"
 #include "cogmap/draw/svg_test_util.h"
+#include "cogmap/draw/cairo_api.h"
 
 namespace cogmap::draw {
 namespace {
@@ -152,6 +153,16 @@ TEST(LabelPlacer, LabelsNeverOverlapAndTheRestAreDropped) {
     EXPECT_TRUE(boxes[i].Inside(Box{0, 0, 200, 100}));
     for (size_t j = i + 1; j < boxes.size(); ++j) EXPECT_FALSE(boxes[i].Overlaps(boxes[j])) << i << " " << j;
   }
+}
+
+// Every function drawing.cc calls resolves in the installed drawing stack
+// (a version without one would fail here, not in the middle of a run).
+TEST(DrawingStack, EveryFunctionResolves) {
+  const dl::Api& api = dl::Get();
+#define COGMAP_EXPECT_RESOLVED(name) EXPECT_NE(api.name, nullptr) << #name;
+  COGMAP_DRAW_FUNCTIONS(COGMAP_EXPECT_RESOLVED)
+#undef COGMAP_EXPECT_RESOLVED
+  EXPECT_EQ(&dl::Get(), &api);  // loaded once
 }
 
 TEST(LabelPlacer, BlockedSpaceIsAvoided) {
