@@ -4,7 +4,7 @@
 // drawn, not by the dynamic loader when the program starts: a run that draws
 // loads it on the font-warming thread while it maps (Drawing::PrepareFonts),
 // one that draws nothing never loads it (about 3 ms of every process start,
-// a twentieth of mapping nine_rooms). drawing.cc calls the functions through
+// 4 % of a whole nine_rooms run). drawing.cc calls the functions through
 // the table below (cairo_api_calls.h); the headers give their types.
 #include <cairo-pdf.h>
 #include <cairo-svg.h>
