@@ -58,10 +58,11 @@ struct Asr {
   std::vector<Pose2> path;                // robot poses through it (world, raw)
   // Per pose of 'path': how far the heading turned (summed absolute turns)
   // since the previous pose, the first 0. A turn on the spot moves the robot
-  // no distance and falls between two poses. Mapping only (not stored):
-  // empty for ASRs read from a store.
+  // no distance and falls between two poses. Stored from schema 7 on (the
+  // pose graph's odometry noise grows with it: a resumed run replays a killed
+  // run's ASRs with it); empty for ASRs of older stores.
   std::vector<double> path_turn_rad;
-  double turn_after_path_rad = 0.0;       // summed turn from the last path pose to the ASR's end (not stored)
+  double turn_after_path_rad = 0.0;       // summed turn from the last path pose to the ASR's end
   // The floor the sensors saw: the convex hull (local frame, counter-
   // clockwise) of the grid's explored-empty cells connected to the robot's
   // path, simplified to a few vertices (FreeSpaceHull). The floor plan lets the room reach this far even where no wall

@@ -373,6 +373,19 @@ const char* kSchemaV6 = R"sql(
 CREATE TABLE IF NOT EXISTS pre_bend(asr_id INTEGER PRIMARY KEY, rate REAL NOT NULL);
 )sql";
 
+// Schema version 7: how far the heading turned along each ASR's path
+// (Asr::path_turn_rad, a blob of a count and that many doubles) and after it
+// (Asr::turn_after_path_rad), a row only where the robot turned. The pose
+// graph's odometry noise grows with the turning: without them a run resumed
+// after a kill replayed the killed run's ASRs with odometry too sure of its
+// heading, accepted other closures and ended metres from the uninterrupted
+// run (100-room building: a median 4.6 m for the killed run's ASRs, 16 m
+// for the ones after; 0.12 and 0.59 m with the turns). Older stores are
+// migrated by creating the table (their ASRs replay without turns, as then).
+const char* kSchemaV7 = R"sql(
+CREATE TABLE IF NOT EXISTS path_turn(asr_id INTEGER PRIMARY KEY, turns BLOB NOT NULL, after REAL NOT NULL);
+)sql";
+
 bool HasSqliteHeader(const std::string& path, bool* empty) {
   std::ifstream in(path, std::ios::binary);
   char header[16] = {};
@@ -456,6 +469,7 @@ std::string SchemaOfVersion(int version) {
   if (version >= 4) sqlite3_exec(db, kSchemaV4, nullptr, nullptr, nullptr);
   if (version >= 5) sqlite3_exec(db, kSchemaV5, nullptr, nullptr, nullptr);
   if (version >= 6) sqlite3_exec(db, kSchemaV6, nullptr, nullptr, nullptr);
+  if (version >= 7) sqlite3_exec(db, kSchemaV7, nullptr, nullptr, nullptr);
   bool readable = true;
   std::string s = SchemaOf(db, &readable);
   sqlite3_close(db);
@@ -475,9 +489,9 @@ bool HasTable(sqlite3* db, const char* name) {
 // its tables must be exactly that version's.
 bool MigratableVersion(int version, const std::string& schema) {
   static const std::string v1 = SchemaOfVersion(1), v2 = SchemaOfVersion(2), v3 = SchemaOfVersion(3),
-                           v4 = SchemaOfVersion(4), v5 = SchemaOfVersion(5);
+                           v4 = SchemaOfVersion(4), v5 = SchemaOfVersion(5), v6 = SchemaOfVersion(6);
   return (version == 1 && schema == v1) || (version == 2 && schema == v2) || (version == 3 && schema == v3) ||
-         (version == 4 && schema == v4) || (version == 5 && schema == v5);
+         (version == 4 && schema == v4) || (version == 5 && schema == v5) || (version == 6 && schema == v6);
 }
 
 }  // namespace
@@ -587,6 +601,7 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     store->has_free_space_ = HasTable(db, "free_space");
     store->has_matched_walls_ = HasTable(db, "matched_walls");
     store->has_pre_bend_ = HasTable(db, "pre_bend");
+    store->has_path_turn_ = HasTable(db, "path_turn");
     store->has_placement_ = HasTable(db, "placement");
     store->has_closure_ = HasTable(db, "closure");
     return store;
@@ -616,8 +631,10 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
     store->Exec(kSchemaV4);
     store->Exec(kSchemaV5);
     store->Exec(kSchemaV6);
+    store->Exec(kSchemaV7);
     store->has_orientation_ = true;
     store->has_pre_bend_ = true;
+    store->has_path_turn_ = true;
     store->has_free_space_ = true;
     store->has_matched_walls_ = true;
     store->has_placement_ = true;
@@ -717,6 +734,24 @@ void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string
     s.BindInt(1, asr.id);
     if (bent) s.Bind(2, asr.pre_bend_rad_per_m);
     if (s.Step() != SQLITE_DONE) fail("insert pre-bend");
+  }
+  {
+    // A row only where the robot turned (an ASR written again without turns
+    // loses its row).
+    const bool turned = asr.turn_after_path_rad != 0.0 ||
+                        std::any_of(asr.path_turn_rad.begin(), asr.path_turn_rad.end(), [](double t) { return t != 0.0; });
+    Stmt s(db, turned ? "INSERT OR REPLACE INTO path_turn VALUES(?,?,?)" : "DELETE FROM path_turn WHERE asr_id=?",
+           &statements_);
+    if (!s.ok()) fail("prepare");
+    s.BindInt(1, asr.id);
+    if (turned) {
+      Writer w;
+      w.U32(static_cast<uint32_t>(asr.path_turn_rad.size()));
+      for (double t : asr.path_turn_rad) w.F64(t);
+      s.BindBlob(2, w.take());
+      s.Bind(3, asr.turn_after_path_rad);
+    }
+    if (s.Step() != SQLITE_DONE) fail("insert path turns");
   }
   if (!asr.free_hull_local.empty()) {
     Stmt s(db, "INSERT OR REPLACE INTO free_space VALUES(?,?)", &statements_);
@@ -823,6 +858,33 @@ std::optional<Asr> SqliteAsrStore::Get(int id) const {
         throw InputError(path_, 0, "ASR " + std::to_string(id) + ": pre-bend rate is not a finite number");
     } else if (o.failed()) {
       Fail("pre-bend of ASR " + std::to_string(id) + ": " + sqlite3_errmsg(Db(db_)));
+    }
+  }
+  if (has_path_turn_) {
+    Stmt o(Db(db_), "SELECT turns, after FROM path_turn WHERE asr_id=?", &statements_);
+    if (!o.ok()) Fail(sqlite3_errmsg(Db(db_)));
+    o.BindInt(1, id);
+    if (o.Step() == SQLITE_ROW) {
+      const std::string blob = o.Blob(0);
+      std::vector<double> turns;
+      try {
+        Reader r(blob);
+        turns.resize(r.Count(8));
+        for (double& t : turns) t = r.F64();
+      } catch (const std::runtime_error& e) {
+        throw InputError(path_, 0, "ASR " + std::to_string(id) + ": path turns: " + e.what());
+      }
+      const double after = o.Double(1);
+      const bool finite = std::isfinite(after) && std::all_of(turns.begin(), turns.end(), [](double t) { return std::isfinite(t); });
+      if (!finite) throw InputError(path_, 0, "ASR " + std::to_string(id) + ": a path turn is not a finite number");
+      // One per pose of the path, as mapped (a row that disagrees is not this ASR's).
+      if (turns.size() != a.path.size())
+        throw InputError(path_, 0, "ASR " + std::to_string(id) + ": " + std::to_string(turns.size()) +
+                                       " path turns for " + std::to_string(a.path.size()) + " path poses");
+      a.path_turn_rad = std::move(turns);
+      a.turn_after_path_rad = after;
+    } else if (o.failed()) {
+      Fail("path turns of ASR " + std::to_string(id) + ": " + sqlite3_errmsg(Db(db_)));
     }
   }
   return a;

@@ -112,7 +112,7 @@ class MemoryAsrStore : public AsrStore {
 // transaction per Put; closing a writable store checkpoints it and leaves WAL
 // (journal_mode=DELETE), so that the file alone is the store (read-only media,
 // copies). See docs/store.md.
-constexpr int kStoreSchemaVersion = 6;
+constexpr int kStoreSchemaVersion = 7;
 constexpr int32_t kStoreApplicationId = 0x636f676d;  // "cogm"
 
 class SqliteAsrStore : public AsrStore {
@@ -188,6 +188,7 @@ class SqliteAsrStore : public AsrStore {
   bool has_orientation_ = false;  // schema 3's orientation table (older stores read-only: none)
   bool has_matched_walls_ = false;  // schema 5's matched_walls table
   bool has_pre_bend_ = false;       // schema 6's pre_bend table
+  bool has_path_turn_ = false;      // schema 7's path_turn table
   bool has_free_space_ = false;   // schema 4's free_space table (older stores read-only: none)
   bool has_placement_ = false;    // schema 2's placement and closure tables (a version-1 store read
   bool has_closure_ = false;      // as it is: none); known at Open, not asked of every read

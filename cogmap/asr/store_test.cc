@@ -223,8 +223,10 @@ TEST(SqliteAsrStore, RevisePlacementsRevisesEachListedAsrInPlace) {
 // tables, then the version is set.
 void DowngradeStore(const std::string& path, const std::string& sql, int version) {
   const std::string v = std::to_string(version);
-  // Every version before 6 lacks schema 6's table, and before 5 schema 5's.
-  std::string older = version < 6 ? "DROP TABLE IF EXISTS pre_bend; " : "";
+  // Every version before 7 lacks schema 7's table, before 6 schema 6's, and
+  // before 5 schema 5's.
+  std::string older = version < 7 ? "DROP TABLE IF EXISTS path_turn; " : "";
+  if (version < 6) older += "DROP TABLE IF EXISTS pre_bend; ";
   if (version < 5) older += "DROP TABLE IF EXISTS matched_walls; ";
   ExecSql(path, older + sql + "; PRAGMA user_version=" + v + "; UPDATE meta SET value='" + v +
                     "' WHERE key='schema_version'");
@@ -376,6 +378,68 @@ TEST(SqliteAsrStore, VersionFiveStoreIsMigratedAndPreBendsRoundTrip) {
   EXPECT_EQ(s->Get(0)->pre_bend_rad_per_m, 0.0171);
 }
 
+// The path's turns round-trip from schema 7 on (a resumed run replays a
+// killed run's ASRs with the odometry noise their turning gave them); a
+// version-6 store reads without them and is migrated by creating the table.
+TEST(SqliteAsrStore, VersionSixStoreIsMigratedAndPathTurnsRoundTrip) {
+  const std::string path = TempDir("v6") + "/map.sqlite";
+  Asr a = MakeAsr(0);
+  a.path_turn_rad.assign(a.path.size(), 0.0);
+  a.path_turn_rad[5] = 1.5707963267948966;  // a quarter turn on the spot
+  a.path_turn_rad[6] = 0.01;
+  a.turn_after_path_rad = 0.25;
+  {
+    auto s = SqliteAsrStore::Open(path);
+    s->Put(a);
+    s->Put(MakeAsr(1));  // never turned: no row
+    EXPECT_EQ(s->Get(0)->path_turn_rad, a.path_turn_rad);
+    EXPECT_EQ(s->Get(0)->turn_after_path_rad, 0.25);
+    EXPECT_TRUE(s->Get(1)->path_turn_rad.empty());
+    EXPECT_EQ(s->Get(1)->turn_after_path_rad, 0.0);
+    Asr again = a;
+    again.id = 2;
+    s->Put(again);
+    again.path_turn_rad.clear();
+    again.turn_after_path_rad = 0.0;
+    s->Put(again);  // written again without turns: its row goes
+    EXPECT_TRUE(s->Get(2)->path_turn_rad.empty());
+  }
+  DowngradeStore(path, "SELECT 1", 6);  // drops path_turn
+  {
+    auto r = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly);
+    EXPECT_TRUE(r->Get(0)->path_turn_rad.empty());
+    ExpectSame(*r->Get(1), MakeAsr(1));
+  }
+  auto s = SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kOpenExisting);
+  EXPECT_EQ(*s->GetMeta("schema_version"), std::to_string(kStoreSchemaVersion));
+  EXPECT_TRUE(s->Get(0)->path_turn_rad.empty());
+  s->Put(a);
+  EXPECT_EQ(s->Get(0)->path_turn_rad, a.path_turn_rad);
+}
+
+// A path-turn row that is not the ASR's (another count than its path's
+// poses, a value that is not a number) is one error naming the store.
+TEST(SqliteAsrStore, PathTurnsThatDoNotFitTheirPathAreAnError) {
+  const std::string path = TempDir("turns_bad") + "/map.sqlite";
+  Asr a = MakeAsr(0);
+  a.path_turn_rad.assign(a.path.size(), 0.1);
+  SqliteAsrStore::Open(path)->Put(a);
+  ExecSql(path, "UPDATE path_turn SET turns=substr(turns, 1, 4 + 8 * 3)");  // 3 doubles and a count of 20
+  try {
+    SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly)->Get(0);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": ASR 0: path turns: corrupt ASR blob (count past the end)");
+  }
+  ExecSql(path, "UPDATE path_turn SET turns=X'0100000000000000000000F03F'");  // one double (1.0) for 20 poses
+  try {
+    SqliteAsrStore::Open(path, SqliteAsrStore::OpenMode::kReadOnly)->Get(0);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": ASR 0: 1 path turns for 20 path poses");
+  }
+}
+
 TEST(SqliteAsrStore, ReplaceStartsEmpty) {
   const std::string path = TempDir("replace") + "/map.sqlite";
   SqliteAsrStore::Open(path)->Put(MakeAsr(0));
@@ -385,13 +449,13 @@ TEST(SqliteAsrStore, ReplaceStartsEmpty) {
 TEST(SqliteAsrStore, NewerSchemaIsAClearError) {
   const std::string path = TempDir("newer") + "/map.sqlite";
   SqliteAsrStore::Open(path)->Put(MakeAsr(0));
-  ExecSql(path, "PRAGMA user_version=7");
+  ExecSql(path, "PRAGMA user_version=" + std::to_string(kStoreSchemaVersion + 1));
   try {
     SqliteAsrStore::Open(path);
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              path + ": schema version 7 is newer than this cogmap (" + std::to_string(kStoreSchemaVersion) + ")");
+    EXPECT_EQ(std::string(e.what()), path + ": schema version " + std::to_string(kStoreSchemaVersion + 1) +
+                                         " is newer than this cogmap (" + std::to_string(kStoreSchemaVersion) + ")");
   }
 }
 
@@ -544,7 +608,7 @@ TEST(SqliteAsrStore, RefusedStoresLeaveNoWalOrShm) {
   const std::string dir = TempDir("refused");
   const std::string newer = dir + "/newer.sqlite", other = dir + "/other.sqlite";
   SqliteAsrStore::Open(newer)->Put(MakeAsr(0));
-  ExecSql(newer, "PRAGMA user_version=7; PRAGMA journal_mode=WAL");
+  ExecSql(newer, "PRAGMA user_version=" + std::to_string(kStoreSchemaVersion + 1) + "; PRAGMA journal_mode=WAL");
   ExecSql(other, "PRAGMA journal_mode=WAL; CREATE TABLE t(x)");
   ASSERT_FALSE(WalOrShm(newer));
   ASSERT_FALSE(WalOrShm(other));
