@@ -141,7 +141,10 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   const sensors::RobotDescription robot = io::RobotFor(log, job.robot_spec);
   if (!job.world.empty()) io::ReadWorld(job.world);  // a bad world fails before mapping
   const OutputChoice& o = job.outputs;
-  if (o.svg || o.png || o.plan || o.plan_png || o.compare || o.heading) draw::Drawing::PrepareFonts(draw::PageFonts());
+  // The drawing stack and its fonts are loaded on a thread of their own while
+  // the log is mapped (with --threads 1, by the first picture drawn).
+  if (job.mapping.threads >= 2 && (o.svg || o.png || o.plan || o.plan_png || o.compare || o.heading))
+    draw::Drawing::PrepareFonts(draw::PageFonts());
 
   // The output folder (docs/store.md): locked for this run, everything written
   // into its staging folder and moved into place at the end.
@@ -196,7 +199,8 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   // plan are written; joined before anything is committed (or, on an
   // error, before the staging folder is set aside: destroyed first).
   std::future<void> closing;
-  ctx.store_read = [&] { closing = std::async(std::launch::async, [&store] { store.reset(); }); };
+  if (job.mapping.threads >= 2)  // --threads 1: all on one thread, the store closed below
+    ctx.store_read = [&] { closing = std::async(std::launch::async, [&store] { store.reset(); }); };
   MapJobSummary out = WriteMapOutputs(*store, run, job, robot, folder->staging(), ctx);
   // Everything is written: the store closed, the files moved into place, the
   // store last.
@@ -344,11 +348,12 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   pf.map_server = job.outputs.pgm;
   // The plan's picture is drawn and written on a thread of its own while its
   // files are written here (both only read the plan; the mapping's threads
-  // are done, a core is free). Listed after the files, as before.
+  // are done, a core is free); with --threads 1 after them, on this thread.
+  // Listed after the files either way.
   std::vector<std::string> plan_pictures;
   std::future<void> drawing;
   if (job.outputs.plan || job.outputs.plan_png)
-    drawing = std::async(std::launch::async, [&] {
+    drawing = std::async(job.mapping.threads >= 2 ? std::launch::async : std::launch::deferred, [&] {
       draw::PlanPictureOptions pp;
       pp.picture.px_per_m = job.px_per_m;
       draw::Drawing picture = draw::DrawPlan(floor_plan, pp).drawing;
