@@ -74,7 +74,13 @@ std::optional<Pose2> ParsePose(const std::optional<std::string>& text) {
 std::unique_ptr<asr::SqliteAsrStore> OpenStore(io::OutputFolder& folder, bool resume) {
   const std::string store_path = folder.Final("map.sqlite");
   if (resume) {
-    asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kReadOnly);
+    // Every row read where it is, so that a damaged one is named as the
+    // user's file, not as the staging copy the run continues.
+    const auto original = asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kReadOnly);
+    for (int id : original->Ids()) {
+      original->Get(id);
+      original->GetPlacement(id);
+    }
     folder.CopyIntoStaging("map.sqlite");
     return asr::SqliteAsrStore::Open(folder.Staged("map.sqlite"), asr::SqliteAsrStore::OpenMode::kOpenExisting);
   }

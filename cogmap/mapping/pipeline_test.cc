@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <numeric>
 #include <set>
 #include <thread>
@@ -293,6 +294,47 @@ TEST(MappingPipeline, SettleHandsOverTheRoomsBeingClosed) {
   p.Finish();
   EXPECT_GT(closed.size(), 4u);
   EXPECT_EQ(store->Ids(), closed);
+}
+
+// --resume continues a copy of OUTDIR/map.sqlite: a damaged row of it is
+// one error naming OUTDIR/map.sqlite (not the staging copy, which the error
+// would then move aside), and the stored map is left as it was.
+TEST(MapJob, ResumeIntoAStoreWithADamagedRowNamesTheUsersStore) {
+  const auto records = SimulatedRun(1.0);
+  const std::string log_path =
+      WriteLog(std::vector<sensors::LogRecord>(records.begin(), records.begin() + records.size() / 3), "resume_bad.log");
+  MapJob job;
+  job.log_path = log_path;
+  job.output_dir = TestTempPath("resume_damaged");
+  std::filesystem::remove_all(job.output_dir);
+  {
+    auto log = io::OpenLog(job.log_path);
+    RunMapJob(*log, job);
+  }
+  const std::string store_path = job.output_dir + "/map.sqlite";
+  size_t poses = 0;
+  {
+    auto store = asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kOpenExisting);
+    asr::Asr a = *store->Get(0);
+    poses = a.path.size();
+    a.path_turn_rad.assign(3, 0.1);  // not one per path pose: not this ASR's
+    store->Put(a);
+  }
+  std::ifstream in(store_path, std::ios::binary);
+  const std::string before((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  job.resume = true;
+  try {
+    auto log = io::OpenLog(job.log_path);
+    RunMapJob(*log, job);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              store_path + ": ASR 0: 3 path turns for " + std::to_string(poses) + " path poses");
+  }
+  std::ifstream again(store_path, std::ios::binary);
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(again)), std::istreambuf_iterator<char>()), before);
+  for (const auto& e : std::filesystem::directory_iterator(job.output_dir))
+    EXPECT_NE(e.path().filename().string().rfind("failed-run-", 0), 0u) << e.path();
 }
 
 // A bad line right after the first room closes: the room may still be on the
