@@ -124,6 +124,21 @@ std::string EncodePoses(const std::vector<Pose2>& poses) {
   return w.take();
 }
 
+std::string EncodeDoubles(const std::vector<double>& values) {
+  Writer w;
+  w.U32(static_cast<uint32_t>(values.size()));
+  for (double v : values) w.F64(v);
+  return w.take();
+}
+
+std::vector<double> DecodeDoubles(const std::string& blob) {
+  if (blob.empty()) return {};
+  Reader r(blob);
+  std::vector<double> values(r.Count(8));
+  for (double& v : values) v = r.F64();
+  return values;
+}
+
 std::vector<Pose2> DecodePoses(const std::string& blob) {
   if (blob.empty()) return {};
   Reader r(blob);
@@ -745,10 +760,7 @@ void SqliteAsrStore::Put(const Asr& asr, const std::map<std::string, std::string
     if (!s.ok()) fail("prepare");
     s.BindInt(1, asr.id);
     if (turned) {
-      Writer w;
-      w.U32(static_cast<uint32_t>(asr.path_turn_rad.size()));
-      for (double t : asr.path_turn_rad) w.F64(t);
-      s.BindBlob(2, w.take());
+      s.BindBlob(2, EncodeDoubles(asr.path_turn_rad));
       s.Bind(3, asr.turn_after_path_rad);
     }
     if (s.Step() != SQLITE_DONE) fail("insert path turns");
@@ -865,12 +877,9 @@ std::optional<Asr> SqliteAsrStore::Get(int id) const {
     if (!o.ok()) Fail(sqlite3_errmsg(Db(db_)));
     o.BindInt(1, id);
     if (o.Step() == SQLITE_ROW) {
-      const std::string blob = o.Blob(0);
       std::vector<double> turns;
       try {
-        Reader r(blob);
-        turns.resize(r.Count(8));
-        for (double& t : turns) t = r.F64();
+        turns = DecodeDoubles(o.Blob(0));
       } catch (const std::runtime_error& e) {
         throw InputError(path_, 0, "ASR " + std::to_string(id) + ": path turns: " + e.what());
       }

@@ -202,6 +202,9 @@ std::string EncodeExits(const std::vector<Exit>& exits);
 std::vector<Exit> DecodeExits(const std::string& blob);
 std::string EncodePoses(const std::vector<Pose2>& poses);
 std::vector<Pose2> DecodePoses(const std::string& blob);
+// A count and that many float64 (the path turns of schema 7).
+std::string EncodeDoubles(const std::vector<double>& values);
+std::vector<double> DecodeDoubles(const std::string& blob);
 
 // The room graph over a store: ASRs are nodes, exits edges. Holds the current
 // ASR and its neighbours pinned in memory, plus at most 'capacity' others

@@ -365,18 +365,10 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
       draw::Drawing picture = draw::DrawPlan(floor_plan, pp).drawing;
       WriteSvgAndPng(std::move(picture), staging, "plan", job.outputs.plan, job.outputs.plan_png, &plan_pictures);
     });
-  {
-    // The picture's thread is waited for whatever happens here: it reads
-    // the plan this frame owns.
-    struct Join {
-      std::future<void>* f;
-      ~Join() {
-        if (f->valid()) f->wait();
-      }
-    } join{&drawing};
-    for (const auto& f : io::WritePlanFiles(staging, floor_plan, pf))
-      out.written.push_back(fs::path(f).filename().string());
-  }
+  // Should this throw, the picture's thread is waited for all the same: the
+  // future of std::async waits in its destructor (declared after the plan it
+  // reads); a deferred one never runs.
+  for (const auto& f : io::WritePlanFiles(staging, floor_plan, pf)) out.written.push_back(fs::path(f).filename().string());
   if (drawing.valid()) drawing.get();  // its error, if any, is raised here
   out.written.insert(out.written.end(), plan_pictures.begin(), plan_pictures.end());
   out.plan_rooms = static_cast<int>(floor_plan.rooms.size());
