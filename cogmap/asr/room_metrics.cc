@@ -1,6 +1,7 @@
 #include "cogmap/asr/room_metrics.h"
 
 #include <cmath>
+#include <map>
 #include <set>
 #include <utility>
 
@@ -66,6 +67,24 @@ RoomMetrics EvaluateRooms(const std::vector<Asr>& asrs, const RoomLabels& rooms,
     const int r = rooms.At(c);
     if (r >= 0) ++(*counts)[r];
   }, options);
+}
+
+RevisitMetrics EvaluateRevisits(const std::vector<int>& asr_ids, const std::vector<int>& room_ids,
+                                const std::vector<int>& asr_room) {
+  RevisitMetrics m;
+  std::map<int, int> true_room_of_id;
+  for (size_t i = 0; i < asr_ids.size() && i < asr_room.size(); ++i) true_room_of_id[asr_ids[i]] = asr_room[i];
+  std::set<int> rooms(room_ids.begin(), room_ids.end());
+  m.graph_rooms = static_cast<int>(rooms.size());
+  for (size_t i = 0; i < asr_ids.size() && i < room_ids.size(); ++i) {
+    if (room_ids[i] == asr_ids[i]) continue;
+    ++m.revisits;
+    auto first = true_room_of_id.find(room_ids[i]);
+    const int here = i < asr_room.size() ? asr_room[i] : -1;
+    if (first == true_room_of_id.end() || first->second < 0 || here < 0) continue;
+    if (first->second == here) ++m.revisits_right; else ++m.revisits_wrong;
+  }
+  return m;
 }
 
 }  // namespace cogmap::asr

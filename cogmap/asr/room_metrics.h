@@ -36,6 +36,21 @@ RoomMetrics EvaluateRooms(const std::vector<Asr>& asrs, const std::vector<NamedB
 // cell centre lies in the room whose label holds it.
 RoomMetrics EvaluateRooms(const std::vector<Asr>& asrs, const RoomLabels& rooms, const RoomMatchOptions& options = {});
 
+// How the store's room identities (revisits: ASRs given the room id of an
+// earlier one, Placement::room_id) agree with the true rooms the ASRs lie in
+// (RoomMetrics::asr_room, same order as 'room_ids'). A revisit is an ASR
+// whose room id is not its own; it is right when it and the room's first
+// ASR lie in the same true room, wrong when in two different ones, and
+// unscored when either lies in no single room.
+struct RevisitMetrics {
+  int graph_rooms = 0;      // distinct room ids
+  int revisits = 0;
+  int revisits_right = 0;
+  int revisits_wrong = 0;
+};
+RevisitMetrics EvaluateRevisits(const std::vector<int>& asr_ids, const std::vector<int>& room_ids,
+                                const std::vector<int>& asr_room);
+
 // The poses used for an ASR's area (see EvaluateRooms).
 std::vector<Pose2> AreaPath(const Asr& asr, bool prefer_true_path = true);
 

@@ -71,5 +71,19 @@ TEST(RoomMetrics, CorrectedFrameIsUsedWithoutTruth) {
   EXPECT_EQ(EvaluateRooms({a}, kRooms).asr_room, (std::vector<int>{1}));
 }
 
+TEST(RoomMetrics, RevisitsAreScoredAgainstTheTrueRooms) {
+  // ASRs 0..4 in true rooms 0, 1, 0, 1, -1 (none); the store calls 2 a
+  // revisit of 0 (right), 3 a revisit of 0 (wrong: it lies in room 1) and
+  // 4 a revisit of 1 (unscored: 4 lies in no single room).
+  const RevisitMetrics m = EvaluateRevisits({0, 1, 2, 3, 4}, {0, 1, 0, 0, 1}, {0, 1, 0, 1, -1});
+  EXPECT_EQ(m.graph_rooms, 2);
+  EXPECT_EQ(m.revisits, 3);
+  EXPECT_EQ(m.revisits_right, 1);
+  EXPECT_EQ(m.revisits_wrong, 1);
+  const RevisitMetrics none = EvaluateRevisits({5, 6}, {5, 6}, {0, 0});
+  EXPECT_EQ(none.graph_rooms, 2);
+  EXPECT_EQ(none.revisits, 0);
+}
+
 }  // namespace
 }  // namespace cogmap::asr

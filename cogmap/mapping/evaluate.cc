@@ -74,16 +74,20 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
   std::vector<asr::Asr> asrs;
   std::map<int, std::vector<Pose2>> placed_paths;
   std::map<int, Eigen::Matrix3d> covariances;
+  std::vector<int> room_ids;  // per ASR of 'asrs': its physical room (revisits share one)
   if (have_store) {
     // Read only: works on a read-only folder or copy, and changes nothing.
     auto store = asr::SqliteAsrStore::Open(store_path.string(), asr::SqliteAsrStore::OpenMode::kReadOnly);
     for (int id : store->Ids())
       if (auto one = store->Get(id)) asrs.push_back(std::move(*one));
-    for (const auto& x : asrs)
-      if (auto p = store->GetPlacement(x.id)) {
+    for (const auto& x : asrs) {
+      auto p = store->GetPlacement(x.id);
+      room_ids.push_back(p ? p->room_id : x.id);
+      if (p) {
         placed_paths[x.id] = std::move(p->corrected_path);
         covariances[x.id] = p->covariance;
       }
+    }
     if (have_world)
       for (const auto& x : asrs)
         for (const auto& p : x.true_path) true_path.push_back(p.translation());
@@ -145,9 +149,17 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
     if (have_world && (label_rooms || !world.plan.rooms.empty())) {
       j["room_precision"] = rooms->room_precision;
       j["room_recall"] = rooms->room_recall;
+      std::vector<int> ids;
+      for (const auto& x : asrs) ids.push_back(x.id);
+      const asr::RevisitMetrics rv = asr::EvaluateRevisits(ids, room_ids, rooms->asr_room);
+      j["graph_rooms"] = rv.graph_rooms;
+      j["revisits"] = rv.revisits;
+      j["revisits_right"] = rv.revisits_right;
+      j["revisits_wrong"] = rv.revisits_wrong;
     } else {
       j["room_precision"] = nullptr;  // the world has no ground-truth Room areas
       j["room_recall"] = nullptr;
+      j["graph_rooms"] = j["revisits"] = j["revisits_right"] = j["revisits_wrong"] = nullptr;
     }
     headings = localize::ComputeHeadingErrors(asrs, placed_paths);
     for (const auto& [key, value] : localize::HeadingErrorEvalKeys(*headings)) j[key] = value;

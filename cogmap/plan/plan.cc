@@ -986,6 +986,12 @@ struct DoorCand {
   int from_asr = -1, to_asr = -1;
   bool in_wall = false;  // lies along walls: cut them
   bool jambs = false;    // in a wall, its ends at the faces beside the gap (else the exit's width)
+  // The exit has no measured width (asr::Exit::width_m 0): the robot was
+  // cut there by distance (BoundaryOptions::max_asr_m) or a resumed log
+  // began there, not seen between two jambs. It may lie inside one space:
+  // it does not part the rooms' first floods, and the open-plan rule
+  // decides whether it is a door (BuildPlanFrom, "Open plan").
+  bool unmeasured = false;
   Vec2 line_c{0, 0}, line_u{1, 0};
   double lo = 0, hi = 0;  // the gap along line_u from line_c
   // The robot's way through it: each of the two ASRs' paths within
@@ -1510,6 +1516,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     for (const auto& e : exits) {
       DoorCand d;
       d.from_asr = e.from, d.to_asr = e.to;
+      d.unmeasured = e.width <= 0.0;
       const Vec2 c = e.sum / e.n;
       const double w = std::clamp(e.width, o.min_door_m, o.max_door_m);
       // The nearest wall line whose extent (grown by a door width) passes the exit.
@@ -1635,6 +1642,51 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     d->a = d->line_c + d->lo * d->line_u, d->b = d->line_c + d->hi * d->line_u;
   };
   for (auto& d : door_cands) door_span(&d);
+  // An unmeasured exit parts nothing only while neither of its ASRs' paths
+  // went through a doorway the walls show (a gap of min_door_m to
+  // max_door_m between the ends of two wall faces on one line): a space cut
+  // by distance after the robot crossed a door it did not detect (off the
+  // door's middle) holds two rooms, and its exit stays a door.
+  if (std::any_of(door_cands.begin(), door_cands.end(), [](const DoorCand& d) { return d.unmeasured; })) {
+    std::vector<std::pair<Vec2, Vec2>> gaps;
+    CellHash end_hash(2.0);
+    for (size_t i = 0; i < segs.size(); ++i) end_hash.Add(segs[i].a.cwiseMin(segs[i].b), segs[i].a.cwiseMax(segs[i].b), static_cast<int>(i));
+    const double cos_face = std::cos(Deg(o.face_angle_deg));
+    const Vec2 r(o.max_door_m, o.max_door_m);
+    for (size_t i = 0; i < segs.size(); ++i) {
+      const Vec2 u = (segs[i].b - segs[i].a).normalized();
+      for (const auto& [e, d] : {std::pair{segs[i].b, u}, std::pair{segs[i].a, Vec2(-u)}})
+        for (int j : end_hash.Query(e - r, e + r)) {
+          if (static_cast<size_t>(j) <= i) continue;  // each pair once
+          const Vec2 v = (segs[j].b - segs[j].a).normalized();
+          if (std::abs(u.dot(v)) < cos_face) continue;
+          for (const Vec2& f : {segs[j].a, segs[j].b}) {
+            const double along = d.dot(f - e), across = std::abs(Perp(d).dot(f - e));
+            if (along >= o.min_door_m && along <= o.max_door_m && across <= o.wall_thickness_m) gaps.push_back({e, f});
+          }
+        }
+    }
+    CellHash gap_hash(2.0);
+    for (size_t k = 0; k < gaps.size(); ++k)
+      gap_hash.Add(gaps[k].first.cwiseMin(gaps[k].second), gaps[k].first.cwiseMax(gaps[k].second), static_cast<int>(k));
+    auto cross = [](const Vec2& p, const Vec2& q, const Vec2& a, const Vec2& b) {
+      auto side = [](const Vec2& o, const Vec2& x, const Vec2& y) {
+        return (x - o).x() * (y - o).y() - (x - o).y() * (y - o).x();
+      };
+      return side(p, q, a) * side(p, q, b) < 0.0 && side(a, b, p) * side(a, b, q) < 0.0;
+    };
+    auto through_door = [&](int asr_id) {
+      auto it = index_of.find(asr_id);
+      if (it == index_of.end()) return false;
+      const auto& pp = path[it->second];
+      for (size_t k = 1; k < pp.size(); ++k)
+        for (int gi : gap_hash.Query(pp[k - 1].cwiseMin(pp[k]), pp[k - 1].cwiseMax(pp[k])))
+          if (cross(pp[k - 1], pp[k], gaps[gi].first, gaps[gi].second)) return true;
+      return false;
+    };
+    for (auto& d : door_cands)
+      if (d.unmeasured && (through_door(d.from_asr) || through_door(d.to_asr))) d.unmeasured = false;
+  }
 
   // Graph rooms (store ids), slivers absorbed into their neighbour.
   std::map<int, std::vector<size_t>> graph_members;  // store room id -> asr indices
@@ -1658,11 +1710,13 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   for (size_t i = 0; i < asrs.size(); ++i) unit_path[unit_of[i]] += path_len[i];
   // Exit adjacency between units.
   std::vector<std::set<int>> unit_adj(n_units);
+  std::set<std::pair<int, int>> unmeasured_adj;  // units joined by an unmeasured exit
   for (const auto& d : door_cands) {
     auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
     if (a == index_of.end() || b == index_of.end()) continue;
     const int ua = unit_of[a->second], ub = unit_of[b->second];
     if (ua != ub) unit_adj[ua].insert(ub), unit_adj[ub].insert(ua);
+    if (ua != ub && d.unmeasured) unmeasured_adj.insert({std::min(ua, ub), std::max(ua, ub)});
   }
   UnionFind absorb(n_units);
   for (int u = 0; u < n_units; ++u) {
@@ -1733,9 +1787,11 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     for (int r = 0; r < n_rooms; ++r)
       if ((*seeds)[r].empty()) (*seeds)[r] = all_path[r];
   };
-  auto door_mask = [&](const std::vector<int>& room_of_unit) {
+  // 'first': pass 1, where unmeasured exits do not block.
+  auto door_mask = [&](const std::vector<int>& room_of_unit, bool first = false) {
     DoorMask m(wall_mask, g.w, g.h);
     for (const auto& d : door_cands) {
+      if (first && d.unmeasured) continue;
       auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
       if (a != index_of.end() && b != index_of.end() &&
           room_of_unit[unit_root(unit_of[a->second])] == room_of_unit[unit_root(unit_of[b->second])])
@@ -1763,7 +1819,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // y-steps, so its length is about cell * hypot(x-steps, y-steps).
   std::map<std::pair<int, int>, std::pair<int, int>> touching_xy;
   {  // pass 1's labels go before pass 2 floods
-    const DoorMask blocked1 = door_mask(unit_room);
+    const DoorMask blocked1 = door_mask(unit_room, true);
     const Labels label1 = Flood(g, blocked1, seeds, hulls, grow_steps, reach_steps);
     shapes = RegionShapes(g, label1, n1);
     // Two regions meet where a row or column of cells goes from one to the
@@ -1988,8 +2044,17 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // one 12 x 6 m lab, two ASRs meeting along 7 m of open floor); the room
   // graph keeps both. Rooms the robot entered each from elsewhere (offices
   // off a corridor) are not joined: between them an open border is more
-  // likely a wall the sensor missed.
-  std::set<std::pair<int, int>> driven;
+  // likely a wall the sensor missed. Two pieces either side of an
+  // unmeasured exit (a space cut by distance: DoorCand::unmeasured) are
+  // joined so even when one looks like a corridor piece: cut from a hall,
+  // its first region (the hull of its own walls and path) is a strip; a
+  // piece that is a corridor's meets a room's piece only through the
+  // room's door, far shorter than open_border_m.
+  std::set<std::pair<int, int>> driven, driven_unmeasured;
+  for (const auto& [u, v] : unmeasured_adj) {
+    const int a = unit_room[unit_root(u)], b = unit_room[unit_root(v)];
+    if (a >= 0 && b >= 0 && a != b) driven_unmeasured.insert({std::min(a, b), std::max(a, b)});
+  }
   for (int u = 0; u < n_units; ++u)
     if (unit_room[unit_root(u)] >= 0)
       for (int v : unit_adj[u]) {
@@ -1999,9 +2064,21 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   for (const auto& [pair, xy] : touching_xy) {
     const auto [ru, rv] = pair;
     auto corridor_like = [&](int r) { return in_corridor[r] || (narrow[r] && elongated[r]); };
-    if (!driven.count(pair) || corridor_like(ru) || corridor_like(rv)) continue;
+    if (!driven.count(pair)) continue;
+    const bool unmeasured = driven_unmeasured.count(pair) > 0;
+    if (!unmeasured && (corridor_like(ru) || corridor_like(rv))) continue;
     if (g.cell * std::hypot(xy.first, xy.second) <= o.open_border_m) continue;
     corr.Unite(ru, rv);
+    if (!unmeasured || !(in_corridor[ru] || in_corridor[rv])) continue;
+    // Two strips of a hall, taken for corridor pieces: together wider than a corridor.
+    std::vector<Vec2> pts;
+    for (size_t i = 0; i < asrs.size(); ++i) {
+      const int r = unit_room[unit_root(unit_of[i])];
+      if (r != ru && r != rv) continue;
+      pts.insert(pts.end(), path[i].begin(), path[i].end());
+      for (const auto& l : walls[i]) pts.insert(pts.end(), l.begin(), l.end());
+    }
+    if (PolygonWidth(ConvexHull(std::move(pts))) > o.corridor_max_width_m) in_corridor[ru] = in_corridor[rv] = 0;
   }
   // Plan rooms: one per corridor group or remaining unit, ordered by first ASR.
   std::vector<int> plan_of_r1(n1, -1);

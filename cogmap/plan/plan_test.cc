@@ -974,5 +974,61 @@ TEST(BuildPlan, RoomsEnteredEachFromTheCorridorStayTwoAcrossAMissedWall) {
   for (const Room& r : plan.rooms) EXPECT_EQ(r.asr_ids.size(), 1u);
 }
 
+TEST(BuildPlan, HallCutByDistanceIsOneRoom) {
+  // A 12 x 6 m hall the robot drove round: cut by distance (an exit of no
+  // measured width, BoundaryOptions::max_asr_m) after the south half of
+  // its loop. Each piece's own walls and path make a strip (2.5 m wide,
+  // 12 m long: shaped like a corridor piece), but their floors meet along
+  // 12 m of open floor and the exit parts nothing: one room.
+  std::vector<Vec2> south = Line({0.8, 1.5}, {11.2, 1.5});
+  asr::Asr a = MakeAsr(0, {{{0, 3}, {0, 0}, {12, 0}, {12, 3}}}, south);
+  std::vector<Vec2> north = Line({11.2, 1.6}, {11.2, 4.5});
+  for (const Vec2& p : Line({11.2, 4.5}, {0.8, 4.5})) north.push_back(p);
+  asr::Asr b = MakeAsr(1, {{{12, 3}, {12, 6}, {0, 6}, {0, 3}}}, north, 10.0);
+  for (asr::Asr* x : {&a, &b}) x->exits.push_back({{11.2, 1.5}, 0.0, 0, 1});
+  const Plan plan = BuildPlan({a, b}, {});
+  ASSERT_EQ(plan.rooms.size(), 1u);
+  EXPECT_FALSE(plan.rooms[0].corridor);
+  EXPECT_NEAR(plan.rooms[0].area_m2, 72.0, 5.0);
+  EXPECT_TRUE(plan.doors.empty());
+
+  // The same exit measured as a doorway (1 m between jambs) is a door: two rooms.
+  for (asr::Asr* x : {&a, &b}) x->exits.back().width_m = 1.0;
+  EXPECT_EQ(BuildPlan({a, b}, {}).rooms.size(), 2u);
+}
+
+TEST(BuildPlan, RoomsCutByDistanceAcrossAMissedDoorStayTwo) {
+  // Two 4 x 4 m rooms side by side, a 1 m door in the wall between them
+  // (x = 4) that the robot crossed off its middle without a cut; the cut
+  // came by distance, 1 m into the second room. The first ASR holds room 1
+  // and the first metre of room 2, the second the rest; their floors meet
+  // along room 2's width, but the first one's path went through a gap in
+  // the walls a door wide: the exit is a door between two rooms (the strip
+  // of room 2 the first ASR drove stays with it).
+  const Polyline wall_a = {{4, 0}, {4, 1.5}}, wall_b = {{4, 2.5}, {4, 4}};
+  std::vector<Vec2> pa = Line({0.8, 0.8}, {3.2, 0.8});
+  for (const Vec2& p : Line({3.2, 0.8}, {3.2, 3.2})) pa.push_back(p);
+  for (const Vec2& p : Line({3.2, 3.2}, {3.6, 2.0})) pa.push_back(p);
+  for (const Vec2& p : Line({3.6, 2.0}, {5.0, 2.0})) pa.push_back(p);
+  asr::Asr a = MakeAsr(0, {{{4, 0}, {0, 0}, {0, 4}, {4, 4}}, wall_a, wall_b}, pa);
+  std::vector<Vec2> pb = Line({5.0, 2.0}, {7.2, 2.0});
+  for (const Vec2& p : Line({7.2, 2.0}, {7.2, 3.2})) pb.push_back(p);
+  for (const Vec2& p : Line({7.2, 3.2}, {4.8, 3.2})) pb.push_back(p);
+  asr::Asr b = MakeAsr(1, {{{4, 0}, {8, 0}, {8, 4}, {4, 4}}, wall_a, wall_b}, pb, 10.0);
+  for (asr::Asr* x : {&a, &b}) x->exits.push_back({{5.0, 2.0}, 0.0, 0, 1});
+  const Plan plan = BuildPlan({a, b}, {});
+  ASSERT_EQ(plan.rooms.size(), 2u);
+  EXPECT_EQ(plan.doors.size(), 1u);
+  EXPECT_NEAR(plan.rooms[0].area_m2 + plan.rooms[1].area_m2, 32.0, 3.0);
+  EXPECT_GE(plan.rooms[0].area_m2, 15.0);  // room 1 whole
+  EXPECT_GE(plan.rooms[1].area_m2, 10.0);  // most of room 2
+
+  // Without the wall between them (the gap not seen as a door) the two
+  // pieces are one space, as in the hall above.
+  a.walls_local.pop_back(), a.walls_local.pop_back();
+  b.walls_local.pop_back(), b.walls_local.pop_back();
+  EXPECT_EQ(BuildPlan({a, b}, {}).rooms.size(), 1u);
+}
+
 }  // namespace
 }  // namespace cogmap::plan
