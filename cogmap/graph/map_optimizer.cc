@@ -48,7 +48,84 @@ Eigen::Vector3d Difference(const Pose2& a, const Pose2& b) {
   return {d.x, d.y, NormalizeAngle(d.theta)};
 }
 
+// Every step-th point of 'pts' (at most 'most' points).
+std::vector<Vec2> Thin(const std::vector<Vec2>& pts, size_t most) {
+  if (pts.size() <= most) return pts;
+  std::vector<Vec2> out;
+  const double step = static_cast<double>(pts.size()) / static_cast<double>(most);
+  for (size_t k = 0; k < most; ++k) out.push_back(pts[static_cast<size_t>(k * step)]);
+  return out;
+}
+
+// Whether the straight line from p to q crosses one of 'faces'. A point
+// within 'margin_m' of a face's line is not behind it: a robot's centre
+// keeps its radius from every wall, so a path that close to one runs along
+// it or through its door.
+bool Blocked(const Vec2& p, const Vec2& q, const std::vector<FacedSegment>& faces, double margin_m) {
+  auto side = [](const Vec2& o, const Vec2& x, const Vec2& y) {
+    return (x - o).x() * (y - o).y() - (x - o).y() * (y - o).x();
+  };
+  for (const FacedSegment& f : faces) {
+    const double len = (f.b - f.a).norm();
+    if (len <= 0.0) continue;
+    const double dp = side(f.a, f.b, p) / len, dq = side(f.a, f.b, q) / len;  // signed distances from its line
+    if (dp * dq < 0.0 && std::abs(dp) > margin_m && std::abs(dq) > margin_m &&
+        side(p, q, f.a) * side(p, q, f.b) < 0.0)
+      return true;
+  }
+  return false;
+}
+
 }  // namespace
+
+bool SameSpace(const std::vector<Vec2>& stored_path, const std::vector<FacedSegment>& stored_faces,
+               const std::vector<Vec2>& new_path, const std::vector<FacedSegment>& new_faces,
+               const Pose2& stored_from_new, const SameSpaceOptions& o) {
+  if (stored_path.empty() || new_path.empty()) return true;  // nothing to tell them apart: the walls decide
+  // Each face lengthened at both ends by half the widest door: a doorway
+  // between two faces is closed, a room's walls surround it.
+  auto closed = [&](const std::vector<FacedSegment>& faces, const Pose2& T) {
+    std::vector<FacedSegment> out;
+    for (const FacedSegment& f : faces) {
+      const double len = f.length();
+      if (len <= 0.0) continue;
+      const Vec2 u = (f.b - f.a) / len;
+      out.push_back({T * Vec2(f.a - 0.5 * o.door_m * u), T * Vec2(f.b + 0.5 * o.door_m * u), f.normal});
+    }
+    return out;
+  };
+  // The path but its first and last end_m (where it crossed the doorways it
+  // was cut at), every 40th part at most.
+  auto inner = [&](const std::vector<Vec2>& path) {
+    double total = 0.0;
+    std::vector<double> at(path.size(), 0.0);
+    for (size_t k = 1; k < path.size(); ++k) at[k] = total += (path[k] - path[k - 1]).norm();
+    std::vector<Vec2> out;
+    for (size_t k = 0; k < path.size(); ++k)
+      if (at[k] >= o.end_m && at[k] <= total - o.end_m) out.push_back(path[k]);
+    return Thin(out.empty() ? path : out, 40);
+  };
+  const std::vector<Vec2> a = inner(stored_path);
+  const std::vector<Vec2> b = inner(TransformPath(stored_from_new, new_path));
+  // The share of 'to' in sight of some point of 'from', through 'faces'.
+  auto share_seen = [&](const std::vector<Vec2>& from, const std::vector<Vec2>& to,
+                        const std::vector<FacedSegment>& faces) {
+    int seen = 0;
+    for (const Vec2& q : to)
+      for (const Vec2& p : from)
+        if (!Blocked(p, q, faces, o.margin_m)) {
+          ++seen;
+          break;
+        }
+    return static_cast<double>(seen) / static_cast<double>(to.size());
+  };
+  // Both ASRs' walls: each sees the wall between two rooms, with its own gaps.
+  std::vector<FacedSegment> walls = closed(stored_faces, Pose2{});
+  for (const FacedSegment& f : closed(new_faces, stored_from_new)) walls.push_back(f);
+  const double new_seen = share_seen(a, b, walls);
+  const double stored_seen = share_seen(b, a, walls);
+  return std::max(new_seen, stored_seen) >= o.min_share;
+}
 
 MapOptimizer::MapOptimizer(const MapOptimizerOptions& options)
     : options_(options), estimator_(options.heading) {}
@@ -549,7 +626,9 @@ void MapOptimizer::TryLoopClosures(int n) {
     }
     lc.accepted = true;
     lc.reason = "accepted";
-    lc.same_room = best.agreement >= options_.same_room_agreement;
+    lc.same_room = best.agreement >= options_.same_room_agreement &&
+                   SameSpace(o.path_local, o.faces, cur.path_local, cur.faces, best.reg.target_from_source,
+                             options_.same_space);
     if (lc.same_room) cur.room_id = o.room_id;
     closure_factor_.push_back(graph_.AddRelative(c.k, n, best.reg.target_from_source, best.reg.covariance,
                                                  FactorKind::kLoopClosure, 2.0, &to_k, &to_n));

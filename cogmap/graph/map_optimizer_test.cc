@@ -358,5 +358,33 @@ TEST(MapOptimizer, DriftThatItsAliasFitsAsWellIsNotCorrected) {
     EXPECT_NEAR(AngleDiff(r.asrs[i].pose.theta, asrs[i].world_from_local_raw.theta), 0.0, DegToRad(2.0)) << i;
 }
 
+TEST(SameSpace, RoomNextDoorIsNotARevisit) {
+  // A loop round a 4 x 4 m room, 0.8 m from its walls; the walls have a 1 m
+  // door in the middle of each side (Box), as its ASR saw them.
+  std::vector<Vec2> loop;
+  for (const auto& [a, b] : {std::pair{Vec2(0.8, 0.8), Vec2(3.2, 0.8)}, std::pair{Vec2(3.2, 0.8), Vec2(3.2, 3.2)},
+                             std::pair{Vec2(3.2, 3.2), Vec2(0.8, 3.2)}, std::pair{Vec2(0.8, 3.2), Vec2(0.8, 0.8)}})
+    for (int k = 0; k < 12; ++k) loop.push_back(a + (b - a) * (k / 12.0));
+  const std::vector<FacedSegment> faces = FaceWalls(Box(0, 0, 4, 4), loop);
+  ASSERT_FALSE(faces.empty());
+  // The same room driven again, 0.3 m further in: a revisit.
+  std::vector<Vec2> inner;
+  for (const Vec2& p : loop) inner.push_back(Vec2(2, 2) + 0.8 * (p - Vec2(2, 2)));
+  EXPECT_TRUE(SameSpace(loop, faces, inner, FaceWalls(Box(0, 0, 4, 4), inner), Pose2{}));
+  // A pass along the room's south side only: a revisit too.
+  const std::vector<Vec2> pass(loop.begin(), loop.begin() + 12);
+  EXPECT_TRUE(SameSpace(loop, faces, pass, FaceWalls(Box(0, 0, 4, 4), pass), Pose2{}));
+  // The same loop in the room next door, 4 m east: the two share the wall
+  // x = 4, which both see and agree on, and half of each path is in sight of
+  // the other through its 1 m door. Not a revisit, whichever is stored.
+  EXPECT_FALSE(SameSpace(loop, faces, loop, faces, Pose2{4.0, 0.0, 0.0}));
+  EXPECT_FALSE(SameSpace(loop, faces, loop, faces, Pose2{-4.0, 0.0, 0.0}));
+  // With an opening wider than the closing allows (2.4 m) between them, the
+  // two halves of one hall: one space.
+  const std::vector<Polyline> west = {{{4, 0.8}, {4, 0}, {0, 0}, {0, 4}, {4, 4}, {4, 3.2}}};
+  const std::vector<Polyline> east = {{{0, 0.8}, {0, 0}, {4, 0}, {4, 4}, {0, 4}, {0, 3.2}}};
+  EXPECT_TRUE(SameSpace(loop, FaceWalls(west, loop), loop, FaceWalls(east, loop), Pose2{4.0, 0.0, 0.0}));
+}
+
 }  // namespace
 }  // namespace cogmap::graph
