@@ -112,6 +112,11 @@ struct MapOptimizerOptions {
   // paths once its door is closed.
   double same_room_agreement = 0.6;
   SameSpaceOptions same_space;
+  // With the drift left uncorrected as ambiguous (its quarter-turn alias
+  // fits about as well), a solution that turns the run away from its
+  // odometry by more than this (TurnRange) has chosen a quarter-turn branch
+  // of the walls the drift test would not: the odometry is used instead.
+  double max_turn_without_drift_rad = DegToRad(45.0);
   // Uncertain ASRs (named in report.json, warned about).
   double uncertain_theta_rad = DegToRad(3.0);
   double uncertain_position_m = 0.5;
@@ -136,6 +141,11 @@ struct MapOptimizerOptions {
   // Covariances with every fitted sigma factor at least 1 (see Finish()).
   bool covariance_sigma_floor = true;
 };
+
+// How far the placed headings turn away from the odometry's over a run: the
+// range (max - min) of placed[i].theta - odometry[i].theta, unwrapped along
+// i (consecutive differences taken within half a turn).
+double TurnRange(const std::vector<Pose2>& placed, const std::vector<Pose2>& odometry);
 
 struct LoopClosure {
   int from_asr = -1;  // the stored ASR

@@ -386,5 +386,20 @@ TEST(SameSpace, RoomNextDoorIsNotARevisit) {
   EXPECT_TRUE(SameSpace(loop, FaceWalls(west, loop), loop, FaceWalls(east, loop), Pose2{4.0, 0.0, 0.0}));
 }
 
+TEST(TurnRange, UnwrapsTheTurnAwayFromTheOdometry) {
+  // Placed headings that gain 30 degrees a node on the odometry's: 0, 30,
+  // ..., 330 degrees, wrapping past 180 on the way: a range of 330.
+  std::vector<Pose2> odo, placed;
+  for (int i = 0; i < 12; ++i) {
+    odo.push_back(Pose2{static_cast<double>(i), 0.0, DegToRad(170.0)});
+    placed.push_back(Pose2{static_cast<double>(i), 0.0, NormalizeAngle(DegToRad(170.0 + 30.0 * i))});
+  }
+  EXPECT_NEAR(RadToDeg(TurnRange(placed, odo)), 330.0, 1e-9);
+  // Back and forth within 10 degrees: 10.
+  for (int i = 0; i < 12; ++i) placed[i].theta = NormalizeAngle(DegToRad(170.0 + (i % 2 ? 10.0 : 0.0)));
+  EXPECT_NEAR(RadToDeg(TurnRange(placed, odo)), 10.0, 1e-9);
+  EXPECT_EQ(TurnRange({}, {}), 0.0);
+}
+
 }  // namespace
 }  // namespace cogmap::graph
