@@ -219,6 +219,10 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
     if (rooms) {
       if (have_world) AppendF(&out.text, "  %d ASRs; rooms: precision %.3f, recall %.3f (%d of %d rooms matched)\n", rooms->asr_count,
                   rooms->room_precision, rooms->room_recall, rooms->matched_rooms, rooms->room_count);
+      if (have_world && j["revisits"].is_number())
+        AppendF(&out.text, "  %d physical rooms in the store; revisits %d (right %d, wrong %d)\n",
+                j["graph_rooms"].get<int>(), j["revisits"].get<int>(), j["revisits_right"].get<int>(),
+                j["revisits_wrong"].get<int>());
     }
     if (plan_metrics) {
       const auto& pm = *plan_metrics;
