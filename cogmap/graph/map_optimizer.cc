@@ -92,10 +92,10 @@ double TurnRange(const std::vector<Pose2>& placed, const std::vector<Pose2>& odo
   return hi - lo;
 }
 
-bool SameSpace(const std::vector<Vec2>& stored_path, const std::vector<FacedSegment>& stored_faces,
-               const std::vector<Vec2>& new_path, const std::vector<FacedSegment>& new_faces,
-               const Pose2& stored_from_new, const SameSpaceOptions& o) {
-  if (stored_path.empty() || new_path.empty()) return true;  // nothing to tell them apart: the walls decide
+double SameSpaceShare(const std::vector<Vec2>& stored_path, const std::vector<FacedSegment>& stored_faces,
+                      const std::vector<Vec2>& new_path, const std::vector<FacedSegment>& new_faces,
+                      const Pose2& stored_from_new, const SameSpaceOptions& o) {
+  if (stored_path.empty() || new_path.empty()) return 1.0;  // nothing to tell them apart: the walls decide
   // Each face lengthened at both ends by half the widest door: a doorway
   // between two faces is closed, a room's walls surround it.
   auto closed = [&](const std::vector<FacedSegment>& faces, const Pose2& T) {
@@ -136,9 +136,13 @@ bool SameSpace(const std::vector<Vec2>& stored_path, const std::vector<FacedSegm
   // Both ASRs' walls: each sees the wall between two rooms, with its own gaps.
   std::vector<FacedSegment> walls = closed(stored_faces, Pose2{});
   for (const FacedSegment& f : closed(new_faces, stored_from_new)) walls.push_back(f);
-  const double new_seen = share_seen(a, b, walls);
-  const double stored_seen = share_seen(b, a, walls);
-  return std::max(new_seen, stored_seen) >= o.min_share;
+  return std::max(share_seen(a, b, walls), share_seen(b, a, walls));
+}
+
+bool SameSpace(const std::vector<Vec2>& stored_path, const std::vector<FacedSegment>& stored_faces,
+               const std::vector<Vec2>& new_path, const std::vector<FacedSegment>& new_faces,
+               const Pose2& stored_from_new, const SameSpaceOptions& o) {
+  return SameSpaceShare(stored_path, stored_faces, new_path, new_faces, stored_from_new, o) >= o.min_share;
 }
 
 MapOptimizer::MapOptimizer(const MapOptimizerOptions& options)
@@ -640,9 +644,10 @@ void MapOptimizer::TryLoopClosures(int n) {
     }
     lc.accepted = true;
     lc.reason = "accepted";
-    lc.same_room = best.agreement >= options_.same_room_agreement &&
-                   SameSpace(o.path_local, o.faces, cur.path_local, cur.faces, best.reg.target_from_source,
-                             options_.same_space);
+    if (best.agreement >= options_.same_room_agreement)
+      lc.same_space = SameSpaceShare(o.path_local, o.faces, cur.path_local, cur.faces, best.reg.target_from_source,
+                                     options_.same_space);
+    lc.same_room = lc.same_space >= options_.same_space.min_share;
     if (lc.same_room) cur.room_id = o.room_id;
     closure_factor_.push_back(graph_.AddRelative(c.k, n, best.reg.target_from_source, best.reg.covariance,
                                                  FactorKind::kLoopClosure, 2.0, &to_k, &to_n));

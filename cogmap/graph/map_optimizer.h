@@ -22,7 +22,8 @@ namespace cogmap::graph {
 // is not behind it: a robot's centre keeps its radius from every wall), with
 // the new ASR at 'stored_from_new' in the stored one's frame. A revisit
 // missed this way is a room of its own, as before revisits were recognised.
-// True when either path is empty.
+// True when either path is empty. SameSpaceShare: the larger of the two
+// shares (1 when either path is empty).
 struct SameSpaceOptions {
   double min_share = 0.5;
   double door_m = 1.5;
@@ -32,6 +33,9 @@ struct SameSpaceOptions {
 bool SameSpace(const std::vector<Vec2>& stored_path, const std::vector<FacedSegment>& stored_faces,
                const std::vector<Vec2>& new_path, const std::vector<FacedSegment>& new_faces,
                const Pose2& stored_from_new, const SameSpaceOptions& options = {});
+double SameSpaceShare(const std::vector<Vec2>& stored_path, const std::vector<FacedSegment>& stored_faces,
+                      const std::vector<Vec2>& new_path, const std::vector<FacedSegment>& new_faces,
+                      const Pose2& stored_from_new, const SameSpaceOptions& options = {});
 
 // The pose graph over ASRs, built as they close (default mode of `cogmap map`;
 // docs/pose-graph.md). Not in the thesis, which corrects one rotation per ASR;
@@ -156,6 +160,9 @@ struct LoopClosure {
   double mahalanobis2 = 0.0;
   bool accepted = false;
   bool same_room = false;
+  // SameSpaceShare of the two paths, measured for an accepted closure whose
+  // walls agree enough for a revisit (same_room_agreement); -1 otherwise.
+  double same_space = -1.0;
   std::string reason;  // why rejected, or "accepted"
 };
 
