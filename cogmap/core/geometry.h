@@ -1,5 +1,6 @@
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "cogmap/core/pose2.h"
@@ -19,6 +20,18 @@ using Polyline = std::vector<Vec2>;
 // The z component of the 2D cross product a x b: positive when b turns
 // counter-clockwise from a.
 inline double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Whether the segments [p1, p2] and [q1, q2] cross: each meets the other
+// strictly between its ends (parallel segments, and segments that only
+// touch at an end, do not).
+inline bool SegmentsCross(const Vec2& p1, const Vec2& p2, const Vec2& q1, const Vec2& q2) {
+  const Vec2 r = p2 - p1, s = q2 - q1;
+  const double den = Cross(r, s);
+  if (std::abs(den) < 1e-12) return false;
+  const double t = Cross(q1 - p1, s) / den;
+  const double u = Cross(q1 - p1, r) / den;
+  return t > 0.0 && t < 1.0 && u > 0.0 && u < 1.0;
+}
 
 // Distance from p to the segment [a, b].
 inline double PointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b) {

@@ -62,16 +62,12 @@ std::vector<Vec2> Thin(const std::vector<Vec2>& pts, size_t most) {
 // keeps its radius from every wall, so a path that close to one runs along
 // it or through its door.
 bool Blocked(const Vec2& p, const Vec2& q, const std::vector<FacedSegment>& faces, double margin_m) {
-  auto side = [](const Vec2& o, const Vec2& x, const Vec2& y) {
-    return (x - o).x() * (y - o).y() - (x - o).y() * (y - o).x();
-  };
   for (const FacedSegment& f : faces) {
-    const double len = (f.b - f.a).norm();
+    const double len = f.length();
     if (len <= 0.0) continue;
-    const double dp = side(f.a, f.b, p) / len, dq = side(f.a, f.b, q) / len;  // signed distances from its line
-    if (dp * dq < 0.0 && std::abs(dp) > margin_m && std::abs(dq) > margin_m &&
-        side(p, q, f.a) * side(p, q, f.b) < 0.0)
-      return true;
+    // Distances of p and q from the face's line.
+    const double dp = std::abs(Cross(f.b - f.a, p - f.a)) / len, dq = std::abs(Cross(f.b - f.a, q - f.a)) / len;
+    if (dp > margin_m && dq > margin_m && SegmentsCross(p, q, f.a, f.b)) return true;
   }
   return false;
 }

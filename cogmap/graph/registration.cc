@@ -10,16 +10,6 @@ namespace {
 
 Vec2 Perp(const Vec2& v) { return {-v.y(), v.x()}; }
 
-bool SegmentsIntersect(const Vec2& p1, const Vec2& p2, const Vec2& q1, const Vec2& q2) {
-  auto cross = [](const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); };
-  const Vec2 r = p2 - p1, s = q2 - q1;
-  const double den = cross(r, s);
-  if (std::abs(den) < 1e-12) return false;  // parallel: a touch, not a crossing
-  const double t = cross(q1 - p1, s) / den;
-  const double u = cross(q1 - p1, r) / den;
-  return t > 0.0 && t < 1.0 && u > 0.0 && u < 1.0;
-}
-
 }  // namespace
 
 int NearestFaceByScan(const std::vector<FacedSegment>& target, const Vec2& p, const Vec2& n, double max_d,
@@ -363,7 +353,7 @@ int PathWallCrossings(const std::vector<FacedSegment>& walls, const std::vector<
       if (std::max(w.a.x(), w.b.x()) < xmin || std::min(w.a.x(), w.b.x()) > xmax ||
           std::max(w.a.y(), w.b.y()) < ymin || std::min(w.a.y(), w.b.y()) > ymax)
         continue;
-      if (SegmentsIntersect(p, q, w.a, w.b)) ++n;
+      if (SegmentsCross(p, q, w.a, w.b)) ++n;
     }
   }
   return n;

@@ -1482,9 +1482,10 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
 
   // ---------------------------------------------------------------- doors from exits
   std::vector<DoorCand> door_cands;
+  // The wall segments by their boxes (the doors below, the doorway gaps after them).
+  CellHash seg_hash(2.0);
+  for (size_t i = 0; i < segs.size(); ++i) seg_hash.Add(segs[i].a.cwiseMin(segs[i].b), segs[i].a.cwiseMax(segs[i].b), static_cast<int>(i));
   {
-    CellHash seg_hash(2.0);
-    for (size_t i = 0; i < segs.size(); ++i) seg_hash.Add(segs[i].a.cwiseMin(segs[i].b), segs[i].a.cwiseMax(segs[i].b), static_cast<int>(i));
     // One door per exit: an exit is listed by both of its ASRs; average its placed centres.
     struct ExitAcc {
       Vec2 sum{0, 0};
@@ -1649,14 +1650,12 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // door's middle) holds two rooms, and its exit stays a door.
   if (std::any_of(door_cands.begin(), door_cands.end(), [](const DoorCand& d) { return d.unmeasured; })) {
     std::vector<std::pair<Vec2, Vec2>> gaps;
-    CellHash end_hash(2.0);
-    for (size_t i = 0; i < segs.size(); ++i) end_hash.Add(segs[i].a.cwiseMin(segs[i].b), segs[i].a.cwiseMax(segs[i].b), static_cast<int>(i));
     const double cos_face = std::cos(Deg(o.face_angle_deg));
     const Vec2 r(o.max_door_m, o.max_door_m);
     for (size_t i = 0; i < segs.size(); ++i) {
       const Vec2 u = (segs[i].b - segs[i].a).normalized();
       for (const auto& [e, d] : {std::pair{segs[i].b, u}, std::pair{segs[i].a, Vec2(-u)}})
-        for (int j : end_hash.Query(e - r, e + r)) {
+        for (int j : seg_hash.Query(e - r, e + r)) {
           if (static_cast<size_t>(j) <= i) continue;  // each pair once
           const Vec2 v = (segs[j].b - segs[j].a).normalized();
           if (std::abs(u.dot(v)) < cos_face) continue;
@@ -1669,19 +1668,13 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     CellHash gap_hash(2.0);
     for (size_t k = 0; k < gaps.size(); ++k)
       gap_hash.Add(gaps[k].first.cwiseMin(gaps[k].second), gaps[k].first.cwiseMax(gaps[k].second), static_cast<int>(k));
-    auto cross = [](const Vec2& p, const Vec2& q, const Vec2& a, const Vec2& b) {
-      auto side = [](const Vec2& o, const Vec2& x, const Vec2& y) {
-        return (x - o).x() * (y - o).y() - (x - o).y() * (y - o).x();
-      };
-      return side(p, q, a) * side(p, q, b) < 0.0 && side(a, b, p) * side(a, b, q) < 0.0;
-    };
     auto through_door = [&](int asr_id) {
       auto it = index_of.find(asr_id);
       if (it == index_of.end()) return false;
       const auto& pp = path[it->second];
       for (size_t k = 1; k < pp.size(); ++k)
         for (int gi : gap_hash.Query(pp[k - 1].cwiseMin(pp[k]), pp[k - 1].cwiseMax(pp[k])))
-          if (cross(pp[k - 1], pp[k], gaps[gi].first, gaps[gi].second)) return true;
+          if (SegmentsCross(pp[k - 1], pp[k], gaps[gi].first, gaps[gi].second)) return true;
       return false;
     };
     for (auto& d : door_cands)
