@@ -76,6 +76,11 @@ struct RobustEmOptions {
   // family of walls as strong as the first (non-Manhattan, round) is ambiguous.
   double max_ambiguity = 0.7;
   double max_uncertainty_rad = DegToRad(5.0);  // 1-sigma of the dominant direction
+  // The standard error uses the concentration corrected for the Kish
+  // effective number of inlier edges (Fisher 1993, eq. 4.41): two short edges
+  // that happen to agree no longer claim a direction to 1.5 degrees, and a
+  // single edge (no spread to measure) gives no standard error at all.
+  bool small_sample_correction = true;
 };
 
 enum class Decline {
@@ -103,6 +108,10 @@ struct DirectionEstimate {
   double ambiguity = 0.0;        // second direction peak / dominant peak (default mode)
   double concentration = 0.0;    // von Mises kappa on phi = 4 theta (default mode)
   double effective_edges = 0.0;  // Kish effective sample size of the inliers
+  // The standard error from the inliers' own spread as if it were known
+  // (asymptotic, no small-sample correction): how closely the EM points, the
+  // window in which the grid's direction confirms it (HeadingCorrector).
+  double uncertainty_asymptotic_rad = -1.0;
   double total_length_m = 0.0;
   int edges = 0;
   int iterations = 0;

@@ -51,6 +51,7 @@ TEST(RobustEmOptions, DefaultsAreLocked) {
   EXPECT_EQ(o.min_inlier_fraction, 0.25);
   EXPECT_EQ(o.max_ambiguity, 0.7);
   EXPECT_EQ(o.max_uncertainty_rad, DegToRad(5.0));
+  EXPECT_TRUE(o.small_sample_correction);
 }
 
 TEST(PaperEm, RecoversTheParametersOfATwoGaussianSample) {
@@ -192,6 +193,36 @@ TEST(DefaultMode, UncertaintyCoversNoisyWalls) {
   EXPECT_LT(e.uncertainty_rad, DegToRad(1.0));
   EXPECT_GT(e.uncertainty_rad, DegToRad(0.2));  // about 3 / sqrt(40) = 0.47 degrees
   EXPECT_LT(std::abs(QuarterDiff(e.direction_rad, DegToRad(-17))), 3.0 * e.uncertainty_rad);
+}
+
+TEST(DefaultMode, TwoShortEdgesThatAgreeDoNotClaimADirection) {
+  // An aces ASR as a sonar sees it (CARMEN as sonar): two inlier edges of
+  // 1.6 and 0.8 m, 4 degrees apart, beside clutter; the building's walls lie
+  // 14 degrees away. Read as the whole truth, the spread of two edges gave a
+  // standard error of 1.5 degrees and the pose graph bent an exact odometry
+  // by up to 9 degrees (ATE 0 -> 1.30 m). Corrected for two samples, the
+  // standard error is above the acceptance gate.
+  std::vector<Polyline> walls = {Edge({0, 0}, DegToRad(-15.0), 1.58), Edge({0, 1}, DegToRad(-10.9), 0.82),
+                                 Edge({1, 0}, DegToRad(32.2), 0.86), Edge({2, 0}, DegToRad(41.4), 0.71),
+                                 Edge({3, 0}, DegToRad(-26.6), 0.22), Edge({4, 0}, DegToRad(24.9), 0.17)};
+  const DirectionEstimate e = EstimateDirectionRobust(WallDirections(walls));
+  ExpectFinite(e);
+  EXPECT_NEAR(RadToDeg(e.direction_rad), -13.7, 0.5);
+  EXPECT_FALSE(e.accepted);
+  EXPECT_EQ(e.decline, Decline::kTooUncertain);
+  EXPECT_GT(e.uncertainty_rad, DegToRad(5.0));
+  RobustEmOptions asymptotic;
+  asymptotic.small_sample_correction = false;
+  const DirectionEstimate a = EstimateDirectionRobust(WallDirections(walls), asymptotic);
+  EXPECT_TRUE(a.accepted);
+  EXPECT_LT(a.uncertainty_rad, DegToRad(2.0));
+  // Twelve edges with the same spread: the correction changes little.
+  std::vector<Polyline> many;
+  for (int i = 0; i < 12; ++i) many.push_back(Edge({0.0, double(i)}, DegToRad(i % 2 ? -15.0 : -10.9), 1.2));
+  const DirectionEstimate m = EstimateDirectionRobust(WallDirections(many));
+  const DirectionEstimate ma = EstimateDirectionRobust(WallDirections(many), asymptotic);
+  ASSERT_TRUE(m.accepted);
+  EXPECT_LT(m.uncertainty_rad, 1.4 * ma.uncertainty_rad);
 }
 
 TEST(DefaultMode, NoWallsGiveNoEstimate) {

@@ -25,7 +25,12 @@ DirectionEstimate HeadingCorrector::Estimate(const asr::Asr& raw) const {
   const bool uncertain = options_.grid_refine_uncertain && !e.accepted && e.decline == Decline::kTooUncertain;
   if (options_.grid_refine && (e.accepted || uncertain) && g.valid && g.contrast >= options_.min_grid_contrast) {
     const double grid = FoldToQuarterTurn(g.angle_rad + raw.world_from_local_raw.theta);
-    const double sigma = std::isfinite(e.uncertainty_rad) ? e.uncertainty_rad : kPi / 4.0;
+    // The window is where the EM's edges point (their own spread, as the
+    // EM measured it): the small-sample correction says how far the truth
+    // may lie from them, not where they point, and would widen the window
+    // until any grid orientation, however faint, confirmed them.
+    const double pointed = e.uncertainty_asymptotic_rad >= 0.0 ? e.uncertainty_asymptotic_rad : e.uncertainty_rad;
+    const double sigma = std::isfinite(pointed) ? pointed : kPi / 4.0;
     const double window = std::max(options_.refine_window_sigmas * sigma, options_.refine_window_min_rad);
     if (std::abs(FoldToQuarterTurn(grid - e.direction_rad)) <= window) {
       e.direction_rad = grid;

@@ -32,7 +32,8 @@ struct HeadingCorrectionOptions {
   // of the room's occupied cells (Asr::grid_orientation) weighs every wall cell
   // and is off by about one (measured, docs/heading-correction.md). When the EM
   // accepts (or declines only as too uncertain, grid_refine_uncertain) and the
-  // two agree within max(refine_window_sigmas x EM sigma, refine_window_min_rad),
+  // two agree within max(refine_window_sigmas x EM sigma, refine_window_min_rad)
+  // (the EM sigma of its edges' own spread: uncertainty_asymptotic_rad),
   // the ASR is accepted with the grid's direction and 1-sigma grid_sigma_rad
   // (x sqrt(grid_reference_cells / cells) for an ASR with fewer occupied cells
   // than a room of nine_rooms, on which the 1 degree was measured).
