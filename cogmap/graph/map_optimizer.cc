@@ -298,7 +298,7 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
     for (size_t k = 1; k < node.path_raw.size(); ++k)
       len += (node.path_raw[k].translation() - node.path_raw[k - 1].translation()).norm();
     const int whole = graph_.AddDirection(idx, node.direction_local, node.direction_sigma_measured, 0.5 * len,
-                                         options_.direction_sigma_floor_rad);
+                                         options_.direction_sigma_floor_rad, 2.0, len / std::sqrt(12.0));
     const double sigma = DirectionSigma(node.direction_sigma_measured);
     const double w = 1.0 / (sigma * sigma), s_seen = driven_m_ + 0.5 * len;
     pre_w_ += w;
@@ -311,7 +311,8 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
       Split sp{whole, {}};
       for (const SplitDirection& d : split) {
         sp.groups.push_back(
-            graph_.AddDirection(idx, d.direction_local, d.sigma_measured, d.s_mean_m, options_.direction_sigma_floor_rad));
+            graph_.AddDirection(idx, d.direction_local, d.sigma_measured, d.s_mean_m, options_.direction_sigma_floor_rad,
+                                2.0, options_.direction_split_m / std::sqrt(12.0)));
         graph_.SetFactorEnabled(sp.groups.back(), false);
       }
       splits_.push_back(std::move(sp));
@@ -1049,7 +1050,13 @@ OptimizerResult MapOptimizer::Finish() {
       for (const auto& r : graph_.Residuals())
         if (r.enabled) cov_chi2 += r.chi2;
     }
+    // A room's walls were seen all along its path, each bent by the drift
+    // so far; the direction factor corrects them by the mean, and the rest
+    // (the rate x the spread of where they were seen) is an error the
+    // covariance must hold (covariance_direction_bend).
+    if (options_.covariance_direction_bend) graph_.SetDirectionBend(true);
     cov = graph_.Covariances();
+    if (options_.covariance_direction_bend) graph_.SetDirectionBend(false);
     for (const auto& [k, f] : fitted) graph_.SetSigmaFactor(k, f);
     if (zero) graph_.SetRatesFixedAtZero(true);
   }

@@ -144,6 +144,16 @@ struct MapOptimizerOptions {
   double min_variance_factor = 1.0;
   // Covariances with every fitted sigma factor at least 1 (see Finish()).
   bool covariance_sigma_floor = true;
+  // Covariances with each wall-direction factor's bend error added: its
+  // walls were seen all along its path (length L), each leaning by the
+  // drift so far; the factor corrects them by the mean, which leaves the
+  // rate x L / sqrt(12), the rate's variance included (PoseGraph::
+  // SetDirectionBend). Only the covariance:
+  // the estimate weighted so made the maps at 2 deg/m worse (bench/
+  // never_worse: wall p95 +0.108 m, ATE +0.048 m on average) while the
+  // covariances alone took the runs with 95 % of their ASRs within 3 sigma
+  // from 229 to 234 of 240 (docs/pose-graph.md, "Uncertainty").
+  bool covariance_direction_bend = true;
 };
 
 // How far the placed headings turn away from the odometry's over a run: the

@@ -242,6 +242,8 @@ struct DirectionCost {
   double d = 0.0, sigma = 1.0, s_mean = 0.0, floor = 0.0;
   double offset = 0.0;  // the node's rate offset (drift removed while it was mapped)
   double scale = 1.0;   // 1 / the variance components' factor on sigma
+  double s_spread = 0.0;  // 1-sigma spread of where along the path the walls were seen
+  double bend = 0.0;      // s_spread x |the rate left| at the last update (SetDirectionBend)
   template <typename T>
   bool operator()(const T* pi, const T* phi, const T* rate, T* r) const {
     // Walls seen after driving s from the ASR's origin were placed with a
@@ -250,7 +252,8 @@ struct DirectionCost {
     // direction is corrected by the mean.
     const T v = pi[2] + T(d) - (rate[0] - T(offset)) * T(s_mean) - phi[0];
     const double k = std::round(Value(v) / kQuarter);  // nearest of the four branches
-    r[0] = (v - T(k * kQuarter)) / T(std::max({floor, sigma / scale, 1e-9}));
+    const double m = sigma / scale;
+    r[0] = (v - T(k * kQuarter)) / T(std::max({floor, std::sqrt(m * m + bend * bend), 1e-9}));
     return true;
   }
 };
@@ -385,6 +388,7 @@ struct PoseGraph::Impl {
     FactorKind part_kind = FactorKind::kOdometry;
     double* part_scale = nullptr;
     const OdometryMeasurement* odometry = nullptr;  // kOdometry: the measurement
+    DirectionCost* direction = nullptr;             // kDirection: the functor
   };
   std::vector<Factor> factors;
   std::vector<int> relative_index;  // AddRelative index -> factors index
@@ -483,7 +487,9 @@ void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const Od
 
 void PoseGraph::SetFactorEnabled(int handle, bool enabled) { impl_->factors[handle].enabled = enabled; }
 
-int PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, double floor_rad, double cauchy_scale) {
+
+int PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, double floor_rad, double cauchy_scale,
+                            double s_spread_m) {
   if (!impl_->has_phi) {
     // The building direction starts at this first room's wall direction.
     impl_->phi = impl_->nodes[i][2] + d;
@@ -494,7 +500,9 @@ int PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, doub
   f.i = i;
   f.dof = 1;
   auto* c = new DirectionCost{d, sigma, s_mean_m, floor_rad, impl_->offsets[i]};
+  c->s_spread = s_spread_m;
   f.scale = &c->scale;
+  f.direction = c;
   f.cost.reset(new ceres::AutoDiffCostFunction<DirectionCost, 1, 3, 1, 1>(c));
   f.loss.reset(new ceres::CauchyLoss(cauchy_scale));
   f.cauchy_scale = cauchy_scale;
@@ -719,6 +727,30 @@ std::vector<Eigen::Matrix3d> PoseGraph::Covariances() const {
       for (int b = 0; b < 3; ++b) out[n](a, b) = S(c + a, c + b);
   }
   return out;
+}
+
+void PoseGraph::SetDirectionBend(bool on) {
+  // The rate left to each factor's node, and how uncertain it is (the
+  // marginal variance of its rate, when the rates are free and the graph
+  // is invertible): E[(rate x spread)^2] = (rate^2 + var) x spread^2.
+  std::vector<double> var(impl_->nodes.size(), 0.0);
+  if (on && !impl_->rates_zero) {
+    for (auto& f : impl_->factors)
+      if (f.direction) f.direction->bend = 0.0;
+    const Linearized lin = Linearize(true);
+    SelectedInverse S;
+    if (Invert(lin, -1.0, &S)) {
+      for (size_t n = 0; n < impl_->nodes.size(); ++n) {
+        auto it = lin.first_col.find(&impl_->rates[n]);
+        if (it != lin.first_col.end()) var[n] = std::max(0.0, S(it->second, it->second));
+      }
+    }
+  }
+  for (auto& f : impl_->factors) {
+    if (!f.direction) continue;
+    const double r = impl_->rates[f.i] - f.direction->offset;
+    f.direction->bend = on ? f.direction->s_spread * std::sqrt(r * r + var[f.i]) : 0.0;
+  }
 }
 
 std::vector<PoseGraph::FactorResidual> PoseGraph::Residuals() const {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include "cogmap/asr/asr.h"
 
 #include <Eigen/Dense>
@@ -116,6 +118,40 @@ TEST(PoseGraph, RateOffsetTurnsAPreBentPathBackIntoTheRawOne) {
     EXPECT_NEAR(bent.rates[i], raw.rates[i], DegToRad(1e-3)) << i;
   }
   EXPECT_NEAR(bent.rates[5], rate, DegToRad(0.2));
+}
+
+// A room's walls were seen all along its 4 m of path, each leaning by the
+// drift so far; the direction factor corrects them by the mean, and the
+// rest, rate x 4 / sqrt(12) m (2.3 degrees at 2 deg/m), is an error the
+// covariances hold with SetDirectionBend. Without drift there is none.
+TEST(PoseGraph, DirectionBendWidensTheCovariancesByTheDriftOverThePath) {
+  auto heading_sigmas = [](double rate) {
+    PoseGraph g;
+    Pose2 raw;
+    const double spread = 4.0 / std::sqrt(12.0);
+    g.AddNode(raw, true);
+    g.AddDirection(0, 0.0, DegToRad(1.0), 2.0, 0.0, 2.0, spread);
+    for (int i = 1; i <= 10; ++i) {
+      raw = raw * TurningOdometry(4.0, rate).delta;
+      g.AddNode(raw, false);
+      g.AddOdometry(i - 1, i, PreBent(4.0, rate, 0.0));
+      g.AddDirection(i, rate * 2.0, DegToRad(1.0), 2.0, 0.0, 2.0, spread);
+      g.Solve(0);
+    }
+    std::array<double, 3> out;
+    out[0] = std::sqrt(g.Covariances()[10](2, 2));
+    g.SetDirectionBend(true);
+    out[1] = std::sqrt(g.Covariances()[10](2, 2));
+    g.SetDirectionBend(false);
+    out[2] = std::sqrt(g.Covariances()[10](2, 2));
+    EXPECT_NEAR(g.rate(10), rate, DegToRad(0.2));
+    return out;
+  };
+  const auto drift = heading_sigmas(DegToRad(2.0));
+  EXPECT_GT(drift[1], 1.5 * drift[0]);
+  EXPECT_DOUBLE_EQ(drift[2], drift[0]);
+  const auto none = heading_sigmas(0.0);
+  EXPECT_NEAR(none[1], none[0], 0.05 * none[0]);
 }
 
 // The same run with a registration across every exit: each room's walls
