@@ -1887,6 +1887,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // them. A piece whose corridor neighbours are already one corridor would
   // close a loop (a ring corridor): it stays a room, so the ring stays a
   // simple polygon instead of enclosing the block it runs around.
+  std::vector<char> ring_gap(n1, 0);  // a corner left apart so that a ring corridor stays cut
   {
     std::vector<double> piece_path(n1, 0.0);
     for (int u = 0; u < n_units; ++u)
@@ -1960,10 +1961,19 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       for (size_t a = 0; a < pieces.size() && !turns; ++a)
         for (size_t b = a + 1; b < pieces.size() && !turns; ++b)
           turns = std::abs(shapes[pieces[a]].axis.dot(shapes[pieces[b]].axis)) < std::cos(Deg(45.0));
-      if (!turns || closes_ring(r, pieces)) continue;
+      if (!turns) continue;
+      if (closes_ring(r, pieces)) {
+        // The corner that would close a ring corridor: a corridor piece of
+        // its own (one plan corridor of its own), so that every plan room
+        // stays a simple polygon; it was a "room" before, though it is as
+        // much corridor as its neighbours (hallway_loop: an L of the ring).
+        ring_gap[r] = 1;
+        continue;
+      }
       for (int q : pieces) corr.Unite(r, q), in_corridor[q] = 1;
       in_corridor[r] = 1;
     }
+
     // Then (so that they do not change which corners close a ring) the
     // pieces in a straight corridor's band: short pieces the boundary
     // detector cut out of the corridor itself (the robot stopped at a door
@@ -2027,6 +2037,10 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         joined = true;
       }
     }
+    // The ring's corners left apart are corridor, after every join (as a
+    // corridor piece one of them would let a piece beside it close the ring).
+    for (int r = 0; r < n1; ++r)
+      if (ring_gap[r]) in_corridor[r] = 1;
   }
   // Open plan. Two rooms the robot drove between (an exit joins them),
   // neither a corridor (nor a lone corridor piece), whose pass-1 regions

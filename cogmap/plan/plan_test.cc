@@ -790,7 +790,9 @@ TEST(BuildPlan, RingCorridorIsOneCorridorCutAtOneCorner) {
   // counter-clockwise in eight pieces: four arms and four L corners, the last
   // corner leading back into the first arm. Every corner joins the corridor
   // but the one that would close the loop: one polygon cannot have a hole,
-  // and a closed ring would enclose the block. That corner stays a room.
+  // and a closed ring would enclose the block. That corner is a corridor of
+  // its own (it was a room until the twentieth session: a corner of the
+  // ring, named "Room 1" in the plan).
   std::vector<std::vector<Vec2>> c = {{{5, 1}, {17, 1}},  {{17, 1}, {23, 1}, {23, 7}},   {{23, 7}, {23, 17}},
                                       {{23, 17}, {23, 23}, {17, 23}}, {{17, 23}, {7, 23}}, {{7, 23}, {1, 23}, {1, 17}},
                                       {{1, 17}, {1, 7}},   {{1, 7}, {1, 1}, {5, 1}}};
@@ -802,8 +804,9 @@ TEST(BuildPlan, RingCorridorIsOneCorridorCutAtOneCorner) {
   const Room& corridor = plan.rooms[0];
   EXPECT_TRUE(corridor.corridor);
   EXPECT_EQ(corridor.asr_ids, (std::vector<int>{0, 1, 2, 3, 4, 5, 6}));
-  EXPECT_FALSE(plan.rooms[1].corridor);
+  EXPECT_TRUE(plan.rooms[1].corridor);
   EXPECT_EQ(plan.rooms[1].asr_ids, (std::vector<int>{7}));
+  EXPECT_EQ(plan.rooms[1].name, "Corridor 2");
   // The ring's floor: 24^2 - 20^2 = 176 m2, the last corner's L 20 m2 of it.
   EXPECT_NEAR(corridor.area_m2, 176.0 - 20.0, 6.0);
   EXPECT_FALSE(Inside({12, 12}, corridor.polygon));  // the block is not floor
