@@ -1054,6 +1054,17 @@ OptimizerResult MapOptimizer::Finish() {
     // so far; the direction factor corrects them by the mean, and the rest
     // (the rate x the spread of where they were seen) is an error the
     // covariance must hold (covariance_direction_bend).
+    {
+      // The run's drift rate's uncertainty: the root mean square of its
+      // nodes' marginal sigmas (the rate reported is their mean; strongly
+      // correlated through the random walk, its sigma is at most this).
+      const std::vector<double> var = graph_.RateVariances();
+      double sum = 0.0;
+      int n = 0;
+      for (int i = 0; i < N; ++i)
+        if (!nodes_[i].stored) sum += var[i], ++n;
+      res.drift_rate_sigma_rad_per_m = n > 0 ? std::sqrt(sum / n) : 0.0;
+    }
     if (options_.covariance_direction_bend) graph_.SetDirectionBend(true);
     cov = graph_.Covariances();
     if (options_.covariance_direction_bend) graph_.SetDirectionBend(false);

@@ -729,6 +729,19 @@ std::vector<Eigen::Matrix3d> PoseGraph::Covariances() const {
   return out;
 }
 
+std::vector<double> PoseGraph::RateVariances() const {
+  std::vector<double> var(impl_->nodes.size(), 0.0);
+  if (impl_->rates_zero) return var;
+  const Linearized lin = Linearize(true);
+  SelectedInverse S;
+  if (!Invert(lin, -1.0, &S)) return var;
+  for (size_t n = 0; n < impl_->nodes.size(); ++n) {
+    auto it = lin.first_col.find(&impl_->rates[n]);
+    if (it != lin.first_col.end()) var[n] = std::max(0.0, S(it->second, it->second));
+  }
+  return var;
+}
+
 void PoseGraph::SetDirectionBend(bool on) {
   // The rate left to each factor's node, and how uncertain it is (the
   // marginal variance of its rate, when the rates are free and the graph
@@ -737,14 +750,7 @@ void PoseGraph::SetDirectionBend(bool on) {
   if (on && !impl_->rates_zero) {
     for (auto& f : impl_->factors)
       if (f.direction) f.direction->bend = 0.0;
-    const Linearized lin = Linearize(true);
-    SelectedInverse S;
-    if (Invert(lin, -1.0, &S)) {
-      for (size_t n = 0; n < impl_->nodes.size(); ++n) {
-        auto it = lin.first_col.find(&impl_->rates[n]);
-        if (it != lin.first_col.end()) var[n] = std::max(0.0, S(it->second, it->second));
-      }
-    }
+    var = RateVariances();
   }
   for (auto& f : impl_->factors) {
     if (!f.direction) continue;

@@ -103,6 +103,10 @@ class PoseGraph {
   // corrects, an error added to the factor's sigma.
   int AddDirection(int i, double local_direction_rad, double sigma_rad, double s_mean_m = 0.0,
                    double floor_rad = 0.0, double cauchy_scale = 2.0, double s_spread_m = 0.0);
+  // The marginal variance of every node's drift rate (rad/m)^2, with the
+  // rates free; 0 where a rate is held (or all are, or the information is
+  // singular).
+  std::vector<double> RateVariances() const;
   // Every direction factor's bend error from its node's current drift rate
   // and, when the rates are free, the rate's marginal variance:
   // s_spread x sqrt(rate^2 + var) (held until the next call; false: none).
