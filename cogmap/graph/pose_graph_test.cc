@@ -145,6 +145,14 @@ TEST(PoseGraph, DirectionBendWidensTheCovariancesByTheDriftOverThePath) {
     g.SetDirectionBend(false);
     out[2] = std::sqrt(g.Covariances()[10](2, 2));
     EXPECT_NEAR(g.rate(10), rate, DegToRad(0.2));
+    // The rate's own sigma: pinned by eleven directions over 40 m to a few
+    // hundredths of a degree per metre, and none while the rates are held.
+    const double rate_sigma = std::sqrt(g.RateVariances()[10]);
+    EXPECT_GT(rate_sigma, DegToRad(0.005));
+    EXPECT_LT(rate_sigma, DegToRad(0.2));
+    g.SetRatesFixedAtZero(true);
+    EXPECT_EQ(g.RateVariances()[10], 0.0);
+    g.SetRatesFixedAtZero(false);
     return out;
   };
   const auto drift = heading_sigmas(DegToRad(2.0));
