@@ -297,8 +297,12 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
     double len = 0.0;
     for (size_t k = 1; k < node.path_raw.size(); ++k)
       len += (node.path_raw[k].translation() - node.path_raw[k - 1].translation()).norm();
-    const int whole = graph_.AddDirection(idx, node.direction_local, node.direction_sigma_measured, 0.5 * len,
-                                         options_.direction_sigma_floor_rad, 2.0, len / std::sqrt(12.0));
+    // Where along the path the direction was seen: each of its walls
+    // somewhere on it (spread L / sqrt(12)), the direction a mean over
+    // about effective_edges of them.
+    const int whole = graph_.AddDirection(
+        idx, node.direction_local, node.direction_sigma_measured, 0.5 * len, options_.direction_sigma_floor_rad, 2.0,
+        len / std::sqrt(12.0 * std::max(1.0, est.effective_edges)));
     const double sigma = DirectionSigma(node.direction_sigma_measured);
     const double w = 1.0 / (sigma * sigma), s_seen = driven_m_ + 0.5 * len;
     pre_w_ += w;
@@ -312,7 +316,7 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
       for (const SplitDirection& d : split) {
         sp.groups.push_back(
             graph_.AddDirection(idx, d.direction_local, d.sigma_measured, d.s_mean_m, options_.direction_sigma_floor_rad,
-                                2.0, options_.direction_split_m / std::sqrt(12.0)));
+                                2.0, options_.direction_split_m / std::sqrt(12.0 * std::max(1.0, d.effective_edges))));
         graph_.SetFactorEnabled(sp.groups.back(), false);
       }
       splits_.push_back(std::move(sp));
@@ -424,7 +428,7 @@ std::vector<MapOptimizer::SplitDirection> MapOptimizer::SplitDirections(const No
     const localize::DirectionEstimate est = localize::EstimateDirectionRobust(dirs, split_em);
     if (!est.accepted || !std::isfinite(est.uncertainty_rad)) continue;
     out.push_back({est.direction_rad - a.world_from_local_raw.theta, sw / w,
-                   options_.direction_sigma_scale * est.uncertainty_rad});
+                   options_.direction_sigma_scale * est.uncertainty_rad, est.effective_edges});
   }
   // Only when the groups' directions turn with the distance driven beyond
   // their uncertainties: the weighted least-squares slope of direction over

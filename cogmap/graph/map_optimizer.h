@@ -147,12 +147,12 @@ struct MapOptimizerOptions {
   // Covariances with each wall-direction factor's bend error added: its
   // walls were seen all along its path (length L), each leaning by the
   // drift so far; the factor corrects them by the mean, which leaves the
-  // rate x L / sqrt(12), the rate's variance included (PoseGraph::
-  // SetDirectionBend). Only the covariance:
+  // rate x L / sqrt(12 n_eff) (n_eff: the EM's effective edges), the rate's
+  // variance included (PoseGraph::SetDirectionBend). Only the covariance:
   // the estimate weighted so made the maps at 2 deg/m worse (bench/
-  // never_worse: wall p95 +0.108 m, ATE +0.048 m on average) while the
-  // covariances alone took the runs with 95 % of their ASRs within 3 sigma
-  // from 229 to 234 of 240 (docs/pose-graph.md, "Uncertainty").
+  // never_worse: wall p95 +0.108 m, ATE +0.048 m on average); the
+  // covariances alone: runs with 95 % of their ASRs within 3 sigma 229 ->
+  // 230 of 240 (docs/pose-graph.md, "Uncertainty").
   bool covariance_direction_bend = true;
 };
 
@@ -301,6 +301,7 @@ class MapOptimizer {
     double direction_local;
     double s_mean_m;
     double sigma_measured;  // without the floor (the part variance components scale)
+    double effective_edges = 1.0;  // the EM's Kish effective number of inlier edges
   };
   // A direction's sigma: its measured part, at least the floor (how square
   // real buildings are).
