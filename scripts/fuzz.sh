@@ -36,8 +36,8 @@ for t in "${targets[@]}"; do
   corpus=build-fuzz/corpus/$t findings=build-fuzz/findings/$t log=build-fuzz/$t.log
   mkdir -p "$corpus" "$findings"
   cp -n fuzz/corpus/"$t"/* "$corpus"/ 2>/dev/null || true
-  before=$(find "$findings" -type f | wc -l)
-  stamp=$(mktemp)
+  before_list=$(mktemp)
+  find "$findings" -type f -printf '%f\n' | sort >"$before_list"
   echo "== $t ($seconds s)"
   rc=0
   limits=(-max_total_time="$seconds")
@@ -46,7 +46,9 @@ for t in "${targets[@]}"; do
     -rss_limit_mb=2048 -timeout=10 -artifact_prefix="$findings/" -print_final_stats=1 >"$log" 2>&1 || rc=$?
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   rss=$(sed -n 's/^stat::peak_rss_mb: *//p' "$log" | tail -1)
-  found=$(($(find "$findings" -type f | wc -l) - before))
+  new_files=$(find "$findings" -type f -printf '%f\n' | sort | comm -13 "$before_list" -)
+  rm -f "$before_list"
+  found=$(printf '%s' "$new_files" | grep -c . || true)
   # A damaged bag or rawlog is read first in a forked child with bounded
   # memory (cogmap/io/child_check.h); the child inherits libFuzzer's malloc
   # limit and, hitting it, leaves an oom-* artifact for the input before it
@@ -55,10 +57,9 @@ for t in "${targets[@]}"; do
   # ends libFuzzer itself with a non-zero exit.
   child_oom=0
   if ((rc == 0 && found > 0)); then
-    child_oom=$(find "$findings" -type f -name 'oom-*' -newer "$stamp" | wc -l)
+    child_oom=$(printf '%s' "$new_files" | grep -c '^oom-' || true)
     found=$((found - child_oom))
   fi
-  rm -f "$stamp"
   note=""
   if ((child_oom > 0)); then note=", $child_oom bounded child(ren) out of memory (refused)"; fi
   line="$t: ${seconds} s${FUZZ_RUNS:+ or $FUZZ_RUNS runs}, ${execs:-?} executions, corpus $(find "$corpus" -type f | wc -l) files, peak RSS ${rss:-?} MB, ${found} new finding(s)${note}, exit $rc"
