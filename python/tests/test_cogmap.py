@@ -83,6 +83,10 @@ def test_mapper_record_by_record_equals_the_command(sim_log, command_map, tmp_pa
     assert result["asrs"] == cmd_report["asr_count"] == len(closed)
     assert closed == list(range(len(closed)))  # in closing order, on this thread
     assert result["rooms"] == cmd_report["pose_graph"]["rooms"]
+    assert result["drift_rate_deg_per_m"] == pytest.approx(cmd_report["pose_graph"]["drift_rate_deg_per_m"], abs=1e-9)
+    assert result["drift_rate_sigma_deg_per_m"] == pytest.approx(
+        cmd_report["pose_graph"]["drift_rate_sigma_deg_per_m"], abs=1e-9)
+    assert result["drift_rate_sigma_deg_per_m"] > 0.0
 
 
 def test_store_gives_walls_paths_and_rooms(command_map):
