@@ -306,7 +306,10 @@ class Mapper {
     d["closures"] = closures;
     d["rooms"] = r.correction == mapping::Correction::kPoseGraph ? py::int_(rooms.size()) : py::int_(r.asrs.size());
     d["drift_rate_deg_per_m"] = RadToDeg(r.graph.drift_rate_rad_per_m);
-    d["drift_rate_sigma_deg_per_m"] = RadToDeg(r.graph.drift_rate_sigma_rad_per_m);
+    if (r.graph.drift_rate_sigma_rad_per_m >= 0.0)
+      d["drift_rate_sigma_deg_per_m"] = RadToDeg(r.graph.drift_rate_sigma_rad_per_m);
+    else
+      d["drift_rate_sigma_deg_per_m"] = py::none();
     d["warnings"] = r.graph.warnings;
     return d;
   }

@@ -1065,9 +1065,10 @@ OptimizerResult MapOptimizer::Finish() {
       const std::vector<double> var = graph_.RateVariances();
       double sum = 0.0;
       int n = 0;
+      bool known = N > 1;  // one room: no odometry, no drift to speak of
       for (int i = 0; i < N; ++i)
-        if (!nodes_[i].stored) sum += var[i], ++n;
-      res.drift_rate_sigma_rad_per_m = n > 0 ? std::sqrt(sum / n) : 0.0;
+        if (!nodes_[i].stored) sum += var[i], ++n, known = known && var[i] >= 0.0;
+      res.drift_rate_sigma_rad_per_m = known && n > 0 ? std::sqrt(sum / n) : -1.0;
     }
     if (options_.covariance_direction_bend) graph_.SetDirectionBend(true);
     cov = graph_.Covariances();

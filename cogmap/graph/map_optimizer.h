@@ -223,8 +223,9 @@ struct OptimizerResult {
   int direction_factors = 0;
   double drift_rate_rad_per_m = 0.0;      // mean of the estimated rates
   // Its 1-sigma (the rates free, even when the test held them at zero: the
-  // drift it could not rule out); 0 for the odometry solution.
-  double drift_rate_sigma_rad_per_m = 0.0;
+  // drift it could not rule out); < 0: not known (the odometry solution, a
+  // single room, a rate nothing measures).
+  double drift_rate_sigma_rad_per_m = -1.0;
   double solve_seconds = 0.0;
   double covariance_seconds = 0.0;
   std::vector<std::string> warnings;

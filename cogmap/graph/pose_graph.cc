@@ -692,6 +692,17 @@ struct PoseGraph::SelectedInverse {
   }
 };
 
+double PoseGraph::SingularPivot(const Linearized& lin) const {
+  // Rank deficiency as SuiteSparseQR's default tolerance would find it:
+  // a pivot of R below 20 (m + n) eps times the largest column norm, so a
+  // pivot of D below its square times H's largest diagonal entry.
+  size_t m = 0;
+  for (size_t k = 0; k < impl_->factors.size(); ++k)
+    if (impl_->factors[k].enabled) m += static_cast<size_t>(impl_->factors[k].dof);
+  const double tol = 20.0 * static_cast<double>(m + static_cast<size_t>(lin.cols)) * std::numeric_limits<double>::epsilon();
+  return tol * tol;
+}
+
 std::vector<Eigen::Matrix3d> PoseGraph::Covariances() const {
   // The marginal covariance of each free node: its 3 x 3 block of H^-1 for
   // the Jacobian Ceres would use (every enabled factor, its loss applied),
@@ -711,15 +722,8 @@ std::vector<Eigen::Matrix3d> PoseGraph::Covariances() const {
     any = true;
   }
   if (!any) return out;
-  // Rank deficiency as SuiteSparseQR's default tolerance would find it:
-  // a pivot of R below 20 (m + n) eps times the largest column norm, so a
-  // pivot of D below its square times H's largest diagonal entry.
-  size_t m = 0;
-  for (size_t k = 0; k < impl_->factors.size(); ++k)
-    if (impl_->factors[k].enabled) m += static_cast<size_t>(impl_->factors[k].dof);
-  const double tol = 20.0 * static_cast<double>(m + static_cast<size_t>(lin.cols)) * std::numeric_limits<double>::epsilon();
   SelectedInverse S;
-  if (!Invert(lin, tol * tol, &S)) return {};
+  if (!Invert(lin, SingularPivot(lin), &S)) return {};
   for (size_t n = 0; n < N; ++n) {
     const int c = node_col[n];
     if (c < 0) continue;
@@ -734,7 +738,7 @@ std::vector<double> PoseGraph::RateVariances() const {
   if (impl_->rates_zero) return var;
   const Linearized lin = Linearize(true);
   SelectedInverse S;
-  if (!Invert(lin, -1.0, &S)) return var;
+  if (!Invert(lin, SingularPivot(lin), &S)) return std::vector<double>(impl_->nodes.size(), -1.0);
   for (size_t n = 0; n < impl_->nodes.size(); ++n) {
     auto it = lin.first_col.find(&impl_->rates[n]);
     if (it != lin.first_col.end()) var[n] = std::max(0.0, S(it->second, it->second));
@@ -751,6 +755,7 @@ void PoseGraph::SetDirectionBend(bool on) {
     for (auto& f : impl_->factors)
       if (f.direction) f.direction->bend = 0.0;
     var = RateVariances();
+    for (double& v : var) v = std::max(0.0, v);  // singular: the solved rate alone
   }
   for (auto& f : impl_->factors) {
     if (!f.direction) continue;

@@ -104,8 +104,8 @@ class PoseGraph {
   int AddDirection(int i, double local_direction_rad, double sigma_rad, double s_mean_m = 0.0,
                    double floor_rad = 0.0, double cauchy_scale = 2.0, double s_spread_m = 0.0);
   // The marginal variance of every node's drift rate (rad/m)^2, with the
-  // rates free; 0 where a rate is held (or all are, or the information is
-  // singular).
+  // rates free; 0 where a rate is held (or all are); -1 for every node when
+  // the information is singular (a rate nothing measures).
   std::vector<double> RateVariances() const;
   // Every direction factor's bend error from its node's current drift rate
   // and, when the rates are free, the rate's marginal variance:
@@ -221,6 +221,8 @@ class PoseGraph {
   // H^-1 on the pattern of H's sparse factor; false when H is singular
   // (a pivot below min_pivot times H's largest diagonal entry; < 0: no test).
   bool Invert(const Linearized& lin, double min_pivot, SelectedInverse* out) const;
+  // The least pivot Invert accepts before calling the information singular.
+  double SingularPivot(const Linearized& lin) const;
   std::unique_ptr<Impl> impl_;
 };
 

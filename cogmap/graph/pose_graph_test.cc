@@ -162,6 +162,17 @@ TEST(PoseGraph, DirectionBendWidensTheCovariancesByTheDriftOverThePath) {
   EXPECT_NEAR(none[1], none[0], 0.05 * none[0]);
 }
 
+// One room, no odometry: nothing measures its drift rate, and its variance
+// is not known rather than huge (a 1-room run printed a drift of 0 +- 9e8).
+TEST(PoseGraph, ARateNothingMeasuresHasNoVariance) {
+  PoseGraph g;
+  g.AddNode(Pose2{}, true);
+  g.AddDirection(0, 0.0, DegToRad(1.0), 2.0);
+  g.Solve(0);
+  ASSERT_EQ(g.RateVariances().size(), 1u);
+  EXPECT_LT(g.RateVariances()[0], 0.0);
+}
+
 // The same run with a registration across every exit: each room's walls
 // against the previous room's, both in their raw frames, so the measurement
 // is the raw relative pose (the walls near the exit were seen with the heading

@@ -441,10 +441,12 @@ std::string MapSummaryText(const MapJobSummary& s, const MapJob& job) {
   if (r.correction == Correction::kPoseGraph) {
     int accepted = 0;
     for (const auto& c : r.graph.closures) accepted += c.accepted ? 1 : 0;
-    AppendF(&out, "pose graph: %s, %d loop closures (%zu candidates), %d rooms, drift %.3f +- %.3f deg/m%s\n",
+    std::string sigma;
+    if (r.graph.drift_rate_sigma_rad_per_m >= 0.0)
+      AppendF(&sigma, " +- %.3f", RadToDeg(r.graph.drift_rate_sigma_rad_per_m));
+    AppendF(&out, "pose graph: %s, %d loop closures (%zu candidates), %d rooms, drift %.3f%s deg/m%s\n",
             r.graph.solution.c_str(), accepted, r.graph.closures.size(), s.rooms,
-            RadToDeg(r.graph.drift_rate_rad_per_m), RadToDeg(r.graph.drift_rate_sigma_rad_per_m),
-            r.graph.drift_detected ? "" : " (none found)");
+            RadToDeg(r.graph.drift_rate_rad_per_m), sigma.c_str(), r.graph.drift_detected ? "" : " (none found)");
   } else if (r.correction == Correction::kDriftFilter) {
     AppendF(&out, "estimated heading drift: %.3f +- %.3f deg/m\n", RadToDeg(r.drift_rate_rad_per_m),
             RadToDeg(r.drift_rate_sigma_rad_per_m));
