@@ -1085,6 +1085,7 @@ OptimizerResult MapOptimizer::Finish() {
   for (const auto& r : final_residuals)
     if (r.kind == FactorKind::kDirection && r.enabled) dir_resid[r.i] = std::max(dir_resid[r.i], std::sqrt(r.chi2));
   int uncertain = 0;
+  int why_position = 0, why_heading = 0, why_walls = 0, why_other = 0;
   for (int i = 0; i < N; ++i) {
     if (nodes_[i].stored) continue;
     AsrEstimate e;
@@ -1101,25 +1102,45 @@ OptimizerResult MapOptimizer::Finish() {
       e.has_covariance = true;
       const double sp = std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1)));
       const double st = std::sqrt(std::max(0.0, e.covariance(2, 2)));
-      if (sp > options_.uncertain_position_m)
+      if (sp > options_.uncertain_position_m) {
         e.why.push_back("position 1-sigma " + std::to_string(sp).substr(0, 5) + " m");
-      if (st > options_.uncertain_theta_rad)
+        ++why_position;
+      }
+      if (st > options_.uncertain_theta_rad) {
         e.why.push_back("heading 1-sigma " + std::to_string(RadToDeg(st)).substr(0, 5) + " deg");
+        ++why_heading;
+      }
     } else if (res.solution == "odometry") {
       e.why.push_back("placed by odometry (correction rejected)");
+      ++why_other;
     } else {
       e.why.push_back("covariance not computable (graph rank deficient)");
+      ++why_other;
     }
-    if (nodes_[i].direction && dir_resid[i] > 3.0)
+    if (nodes_[i].direction && dir_resid[i] > 3.0) {
       e.why.push_back("its walls disagree with the building direction (" + std::to_string(dir_resid[i]).substr(0, 4) +
                       " sigma)");
+      ++why_walls;
+    }
     e.uncertain = !e.why.empty();
     uncertain += e.uncertain ? 1 : 0;
     res.asrs.push_back(e);
   }
-  if (uncertain > 0)
+  if (uncertain > 0) {
+    // Why, in one line: how many for each reason (an ASR may have several).
+    std::string why;
+    auto reason = [&](int count, const std::string& text) {
+      if (count > 0) why += (why.empty() ? "" : ", ") + std::to_string(count) + " " + text;
+    };
+    reason(why_position, "position 1-sigma over " + std::to_string(options_.uncertain_position_m).substr(0, 3) + " m");
+    reason(why_heading,
+           "heading 1-sigma over " + std::to_string(static_cast<int>(std::lround(RadToDeg(options_.uncertain_theta_rad)))) +
+               " deg");
+    reason(why_walls, "walls off the building direction");
+    reason(why_other, res.solution == "odometry" ? "placed by odometry" : "without a covariance");
     res.warnings.push_back(std::to_string(uncertain) + " of " + std::to_string(res.asrs.size()) +
-                           " ASRs are uncertain (report.json: pose_graph.uncertain_asrs)");
+                           " ASRs are uncertain (" + why + "; report.json: pose_graph.uncertain_asrs)");
+  }
   res.closures = closures_;
   return res;
 }
