@@ -353,6 +353,22 @@ TEST(MapOptimizer, DriftThatItsAliasFitsAsWellIsNotCorrected) {
   bool said = false;
   for (const std::string& w : r.warnings) said |= w.find("coin toss") != std::string::npos;
   EXPECT_TRUE(said);
+  // The drift it could not tell has a sigma to say so, and the ASRs the
+  // corridor leaves loose are named with the reason counted.
+  EXPECT_GT(RadToDeg(r.drift_rate_sigma_rad_per_m), 0.5);
+  int uncertain = 0, heading = 0;
+  for (const AsrEstimate& e : r.asrs) {
+    uncertain += e.uncertain ? 1 : 0;
+    for (const std::string& w : e.why) heading += w.rfind("heading 1-sigma", 0) == 0 ? 1 : 0;
+  }
+  ASSERT_GT(heading, 0);
+  const std::string expected = std::to_string(uncertain) + " of " + std::to_string(r.asrs.size()) +
+                               " ASRs are uncertain (";
+  bool counted = false;
+  for (const std::string& w : r.warnings)
+    counted |= w.rfind(expected, 0) == 0 &&
+               w.find(std::to_string(heading) + " heading 1-sigma over 3 deg") != std::string::npos;
+  EXPECT_TRUE(counted);
   // The placements stay the odometry's: nothing turned by a wrong alias.
   for (size_t i = 0; i < asrs.size(); ++i)
     EXPECT_NEAR(AngleDiff(r.asrs[i].pose.theta, asrs[i].world_from_local_raw.theta), 0.0, DegToRad(2.0)) << i;
