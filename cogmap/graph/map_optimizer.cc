@@ -1054,23 +1054,21 @@ OptimizerResult MapOptimizer::Finish() {
       for (const auto& r : graph_.Residuals())
         if (r.enabled) cov_chi2 += r.chi2;
     }
+    // The run's drift rate's uncertainty: the root mean square of its
+    // nodes' marginal sigmas (the rate reported is their mean; strongly
+    // correlated through the random walk, its sigma is at most this).
+    const std::vector<double> rate_var = graph_.RateVariances();
+    double sum = 0.0;
+    int n = 0;
+    bool known = N > 1;  // one room: no odometry, no drift to speak of
+    for (int i = 0; i < N; ++i)
+      if (!nodes_[i].stored) sum += rate_var[i], ++n, known = known && rate_var[i] >= 0.0;
+    res.drift_rate_sigma_rad_per_m = known && n > 0 ? std::sqrt(sum / n) : -1.0;
     // A room's walls were seen all along its path, each bent by the drift
     // so far; the direction factor corrects them by the mean, and the rest
     // (the rate x the spread of where they were seen) is an error the
     // covariance must hold (covariance_direction_bend).
-    {
-      // The run's drift rate's uncertainty: the root mean square of its
-      // nodes' marginal sigmas (the rate reported is their mean; strongly
-      // correlated through the random walk, its sigma is at most this).
-      const std::vector<double> var = graph_.RateVariances();
-      double sum = 0.0;
-      int n = 0;
-      bool known = N > 1;  // one room: no odometry, no drift to speak of
-      for (int i = 0; i < N; ++i)
-        if (!nodes_[i].stored) sum += var[i], ++n, known = known && var[i] >= 0.0;
-      res.drift_rate_sigma_rad_per_m = known && n > 0 ? std::sqrt(sum / n) : -1.0;
-    }
-    if (options_.covariance_direction_bend) graph_.SetDirectionBend(true);
+    if (options_.covariance_direction_bend) graph_.SetDirectionBend(true, rate_var);
     cov = graph_.Covariances();
     if (options_.covariance_direction_bend) graph_.SetDirectionBend(false);
     for (const auto& [k, f] : fitted) graph_.SetSigmaFactor(k, f);

@@ -487,7 +487,6 @@ void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const Od
 
 void PoseGraph::SetFactorEnabled(int handle, bool enabled) { impl_->factors[handle].enabled = enabled; }
 
-
 int PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, double floor_rad, double cauchy_scale,
                             double s_spread_m) {
   if (!impl_->has_phi) {
@@ -746,15 +745,19 @@ std::vector<double> PoseGraph::RateVariances() const {
   return var;
 }
 
-void PoseGraph::SetDirectionBend(bool on) {
+void PoseGraph::SetDirectionBend(bool on, const std::vector<double>& rate_variances) {
   // The rate left to each factor's node, and how uncertain it is (the
   // marginal variance of its rate, when the rates are free and the graph
   // is invertible): E[(rate x spread)^2] = (rate^2 + var) x spread^2.
   std::vector<double> var(impl_->nodes.size(), 0.0);
   if (on && !impl_->rates_zero) {
-    for (auto& f : impl_->factors)
-      if (f.direction) f.direction->bend = 0.0;
-    var = RateVariances();
+    if (rate_variances.size() == var.size()) {
+      var = rate_variances;
+    } else {
+      for (auto& f : impl_->factors)
+        if (f.direction) f.direction->bend = 0.0;
+      var = RateVariances();
+    }
     for (double& v : var) v = std::max(0.0, v);  // singular: the solved rate alone
   }
   for (auto& f : impl_->factors) {

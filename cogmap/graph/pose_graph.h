@@ -97,9 +97,10 @@ class PoseGraph {
   // components scale) and how square real buildings are (the floor: walls a
   // few tenths of a degree off the building's grid, seen alike by
   // neighbouring ASRs, an error their residuals cannot reveal).
-  // 's_spread_m': the 1-sigma spread of where along the path the walls were
-  // seen (a path of length L seen evenly: L / sqrt(12)); with SetDirectionBend
-  // the drift bends them over it by rate x that much more than the mean
+  // 's_spread_m': the 1-sigma spread of where along the path the direction
+  // was seen (a path of length L seen evenly: L / sqrt(12); a mean over n
+  // walls each seen somewhere on it: L / sqrt(12 n)); with SetDirectionBend
+  // the drift bends it over that by rate x that much more than the mean
   // corrects, an error added to the factor's sigma.
   int AddDirection(int i, double local_direction_rad, double sigma_rad, double s_mean_m = 0.0,
                    double floor_rad = 0.0, double cauchy_scale = 2.0, double s_spread_m = 0.0);
@@ -110,7 +111,9 @@ class PoseGraph {
   // Every direction factor's bend error from its node's current drift rate
   // and, when the rates are free, the rate's marginal variance:
   // s_spread x sqrt(rate^2 + var) (held until the next call; false: none).
-  void SetDirectionBend(bool on);
+  // 'rate_variances': RateVariances() already taken without any bend (one
+  // per node), or empty to take them here.
+  void SetDirectionBend(bool on, const std::vector<double>& rate_variances = {});
   // Any factor by the handle AddDirection returned (disabled factors are left
   // out of solves, residuals and covariances).
   void SetFactorEnabled(int handle, bool enabled);

@@ -1885,8 +1885,9 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // corridor_touch_m of border) with at most corner_floor_ratio times their
   // mean floor per metre of path is a corner of the corridor and joins
   // them. A piece whose corridor neighbours are already one corridor would
-  // close a loop (a ring corridor): it stays a room, so the ring stays a
-  // simple polygon instead of enclosing the block it runs around.
+  // close a loop (a ring corridor): it stays apart, a corridor of its own,
+  // so the ring stays a simple polygon instead of enclosing the block it
+  // runs around.
   std::vector<char> ring_gap(n1, 0);  // a corner left apart so that a ring corridor stays cut
   {
     std::vector<double> piece_path(n1, 0.0);
@@ -1973,7 +1974,6 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       for (int q : pieces) corr.Unite(r, q), in_corridor[q] = 1;
       in_corridor[r] = 1;
     }
-
     // Then (so that they do not change which corners close a ring) the
     // pieces in a straight corridor's band: short pieces the boundary
     // detector cut out of the corridor itself (the robot stopped at a door
