@@ -128,8 +128,9 @@ std::function<int()> SetupMap(CLI::App& sub) {
       ->capture_default_str();
   sub.add_option("--threads", a->job.mapping.threads,
                  "2: each room that ends is vectorised on one more thread and placed and stored on another while "
-                 "the next one is mapped, and at the end the floor plan's picture is drawn and the store closed "
-                 "beside the plan's files (the same map, sooner); 1: all on one thread (the font library's own "
+                 "the next one is mapped (its loop-closure candidates searched on two), and at the end the floor "
+                 "plan's picture is drawn and the store closed beside the plan's files (the same map, sooner); 1: "
+                 "all on one thread (the font library's own "
                  "helpers aside). With --no-graph the drift filter needs each room placed before the next one is "
                  "mapped: one thread")
       ->capture_default_str();

@@ -2,10 +2,14 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <mutex>
 #include <numeric>
+#include <thread>
 
 #include "cogmap/localize/wall_directions.h"
 
@@ -493,12 +497,100 @@ std::vector<FacedPoint> MapOptimizer::InBox(const std::vector<FacedPoint>& pts, 
   return out;
 }
 
+MapOptimizer::CandidateEval MapOptimizer::EvaluateCandidate(int n, int k,
+                                                           const std::vector<FacedPoint>& cur_samples) const {
+  const Node& cur = nodes_[n];
+  const Node& o = nodes_[k];
+  const std::vector<FacedPoint> o_samples = SampleFaces(o.faces, options_.registration.sample_step_m);
+  const double cos_max = options_.registration.max_normal_angle_rad;
+  CandidateEval ev;
+  // The graph's pose of the new ASR in the stored one's frame, and the
+  // same for the raw walls: each node's walls bent back by its drift rate
+  // where they may overlap (the path pose nearest the other's centre).
+  ev.rate_k = graph_.rate(k) - o.pre_rate;
+  ev.rate_n = graph_.rate(n - 1) - cur.pre_rate;
+  ev.placed = graph_.pose(k).inverse() * graph_.pose(n);
+  const Pose2 guess = BendAt(PathTo(o, ev.placed * cur.centre_local), ev.rate_k).inverse() * ev.placed *
+                      BendAt(PathTo(cur, ev.placed.inverse() * o.centre_local), ev.rate_n);
+  // Correlative search over the pose uncertainty (positions and headings
+  // within the gate), scored by how many of the new ASR's wall samples land
+  // on a matching face; ICP from the best distinct starts. Distinct good
+  // solutions mean the walls cannot tell the places apart.
+  const double var_here = std::max(0.0, cur.var_prefix - o.var_prefix) + 0.01;
+  const double radius = std::min(options_.candidate_sigmas * std::sqrt(var_here), options_.max_search_m);
+  const double hsig = std::sqrt(cur.heading_var + o.heading_var) + DegToRad(1.0);
+  const double hrange = std::min(options_.candidate_sigmas * hsig, options_.max_search_rad);
+  std::vector<FacedPoint> coarse;
+  for (size_t i = 0; i < cur_samples.size(); i += 3) coarse.push_back(cur_samples[i]);
+  struct Start {
+    Pose2 pose;
+    double score;
+  };
+  std::vector<Start> starts;
+  const double step = options_.search_step_m, hstep = options_.search_step_rad;
+  std::vector<double> shifts;
+  for (double d = -radius; d <= radius + 1e-9; d += step) shifts.push_back(d);
+  const Vec2 centre = guess * cur.centre_local;
+  for (double dth = -hrange; dth <= hrange + 1e-9; dth += hstep) {
+    // Rotate about the new ASR's centre; every shift of the rotated samples
+    // scored at once. Matched samples (not a fraction): two long ASRs
+    // overlap only in part.
+    const Pose2 rotated = Pose2{centre.x(), centre.y(), dth} * Pose2{-centre.x(), -centre.y(), 0.0} * guess;
+    const std::vector<int> matched = AgreementOverShifts(o.faces, TransformPoints(rotated, coarse), shifts, shifts,
+                                                         options_.loop_tolerance_m, cos_max);
+    for (size_t i = 0; i < shifts.size(); ++i) {
+      for (size_t j = 0; j < shifts.size(); ++j) {
+        const double dx = shifts[i], dy = shifts[j];
+        if (dx * dx + dy * dy > radius * radius + 1e-9) continue;
+        starts.push_back({Pose2{dx, dy, 0.0} * rotated, static_cast<double>(matched[i * shifts.size() + j])});
+      }
+    }
+  }
+  std::sort(starts.begin(), starts.end(), [](const Start& a, const Start& b) { return a.score > b.score; });
+  std::vector<Pose2> chosen;
+  for (const Start& st : starts) {
+    if (chosen.size() >= 3 || st.score <= 0.0) break;
+    bool distinct = true;
+    for (const Pose2& p : chosen) {
+      const Eigen::Vector3d dd = Difference(p, st.pose);
+      if (dd.head<2>().norm() < 0.5 && std::abs(dd(2)) < DegToRad(5.0)) distinct = false;
+    }
+    if (distinct) chosen.push_back(st.pose);
+  }
+  int best_matches = 0, best_overlap = 0;  // why nothing came of them, if nothing did
+  for (const Pose2& start : chosen) {
+    Registration reg = RegisterWalls(o.faces, cur.faces, start, options_.registration);
+    best_matches = std::max(best_matches, reg.matches);
+    if (!reg.converged || reg.matches < options_.min_matches) continue;
+    // Agreement where the two overlap: the samples of each that fall in the
+    // other's box (walls the other could have seen).
+    const auto pts_in_o = InBox(TransformPoints(reg.target_from_source, cur_samples), o);
+    const auto o_in_cur = InBox(TransformPoints(reg.target_from_source.inverse(), o_samples), cur);
+    const int overlap = static_cast<int>(std::min(pts_in_o.size(), o_in_cur.size()));
+    best_overlap = std::max(best_overlap, overlap);
+    if (overlap < options_.min_matches) continue;
+    const double a1 = AgreementFraction(o.faces, pts_in_o, options_.loop_tolerance_m, cos_max);
+    const double a2 = AgreementFraction(cur.faces, o_in_cur, options_.loop_tolerance_m, cos_max);
+    ev.sols.push_back({reg, std::min(a1, a2), Centroid(pts_in_o), Centroid(o_in_cur)});
+  }
+  std::sort(ev.sols.begin(), ev.sols.end(),
+            [](const CandidateSolution& a, const CandidateSolution& b) { return a.agreement > b.agreement; });
+  if (ev.sols.empty()) {
+    const std::string need = " (at least " + std::to_string(options_.min_matches) + ")";
+    ev.reason = chosen.empty() ? "no placement within the search range puts a wall sample on a matching face"
+                : best_matches < options_.min_matches
+                    ? "too few wall samples matched after ICP: " + std::to_string(best_matches) + need
+                    : "too little overlap: " + std::to_string(best_overlap) + " wall samples in each other's box" +
+                          need;
+  }
+  return ev;
+}
+
 void MapOptimizer::TryLoopClosures(int n) {
   Node& cur = nodes_[n];
   if (cur.sample_count < options_.min_matches) return;
   const std::vector<FacedPoint> cur_samples = SampleFaces(cur.faces, options_.registration.sample_step_m);
-  const Pose2 Tn = graph_.pose(n);
-  const Vec2 cn = Tn * cur.centre_local;
+  const Vec2 cn = graph_.pose(n) * cur.centre_local;
   struct Cand {
     int k;
     double score;
@@ -516,99 +608,45 @@ void MapOptimizer::TryLoopClosures(int n) {
   }
   std::sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) { return a.score < b.score; });
   if (cands.size() > static_cast<size_t>(options_.max_candidates)) cands.resize(options_.max_candidates);
-  const double cos_max = options_.registration.max_normal_angle_rad;
-  for (const Cand& c : cands) {
-    const Node& o = nodes_[c.k];
-    const std::vector<FacedPoint> o_samples = SampleFaces(o.faces, options_.registration.sample_step_m);
+  // Each candidate's search and ICP read the graph and the nodes only: with
+  // two threads the candidates are shared out (the same results, decided in
+  // the same order below).
+  std::vector<CandidateEval> evals(cands.size());
+  {
+    std::atomic<size_t> next{0};
+    std::exception_ptr failed;
+    std::mutex failed_mutex;
+    auto work = [&] {
+      try {
+        for (size_t i; (i = next++) < cands.size();) evals[i] = EvaluateCandidate(n, cands[i].k, cur_samples);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(failed_mutex);
+        if (!failed) failed = std::current_exception();
+        next = cands.size();
+      }
+    };
+    std::thread helper;
+    if (options_.threads >= 2 && cands.size() >= 2) helper = std::thread(work);
+    work();
+    if (helper.joinable()) helper.join();
+    if (failed) std::rethrow_exception(failed);
+  }
+  for (size_t ci = 0; ci < cands.size(); ++ci) {
+    const int k = cands[ci].k;
+    const CandidateEval& ev = evals[ci];
+    const Node& o = nodes_[k];
     LoopClosure lc;
     lc.from_asr = o.asr_id;
     lc.to_asr = cur.asr_id;
-    // The graph's pose of the new ASR in the stored one's frame, and the
-    // same for the raw walls: each node's walls bent back by its drift rate
-    // where they may overlap (the path pose nearest the other's centre).
-    const double rate_k = graph_.rate(c.k) - o.pre_rate, rate_n = graph_.rate(n - 1) - cur.pre_rate;
-    const Pose2 placed = graph_.pose(c.k).inverse() * Tn;
-    const Pose2 guess = BendAt(PathTo(o, placed * cur.centre_local), rate_k).inverse() * placed *
-                        BendAt(PathTo(cur, placed.inverse() * o.centre_local), rate_n);
-    // Correlative search over the pose uncertainty (positions and headings
-    // within the gate), scored by how many of the new ASR's wall samples land
-    // on a matching face; ICP from the best distinct starts. Distinct good
-    // solutions mean the walls cannot tell the places apart.
-    struct Sol {
-      Registration reg;
-      double agreement;
-      Vec2 overlap_in_o, overlap_in_cur;  // centroids of the overlapping samples
-    };
-    std::vector<Sol> sols;
-    const double var_here = std::max(0.0, cur.var_prefix - o.var_prefix) + 0.01;
-    const double radius = std::min(options_.candidate_sigmas * std::sqrt(var_here), options_.max_search_m);
-    const double hsig = std::sqrt(cur.heading_var + o.heading_var) + DegToRad(1.0);
-    const double hrange = std::min(options_.candidate_sigmas * hsig, options_.max_search_rad);
-    std::vector<FacedPoint> coarse;
-    for (size_t i = 0; i < cur_samples.size(); i += 3) coarse.push_back(cur_samples[i]);
-    struct Start {
-      Pose2 pose;
-      double score;
-    };
-    std::vector<Start> starts;
-    const double step = options_.search_step_m, hstep = options_.search_step_rad;
-    std::vector<double> shifts;
-    for (double d = -radius; d <= radius + 1e-9; d += step) shifts.push_back(d);
-    const Vec2 centre = guess * cur.centre_local;
-    for (double dth = -hrange; dth <= hrange + 1e-9; dth += hstep) {
-      // Rotate about the new ASR's centre; every shift of the rotated samples
-      // scored at once. Matched samples (not a fraction): two long ASRs
-      // overlap only in part.
-      const Pose2 rotated = Pose2{centre.x(), centre.y(), dth} * Pose2{-centre.x(), -centre.y(), 0.0} * guess;
-      const std::vector<int> matched = AgreementOverShifts(o.faces, TransformPoints(rotated, coarse), shifts, shifts,
-                                                           options_.loop_tolerance_m, cos_max);
-      for (size_t i = 0; i < shifts.size(); ++i) {
-        for (size_t j = 0; j < shifts.size(); ++j) {
-          const double dx = shifts[i], dy = shifts[j];
-          if (dx * dx + dy * dy > radius * radius + 1e-9) continue;
-          starts.push_back({Pose2{dx, dy, 0.0} * rotated, static_cast<double>(matched[i * shifts.size() + j])});
-        }
-      }
-    }
-    std::sort(starts.begin(), starts.end(), [](const Start& a, const Start& b) { return a.score > b.score; });
-    std::vector<Pose2> chosen;
-    for (const Start& st : starts) {
-      if (chosen.size() >= 3 || st.score <= 0.0) break;
-      bool distinct = true;
-      for (const Pose2& p : chosen) {
-        const Eigen::Vector3d dd = Difference(p, st.pose);
-        if (dd.head<2>().norm() < 0.5 && std::abs(dd(2)) < DegToRad(5.0)) distinct = false;
-      }
-      if (distinct) chosen.push_back(st.pose);
-    }
-    int best_matches = 0, best_overlap = 0;  // why nothing came of them, if nothing did
-    for (const Pose2& start : chosen) {
-      Registration reg = RegisterWalls(o.faces, cur.faces, start, options_.registration);
-      best_matches = std::max(best_matches, reg.matches);
-      if (!reg.converged || reg.matches < options_.min_matches) continue;
-      // Agreement where the two overlap: the samples of each that fall in the
-      // other's box (walls the other could have seen).
-      const auto pts_in_o = InBox(TransformPoints(reg.target_from_source, cur_samples), o);
-      const auto o_in_cur = InBox(TransformPoints(reg.target_from_source.inverse(), o_samples), cur);
-      const int overlap = static_cast<int>(std::min(pts_in_o.size(), o_in_cur.size()));
-      best_overlap = std::max(best_overlap, overlap);
-      if (overlap < options_.min_matches) continue;
-      const double a1 = AgreementFraction(o.faces, pts_in_o, options_.loop_tolerance_m, cos_max);
-      const double a2 = AgreementFraction(cur.faces, o_in_cur, options_.loop_tolerance_m, cos_max);
-      sols.push_back({reg, std::min(a1, a2), Centroid(pts_in_o), Centroid(o_in_cur)});
-    }
-    if (sols.empty()) {
-      const std::string need = " (at least " + std::to_string(options_.min_matches) + ")";
-      lc.reason = chosen.empty() ? "no placement within the search range puts a wall sample on a matching face"
-                  : best_matches < options_.min_matches
-                      ? "too few wall samples matched after ICP: " + std::to_string(best_matches) + need
-                      : "too little overlap: " + std::to_string(best_overlap) + " wall samples in each other's box" +
-                            need;
+    if (ev.sols.empty()) {
+      lc.reason = ev.reason;
       closures_.push_back(lc);
       continue;
     }
-    std::sort(sols.begin(), sols.end(), [](const Sol& a, const Sol& b) { return a.agreement > b.agreement; });
-    const Sol& best = sols.front();
+    const std::vector<CandidateSolution>& sols = ev.sols;
+    const CandidateSolution& best = sols.front();
+    const double rate_k = ev.rate_k, rate_n = ev.rate_n;
+    const Pose2& placed = ev.placed;
     lc.relative = best.reg.target_from_source;
     lc.agreement = best.agreement;
     lc.rmse_m = best.reg.rmse_m;
@@ -658,7 +696,7 @@ void MapOptimizer::TryLoopClosures(int n) {
                                      options_.same_space);
     lc.same_room = lc.same_space >= options_.same_space.min_share;
     if (lc.same_room) cur.room_id = o.room_id;
-    closure_factor_.push_back(graph_.AddRelative(c.k, n, best.reg.target_from_source, best.reg.covariance,
+    closure_factor_.push_back(graph_.AddRelative(k, n, best.reg.target_from_source, best.reg.covariance,
                                                  FactorKind::kLoopClosure, 2.0, &to_k, &to_n));
     closure_index_.push_back(static_cast<int>(closures_.size()));
     closures_.push_back(lc);

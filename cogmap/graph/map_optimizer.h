@@ -90,6 +90,9 @@ struct MapOptimizerOptions {
   // candidate_sigmas x the position uncertainty accumulated between them.
   double candidate_sigmas = 3.0;
   int max_candidates = 4;
+  // 2: an ASR's loop-closure candidates are searched on two threads (the
+  // same closures; MappingOptions::threads).
+  int threads = 1;
   double loop_min_agreement = 0.5;  // of each ASR's walls on the other's, after ICP
   double loop_tolerance_m = 0.25;   // agreement distance
   // Correlative search of the starting pose: positions within
@@ -334,6 +337,21 @@ class MapOptimizer {
   // disabled and the graph re-solved, up to 3 rounds.
   void DropContradictedClosures();
   void TryLoopClosures(int n);
+  // One loop-closure candidate k of node n (TryLoopClosures): the
+  // correlative search, ICP from its best distinct starts and the agreement
+  // of each solution, best first. Reads the graph and the nodes only.
+  struct CandidateSolution {
+    Registration reg;
+    double agreement;
+    Vec2 overlap_in_o, overlap_in_cur;  // centroids of the overlapping samples
+  };
+  struct CandidateEval {
+    std::vector<CandidateSolution> sols;  // best agreement first
+    std::string reason;                   // why there is none, when empty
+    double rate_k = 0.0, rate_n = 0.0;    // each node's drift rate, less what was removed while mapped
+    Pose2 placed;                         // the graph's pose of n in k's frame
+  };
+  CandidateEval EvaluateCandidate(int n, int k, const std::vector<FacedPoint>& cur_samples) const;
   // The points (in n's local frame) inside n's box, 0.5 m margin.
   std::vector<FacedPoint> InBox(const std::vector<FacedPoint>& pts, const Node& n) const;
   struct Consistency {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <random>
 
 namespace cogmap::graph {
@@ -103,6 +104,41 @@ TEST(MapOptimizer, SquareLoopWithKnownDriftCloses) {
     EXPECT_LT(PoseError(r.asrs[i].pose, visits[i].entry), 3.0 * sp + 0.05) << i;
   }
   EXPECT_GT(raw_err, 1.0);  // the odometry alone is far off
+}
+
+// The loop-closure candidates of an ASR searched on two threads: the same
+// closures, decided in the same order, and the same poses, bit for bit.
+TEST(MapOptimizer, CandidatesSearchedOnTwoThreadsGiveTheSameClosures) {
+  const auto asrs = Simulate(SquareLoop(), DegToRad(2.0));
+  auto run = [&asrs](int threads) {
+    MapOptimizerOptions o;
+    o.threads = threads;
+    MapOptimizer opt(o);
+    return PlaceAll(opt, asrs);
+  };
+  const OptimizerResult one = run(1), two = run(2);
+  ASSERT_EQ(one.closures.size(), two.closures.size());
+  int accepted = 0;
+  for (size_t k = 0; k < one.closures.size(); ++k) {
+    EXPECT_EQ(one.closures[k].from_asr, two.closures[k].from_asr) << k;
+    EXPECT_EQ(one.closures[k].to_asr, two.closures[k].to_asr) << k;
+    EXPECT_EQ(one.closures[k].accepted, two.closures[k].accepted) << k;
+    EXPECT_EQ(one.closures[k].reason, two.closures[k].reason) << k;
+    EXPECT_EQ(one.closures[k].agreement, two.closures[k].agreement) << k;
+    accepted += one.closures[k].accepted ? 1 : 0;
+  }
+  EXPECT_GE(accepted, 1);
+  // Some ASR had two candidates or more to share out.
+  std::map<int, int> per_asr;
+  int most = 0;
+  for (const auto& c : one.closures) most = std::max(most, ++per_asr[c.to_asr]);
+  EXPECT_GE(most, 2);
+  ASSERT_EQ(one.asrs.size(), two.asrs.size());
+  for (size_t i = 0; i < one.asrs.size(); ++i) {
+    EXPECT_EQ(one.asrs[i].pose.x, two.asrs[i].pose.x) << i;
+    EXPECT_EQ(one.asrs[i].pose.y, two.asrs[i].pose.y) << i;
+    EXPECT_EQ(one.asrs[i].pose.theta, two.asrs[i].pose.theta) << i;
+  }
 }
 
 // Two 16 m halls driven end to end with the odometry turning 1 deg/m: each

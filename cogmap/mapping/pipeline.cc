@@ -137,6 +137,7 @@ graph::MapOptimizerOptions GraphOptionsFor(const localize::HeadingCorrectionOpti
   graph::MapOptimizerOptions g;
   g.heading = h;
   g.direction_split_m = o.direction_split_m;
+  g.threads = o.threads;
   return g;
 }
 }  // namespace
