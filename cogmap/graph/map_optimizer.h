@@ -107,11 +107,14 @@ struct MapOptimizerOptions {
   double drift_test_probability = 0.99;  // likelihood-ratio test of a drift rate (Finish)
   // A drift whose quarter-turn alias (a rate that turns the heading a quarter
   // turn more or less between two wall directions) fits nearly as well is
-  // kept only when it is at least this many times as likely as the alias
+  // kept only when it is at least this many times as likely as its aliases together
   // (likelihood ratio exp(delta chi2 / 2)); at even odds the choice is a
   // coin toss between a corrected map and one far worse than the odometry,
   // so the drift is left uncorrected (TestDrift).
   double alias_min_odds = 2.0;
+  // The aliases tried (TestDrift): at most this many of the lowest minima
+  // of the wall directions' cost over the drift rate, each a full solve.
+  int max_drift_aliases = 6;
   // A revisit: both ASRs' walls agree on each other at least this much,
   // and the two paths lie in one space (SameSpace): two rooms side by side
   // share a wall, which both see and agree on (nine_rooms cut every 8 m: 45

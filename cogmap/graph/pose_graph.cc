@@ -620,6 +620,75 @@ void PoseGraph::ChainWithRate(double rate) {
   }
 }
 
+std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& deltas) const {
+  std::vector<double> out(deltas.size(), 0.0);
+  const Impl& m = *impl_;
+  if (!m.has_phi) return out;
+  // Each node's heading change per unit of delta: the distance driven from
+  // the chain's fixed start to it, negated (BentPathEnd turns a path's end
+  // by -rate x its length).
+  std::vector<double> turn(m.nodes.size(), 0.0);
+  for (const auto& f : m.factors)
+    if (f.kind == FactorKind::kOdometry && f.odometry && !m.fixed[f.j]) turn[f.j] = turn[f.i] - f.odometry->distance_m;
+  // Each enabled direction factor's residual angle at delta = 0 (before
+  // the branch is chosen), its change per unit of delta, its sigma and loss.
+  struct Term {
+    double v0, slope, inv_sigma2, c2;
+  };
+  std::vector<Term> terms;
+  for (const auto& f : m.factors) {
+    if (!f.enabled || f.kind != FactorKind::kDirection || !f.direction) continue;
+    const DirectionCost& d = *f.direction;
+    const double rate = m.rates[f.i] - d.offset;
+    const double v0 = m.nodes[f.i][2] + d.d - rate * d.s_mean - m.phi;
+    const double ms = d.sigma / d.scale;
+    const double sigma = std::max({d.floor, std::sqrt(ms * ms + d.bend * d.bend), 1e-9});
+    const double c = f.cauchy_scale > 0.0 ? f.cauchy_scale : 0.0;
+    terms.push_back({v0, turn[f.i] - d.s_mean, 1.0 / (sigma * sigma), c * c});
+  }
+  if (terms.empty()) return out;
+  auto fold = [](double a) { return a - kQuarter * std::round(a / kQuarter); };
+  // Half the robust chi^2 of a whitened squared residual, and its slope.
+  auto rho = [](double s, double c2) { return c2 > 0.0 ? c2 * std::log1p(s / c2) : s; };
+  auto drho = [](double s, double c2) { return c2 > 0.0 ? 1.0 / (1.0 + s / c2) : 1.0; };
+  std::vector<double> a(terms.size());
+  for (size_t k = 0; k < deltas.size(); ++k) {
+    for (size_t t = 0; t < terms.size(); ++t) a[t] = terms[t].v0 + deltas[k] * terms[t].slope;
+    // The building direction: the weighted mean of the angles on the
+    // quarter-turn circle (4 x angle), then re-weighted least squares on the
+    // nearest branches; the lower of that and the unmoved direction.
+    double sx = 0.0, sy = 0.0;
+    for (size_t t = 0; t < terms.size(); ++t) {
+      sx += terms[t].inv_sigma2 * std::cos(4.0 * a[t]);
+      sy += terms[t].inv_sigma2 * std::sin(4.0 * a[t]);
+    }
+    auto cost_at = [&](double phi) {
+      double c = 0.0;
+      for (size_t t = 0; t < terms.size(); ++t) {
+        const double e = fold(a[t] - phi);
+        c += rho(e * e * terms[t].inv_sigma2, terms[t].c2);
+      }
+      return 0.5 * c;
+    };
+    auto refit = [&](double phi) {
+      for (int it = 0; it < 4; ++it) {
+        double num = 0.0, den = 0.0;
+        for (size_t t = 0; t < terms.size(); ++t) {
+          const double e = fold(a[t] - phi);
+          const double w = terms[t].inv_sigma2 * drho(e * e * terms[t].inv_sigma2, terms[t].c2);
+          num += w * e;
+          den += w;
+        }
+        if (den <= 0.0) break;
+        phi += num / den;
+      }
+      return cost_at(phi);
+    };
+    out[k] = std::min(refit(0.0), refit(0.25 * std::atan2(sy, sx)));
+  }
+  return out;
+}
+
 void PoseGraph::SetRatesFixedAtZero(bool fixed) {
   impl_->rates_zero = fixed;
   if (fixed)

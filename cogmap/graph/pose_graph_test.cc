@@ -74,6 +74,36 @@ TEST(PoseGraph, DriftRateIsRecoveredFromWallDirections) {
   EXPECT_GT(cov[10](1, 1), cov[1](1, 1));
 }
 
+// The direction factors' profile over a common rate change: at 0 it is the
+// factors' robust cost as solved (half the Cauchy-weighted chi^2 of
+// Residuals()), and a change that turns the farthest room by a quarter turn
+// relative to the nearest one fits as well when every room's walls were seen
+// at the same distance from it; half-way it does not.
+TEST(PoseGraph, DirectionProfileRepeatsEveryQuarterTurnOverThePath) {
+  PoseGraph g;
+  Pose2 raw;
+  g.AddNode(raw, true);
+  g.AddDirection(0, 0.0, DegToRad(1.0), 0.0);
+  const auto m = TurningOdometry(10.0, DegToRad(1.0));
+  raw = raw * m.delta;
+  g.AddNode(raw);
+  g.AddOdometry(0, 1, m);
+  g.AddDirection(1, 0.0, DegToRad(1.0), 0.0);
+  g.Solve(0);
+  const double quarter = (kPi / 2.0) / m.distance_m;  // turns node 1 by a quarter turn
+  const std::vector<double> p = g.DirectionProfile({0.0, quarter, -quarter, 0.5 * quarter});
+  ASSERT_EQ(p.size(), 4u);
+  double expected = 0.0;
+  for (const auto& r : g.Residuals())
+    if (r.kind == FactorKind::kDirection) expected += 0.5 * 4.0 * std::log1p(r.chi2 / 4.0);  // Cauchy scale 2
+  EXPECT_NEAR(p[0], expected, 1e-6);
+  EXPECT_NEAR(p[1], p[0], 1e-6);
+  EXPECT_NEAR(p[2], p[0], 1e-6);
+  // Half-way the two rooms' walls are 45 degrees apart: at best each is
+  // 22.5 degrees (22.5 sigma) from the building direction.
+  EXPECT_GT(p[3], p[0] + 10.0);
+}
+
 // The odometry of TurningOdometry's path as mapped with 'offset' removed:
 // the path re-integrated under that rate (asr::CorrectedPath).
 OdometryMeasurement PreBent(double length_m, double rate, double offset) {
