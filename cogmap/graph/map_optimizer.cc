@@ -821,9 +821,9 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
   // The aliases: other rates the wall directions may fit about as well. The
   // direction factors' cost over a common change of every rate
   // (PoseGraph::DirectionProfile: the odometry does not resist such a
-  // change, only what registers the rooms to each other does) is sampled
-  // at an eighth of its finest period (a quarter turn over the whole path)
-  // for every rate within the prior's 3 sigma; its lowest local minima
+  // change, the loop closures do) is sampled at a sixteenth of its finest
+  // period (a quarter turn over the whole path) for every rate within the
+  // prior's 3 sigma; its lowest local minima
   // outside the drift's own basin are each solved from their own
   // dead-reckoned start. A quarter turn more over the longest stretch
   // without a wall direction is one such rate; on a long sonar run with few
@@ -840,8 +840,17 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
     const double period = (kPi / 2.0) / s;
     const double step = period / 16.0;
     const double limit = 3.0 * options_.odometry.rate_prior_sigma_rad_per_m;
+    // On a long run, as much of that range around the drift as some 4
+    // million factor evaluations reach (the nearest aliases first).
+    const double factors = static_cast<double>(std::max<size_t>(1, nodes_.size() + closure_factor_.size()));
+    const double budget = std::max(2000.0, 4e6 / factors);
+    double lo = -limit, hi = limit;
+    if ((hi - lo) / step > budget) {
+      lo = std::max(-limit, rate - 0.5 * budget * step);
+      hi = std::min(limit, rate + 0.5 * budget * step);
+    }
     std::vector<double> deltas;
-    for (double r = -limit; r <= limit && deltas.size() < 100000; r += step) deltas.push_back(r - rate);
+    for (double r = lo; r <= hi; r += step) deltas.push_back(r - rate);
     graph_.SetRatesFixedAtZero(false);
     graph_.Restore(drift_state);  // the profile is taken about the drift's solution
     const std::vector<double> profile = graph_.DirectionProfile(deltas);

@@ -389,6 +389,11 @@ struct PoseGraph::Impl {
     double* part_scale = nullptr;
     const OdometryMeasurement* odometry = nullptr;  // kOdometry: the measurement
     DirectionCost* direction = nullptr;             // kDirection: the functor
+    // Relative factors (AddRelative), for DirectionProfile: the measured
+    // heading (of the middle, between the bends), the marginal variance of
+    // its heading, and each bent end's path length and rate offset (0: not bent).
+    double rel_theta = 0.0, rel_heading_var = 0.0;
+    double bend_s_i = 0.0, bend_s_j = 0.0, bend_off_i = 0.0, bend_off_j = 0.0;
   };
   std::vector<Factor> factors;
   std::vector<int> relative_index;  // AddRelative index -> factors index
@@ -518,12 +523,19 @@ int PoseGraph::AddRelative(int i, int j, const Pose2& z, const Eigen::Matrix3d& 
   f.i = i;
   f.j = j;
   f.dof = 3;
+  f.rel_theta = z.theta;
+  f.rel_heading_var = cov(2, 2);
   if (bend_i || bend_j) {
     const OdometryMeasurement none;
     const OdometryMeasurement& mi = bend_i ? *bend_i : none;
     const OdometryMeasurement& mj = bend_j ? *bend_j : none;
     auto* c = new BentRelativeCost{mi, mj, mi.delta.inverse() * z * mj.delta, SqrtInformation(cov),
                                    bend_i ? impl_->offsets[i] : 0.0, bend_j ? impl_->offsets[j] : 0.0};
+    f.rel_theta = c->middle.theta;
+    f.bend_s_i = mi.distance_m;
+    f.bend_s_j = mj.distance_m;
+    f.bend_off_i = c->offset_i;
+    f.bend_off_j = c->offset_j;
     f.scale = &c->scale;
     f.cost.reset(new ceres::AutoDiffCostFunction<BentRelativeCost, 3, 3, 3, 1, 1>(c));
     f.params = {impl_->nodes[i].data(), impl_->nodes[j].data(), &impl_->rates[i], &impl_->rates[j]};
@@ -646,6 +658,27 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
     const double c = f.cauchy_scale > 0.0 ? f.cauchy_scale : 0.0;
     terms.push_back({v0, turn[f.i] - d.s_mean, 1.0 / (sigma * sigma), c * c});
   }
+  // The registrations and loop closures: a common rate change turns node j
+  // against node i by delta x the distance driven between them, and each
+  // bent end's measurement by delta x its path; what is left turns the
+  // measured heading against the poses (zero across an exit, whose
+  // registration is bent by node i's path to node j). Their headings alone,
+  // with their marginal sigma: a lower bound on what they add.
+  struct Heading {
+    double e0, slope, inv_sigma2, c2;
+  };
+  std::vector<Heading> headings;
+  for (const auto& f : m.factors) {
+    if (!f.enabled || (f.kind != FactorKind::kRegistration && f.kind != FactorKind::kLoopClosure)) continue;
+    const double slope = (turn[f.j] - turn[f.i]) - (f.bend_s_j - f.bend_s_i);
+    if (std::abs(slope) < 1e-9 || f.rel_heading_var <= 0.0) continue;
+    const double ri = m.rates[f.i] - f.bend_off_i, rj = m.rates[f.j] - f.bend_off_j;
+    const double measured = f.rel_theta - ri * f.bend_s_i + rj * f.bend_s_j;
+    const double e0 = NormalizeAngle(m.nodes[f.j][2] - m.nodes[f.i][2] - measured);
+    const double scale = f.scale ? *f.scale : 1.0;
+    const double c = f.cauchy_scale > 0.0 ? f.cauchy_scale : 0.0;
+    headings.push_back({e0, slope, scale * scale / f.rel_heading_var, c * c});
+  }
   if (terms.empty()) return out;
   auto fold = [](double a) { return a - kQuarter * std::round(a / kQuarter); };
   // Half the robust chi^2 of a whitened squared residual, and its slope.
@@ -684,7 +717,12 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
       }
       return cost_at(phi);
     };
-    out[k] = std::min(refit(0.0), refit(0.25 * std::atan2(sy, sx)));
+    double rest = 0.0;
+    for (const Heading& h : headings) {
+      const double e = NormalizeAngle(h.e0 + deltas[k] * h.slope);
+      rest += rho(e * e * h.inv_sigma2, h.c2);
+    }
+    out[k] = std::min(refit(0.0), refit(0.25 * std::atan2(sy, sx))) + 0.5 * rest;
   }
   return out;
 }

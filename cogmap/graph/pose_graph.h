@@ -158,11 +158,13 @@ class PoseGraph {
   // robust chi^2) when every drift rate moves by the same 'delta' from its
   // current value and the free nodes follow by dead reckoning (as
   // ChainWithRate re-chains them: node j turns by -delta x the distance
-  // driven to it), the building direction re-fitted for each delta; one
-  // value per delta. The odometry factors do not change under such a move
-  // and the registrations are left out: a cheap map of the other drift
-  // rates the wall directions, known modulo a quarter turn, may fit about
-  // as well (MapOptimizer's drift test solves each it finds).
+  // driven to it), the building direction re-fitted for each delta, plus
+  // the registrations' and loop closures' heading residuals (each with its
+  // marginal heading sigma: a lower bound on what they add); one value per
+  // delta. The odometry factors and the registrations across exits (bent by
+  // the rate as the odometry is) do not change under such a move: a cheap
+  // map of the other drift rates the wall directions, known modulo a quarter
+  // turn, may fit about as well (MapOptimizer's drift test solves each it finds).
   std::vector<double> DirectionProfile(const std::vector<double>& deltas) const;
   // Holds every drift rate at zero (true) or lets them move again (false).
   void SetRatesFixedAtZero(bool fixed);

@@ -102,6 +102,16 @@ TEST(PoseGraph, DirectionProfileRepeatsEveryQuarterTurnOverThePath) {
   // Half-way the two rooms' walls are 45 degrees apart: at best each is
   // 22.5 degrees (22.5 sigma) from the building direction.
   EXPECT_GT(p[3], p[0] + 10.0);
+  // A loop closure between the two (node 1 seen from node 0, unbent, 1
+  // degree sigma) holds their relative heading: the quarter turn that fits
+  // the walls turns it by 90 degrees (Cauchy-weighted: 4 log(1 + (90/2)^2)
+  // / 2 and more).
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Identity() * 0.01;
+  cov(2, 2) = std::pow(DegToRad(1.0), 2);
+  g.AddRelative(0, 1, g.pose(0).inverse() * g.pose(1), cov, FactorKind::kLoopClosure, 2.0);
+  const std::vector<double> q = g.DirectionProfile({0.0, quarter});
+  EXPECT_NEAR(q[0], p[0], 1e-6);  // the closure fits the current poses
+  EXPECT_GT(q[1], q[0] + 0.5 * 4.0 * std::log1p(90.0 * 90.0 / 4.0) - 1e-6);
 }
 
 // The odometry of TurningOdometry's path as mapped with 'offset' removed:
