@@ -28,6 +28,8 @@ struct MapArgs {
   std::string mode = "default", boundary = "doorway", outputs = "default", geo_anchor, walls = "default";
   bool no_correct = false, no_drift_filter = false, no_graph = false, no_smooth = false;
   double add_drift_deg_per_m = 0.0;
+  double remove_drift_deg_per_m = 0.0;
+  bool second_pass = false;
   std::vector<std::string> topics;
 };
 
@@ -56,6 +58,7 @@ int RunMap(MapArgs& a) {
   job.mapping.drift_filter = !a.no_drift_filter;
   job.mapping.smooth = !a.no_smooth;
   job.mapping.add_drift_rad_per_m = DegToRad(a.add_drift_deg_per_m);
+  job.mapping.remove_drift_rad_per_m = DegToRad(a.remove_drift_deg_per_m);
   job.mapping.Validate();
   job.outputs = mapping::OutputChoice::Parse(a.outputs);
   if (!a.geo_anchor.empty()) job.geo_anchor = io::ParseGeoAnchor(a.geo_anchor);
@@ -67,7 +70,11 @@ int RunMap(MapArgs& a) {
     std::fprintf(stderr, "cogmap: %s\n", s.c_str());
   };
   // Bags: the topics, and the robot that names a point cloud's sonars.
-  auto log = io::OpenLog(job.log_path, io::MakeOpenOptions(job.log_format, a.topics, job.robot_spec));
+  const io::LogOpenOptions open_options = io::MakeOpenOptions(job.log_format, a.topics, job.robot_spec);
+  auto log = io::OpenLog(job.log_path, open_options);
+  job.second_pass = a.second_pass;
+  if (job.log_path != "-")  // standard input is read once
+    job.reopen_log = [&job, open_options] { return io::OpenLog(job.log_path, open_options); };
   const mapping::MapJobSummary s = mapping::RunMapJob(*log, job);
   bar.Finish();
   WarnSkipped(*log);
@@ -144,6 +151,15 @@ std::function<int()> SetupMap(CLI::App& sub) {
                "Pose graph: once the graph has pinned the odometry's drift rate, build the rooms mapped next on "
                "odometry with that drift removed (sharper walls under strong drift; not the default: on real "
                "logs the maps move both ways, docs/pose-graph.md 'Drift removed while mapping')");
+  sub.add_option("--remove-drift-deg-per-m", a->remove_drift_deg_per_m,
+                 "Pose graph: a heading drift known before the run (degrees per metre, CCW positive), removed "
+                 "inside every room while it is mapped; the graph still estimates the whole drift (what the "
+                 "second pass uses, docs/pose-graph.md 'Second pass')")
+      ->capture_default_str();
+  sub.add_flag("--second-pass", a->second_pass,
+               "Pose graph: when the map found a drift (kept, not ambiguous), map the log again with that drift "
+               "removed inside each room and write that map (walls that no longer lean with the drift; twice "
+               "the mapping time; not with --resume or standard input; docs/pose-graph.md 'Second pass')");
   sub.add_flag("--no-drift-filter", a->no_drift_filter,
                "With --no-graph: without the drift-rate filter (one EM rotation per ASR, odometry used as it "
                "comes). The pose graph estimates the drift itself and never uses the filter");

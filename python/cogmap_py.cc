@@ -258,6 +258,7 @@ py::object MapLog(const std::string& path, const std::string& output, const std:
   job.resume = resume;
   job.world = world;
   auto log = io::OpenLog(path, format);
+  if (path != "-") job.reopen_log = [path, format] { return io::OpenLog(path, format); };
   const mapping::MapJobSummary s = mapping::RunMapJob(*log, job);
   // report.json as the run wrote it (the job streams it, never holding it whole).
   std::ifstream in((std::filesystem::path(output) / "report.json").string());

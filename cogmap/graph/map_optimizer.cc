@@ -146,7 +146,9 @@ bool SameSpace(const std::vector<Vec2>& stored_path, const std::vector<FacedSegm
 }
 
 MapOptimizer::MapOptimizer(const MapOptimizerOptions& options)
-    : options_(options), estimator_(options.heading) {}
+    : options_(options), estimator_(options.heading) {
+  graph_.SetRatesHeldAtOffsets(options_.drift_known);
+}
 
 MapOptimizer::Node MapOptimizer::MakeNode(const asr::Asr& a) const {
   Node n;
@@ -802,7 +804,10 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
   const PoseGraph::State no_drift_state = graph_.Save();
   out.chi2 = 2.0 * (no_drift.final_cost - with_drift.final_cost);
   out.detected = out.chi2 > ChiSquareQuantile(options_.drift_test_probability, 1);
-  if (!out.detected) return out;
+  if (!out.detected) {
+    if (options_.drift_known) out.detected = true;  // held at the drift removed (SetRatesHeldAtOffsets)
+    return out;
+  }
   // Aliasing: wall directions known modulo 90 degrees and far apart are
   // fitted as well by a rate that turns the heading by a quarter turn
   // more between them (the start of the run counts as a direction: its
@@ -930,7 +935,7 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
                    : beats_alias ? "not corrected (no drift is about as likely)"
                                  : "not corrected (odds " + std::to_string(odds).substr(0, 4) +
                                        ":1 against its aliases: a coin toss)");
-  out.detected = keep;
+  out.detected = keep || options_.drift_known;
   return out;
 }
 
@@ -1143,7 +1148,7 @@ OptimizerResult MapOptimizer::Finish() {
   if (res.solution != "odometry") {
     // With the rates free even when the test kept them at zero: an
     // undetected drift is still a possible one, and the sigmas must say so.
-    const bool zero = !res.drift_detected;
+    const bool zero = graph_.RatesFixedAtZero();  // held (at zero, or at a drift known before the run)
     if (zero) graph_.SetRatesFixedAtZero(false);
     // The fitted sigma factors may shrink a kind of factor below its noise
     // model for the estimate; for the covariance they only inflate it. A

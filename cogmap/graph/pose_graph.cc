@@ -398,6 +398,7 @@ struct PoseGraph::Impl {
   std::vector<Factor> factors;
   std::vector<int> relative_index;  // AddRelative index -> factors index
   bool rates_zero = false;
+  bool held_at_offsets = false;  // SetRatesHeldAtOffsets: held rates equal their offsets, not zero
   bool has_rate_prior = false;  // the first chain's rate has its prior
   // Redundancies(): the information matrix's symbolic factorisation (its
   // fill-reducing ordering and elimination tree), kept while its pattern
@@ -444,7 +445,9 @@ PoseGraph::~PoseGraph() = default;
 
 int PoseGraph::AddNode(const Pose2& initial, bool fixed, double rate_offset) {
   impl_->nodes.push_back({initial.x, initial.y, initial.theta});
-  impl_->rates.push_back(0.0);
+  // The drift already removed from its measurements is the best first guess
+  // of its drift (0 when none was).
+  impl_->rates.push_back(rate_offset);
   impl_->offsets.push_back(rate_offset);
   impl_->fixed.push_back(fixed);
   return static_cast<int>(impl_->nodes.size()) - 1;
@@ -730,8 +733,10 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
 void PoseGraph::SetRatesFixedAtZero(bool fixed) {
   impl_->rates_zero = fixed;
   if (fixed)
-    for (double& r : impl_->rates) r = 0.0;
+    for (size_t n = 0; n < impl_->rates.size(); ++n) impl_->rates[n] = impl_->held_at_offsets ? impl_->offsets[n] : 0.0;
 }
+
+void PoseGraph::SetRatesHeldAtOffsets(bool on) { impl_->held_at_offsets = on; }
 
 bool PoseGraph::RatesFixedAtZero() const { return impl_->rates_zero; }
 

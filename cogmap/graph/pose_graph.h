@@ -169,6 +169,11 @@ class PoseGraph {
   // Holds every drift rate at zero (true) or lets them move again (false).
   void SetRatesFixedAtZero(bool fixed);
   bool RatesFixedAtZero() const;
+  // Held rates (SetRatesFixedAtZero(true)) equal each node's rate offset
+  // instead of zero: the nested hypothesis "no drift beyond what was
+  // removed while mapping", for a run mapped with a drift known before it
+  // (every node's offset that drift).
+  void SetRatesHeldAtOffsets(bool on);
   // Snapshot of all poses and rates, and its restoration.
   struct State {
     std::vector<Pose2> poses;

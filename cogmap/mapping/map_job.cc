@@ -164,34 +164,67 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
       if (!kept.empty() && job->notice) job->notice(kept + ": this run's partial result (the previous map is untouched)");
     }
   } set_aside{folder.get(), &job};
-  std::unique_ptr<asr::SqliteAsrStore> store = OpenStore(*folder, job.resume);
-  // report.json carries the same id: a reader can check that they belong together.
-  store->SetMeta("run_id", folder->run_id());
-  asr::SetRobotRadius(store.get(), robot.radius_m);
-  asr::SetSensorReach(store.get(), SensorReach(robot, job.mapping.window_m));
-
-  auto pipeline = std::make_unique<MappingPipeline>(robot, job.mapping, store.get());
-  if (job.resume) pipeline->Resume();
-  sensors::LogRecord rec;
-  try {
-    long n = 0;
-    while (log.Next(&rec)) {
-      pipeline->Push(rec);
-      if (++n % 256 == 0 && job.progress) job.progress(log.progress(), pipeline->asrs_closed());
-    }
-    pipeline->Finish();
-  } catch (...) {
-    // Every ASR closed before the bad line is in the staging store (one
-    // transaction each; the pipeline's threads finish storing the ones they
-    // hold as it goes); SetAsideOnFailure keeps it under failed-run-*. A new
-    // store that holds none is no partial result: no failed-run folder for it.
+  std::unique_ptr<asr::SqliteAsrStore> store;
+  std::unique_ptr<MappingPipeline> pipeline;
+  // One pass over a log into a new staging store (or the resumed one).
+  auto map_pass = [&](io::LogReader& from, const MappingOptions& mapping) {
     pipeline.reset();
-    if (!job.resume && store->Count() == 0) {
-      store.reset();
-      std::error_code ec;
-      for (const char* suffix : {"", "-wal", "-shm", "-journal"}) fs::remove(folder->Staged("map.sqlite") + suffix, ec);
+    store.reset();
+    store = OpenStore(*folder, job.resume);
+    // report.json carries the same id: a reader can check that they belong together.
+    store->SetMeta("run_id", folder->run_id());
+    asr::SetRobotRadius(store.get(), robot.radius_m);
+    asr::SetSensorReach(store.get(), SensorReach(robot, job.mapping.window_m));
+    pipeline = std::make_unique<MappingPipeline>(robot, mapping, store.get());
+    if (job.resume) pipeline->Resume();
+    sensors::LogRecord rec;
+    try {
+      long n = 0;
+      while (from.Next(&rec)) {
+        pipeline->Push(rec);
+        if (++n % 256 == 0 && job.progress) job.progress(from.progress(), pipeline->asrs_closed());
+      }
+      pipeline->Finish();
+    } catch (...) {
+      // Every ASR closed before the bad line is in the staging store (one
+      // transaction each; the pipeline's threads finish storing the ones they
+      // hold as it goes); SetAsideOnFailure keeps it under failed-run-*. A new
+      // store that holds none is no partial result: no failed-run folder for it.
+      pipeline.reset();
+      if (!job.resume && store->Count() == 0) {
+        store.reset();
+        std::error_code ec;
+        for (const char* suffix : {"", "-wal", "-shm", "-journal"}) fs::remove(folder->Staged("map.sqlite") + suffix, ec);
+      }
+      throw;
     }
-    throw;
+  };
+  map_pass(log, job.mapping);
+  // The second pass (MapJob::second_pass): the drift the first found, kept
+  // and not ambiguous, removed inside every room while the log is mapped
+  // again. The first pass's store is replaced; its figures go to report.json.
+  {
+    const RunResult& first = pipeline->result();
+    const graph::OptimizerResult& g = first.graph;
+    const bool wanted = job.second_pass && job.reopen_log && !job.resume && !job.mapping.pre_bend &&
+                        job.mapping.remove_drift_rad_per_m == 0.0 && first.correction == Correction::kPoseGraph &&
+                        g.drift_detected && !g.drift_alias_risk && g.solution != "odometry" &&
+                        g.drift_rate_rad_per_m != 0.0 && std::isfinite(g.drift_rate_rad_per_m);
+    if (wanted) {
+      const double rate = g.drift_rate_rad_per_m, sigma = g.drift_rate_sigma_rad_per_m;
+      const double first_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (job.notice) {
+        std::string text;
+        AppendF(&text, "second pass: the log mapped again with the drift found (%.3f deg/m) removed inside each room",
+                RadToDeg(rate));
+        job.notice(text);
+      }
+      std::unique_ptr<io::LogReader> again = job.reopen_log();
+      MappingOptions mapping = job.mapping;
+      mapping.remove_drift_rad_per_m = rate;
+      map_pass(*again, mapping);
+      pipeline->NoteSecondPass(rate, first_seconds, sigma);
+    }
   }
   const RunResult& run = pipeline->result();
   OutputContext ctx;

@@ -6,6 +6,7 @@
 // streaming part.
 #include <chrono>
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -51,6 +52,16 @@ struct MapJob {
   std::string world;                     // ground-truth world: room precision / recall
   std::optional<io::GeoAnchor> geo_anchor;  // map.geojson in WGS 84 at this anchor
   double px_per_m = 0.0;                 // pictures: this scale (0: fit 2000 px on the longest side)
+  // `cogmap map --second-pass` (pose graph): when the first pass finds a
+  // drift (kept, not ambiguous), the log is mapped again with that drift
+  // removed inside every room (MappingOptions::remove_drift_rad_per_m), so
+  // that the walls no longer lean with it, and that second map is the one
+  // written (docs/pose-graph.md, "Second pass"). Needs 'reopen_log' (a log
+  // that can be read again: not standard input); not with --resume,
+  // --pre-bend or a drift given with --remove-drift-deg-per-m. Not the
+  // default: --resume, the ROS node and Python's Mapper map in one pass.
+  bool second_pass = false;
+  std::function<std::unique_ptr<io::LogReader>()> reopen_log;
   // Progress: fraction of the log read, ASRs closed. Called every 256 records.
   std::function<void(double fraction, int asrs)> progress;
   // Messages for the user that cannot wait for the summary (a failed run's

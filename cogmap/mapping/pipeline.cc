@@ -47,6 +47,10 @@ void MappingOptions::Validate() const {
   if (threads < 1 || threads > 2) throw InputError("--threads " + std::to_string(threads) + ": must be 1 or 2");
   if (!std::isfinite(add_drift_rad_per_m) || std::abs(add_drift_rad_per_m) > DegToRad(90.0))
     throw InputError("--add-drift-deg-per-m " + Num(RadToDeg(add_drift_rad_per_m)) + ": must be in [-90, 90]");
+  if (!std::isfinite(remove_drift_rad_per_m) || std::abs(remove_drift_rad_per_m) > DegToRad(90.0))
+    throw InputError("--remove-drift-deg-per-m " + Num(RadToDeg(remove_drift_rad_per_m)) + ": must be in [-90, 90]");
+  if (remove_drift_rad_per_m != 0.0 && pre_bend)
+    throw InputError("--remove-drift-deg-per-m and --pre-bend: one drift removed while mapping, not both");
 }
 
 Correction MappingOptions::correction() const {
@@ -138,6 +142,7 @@ graph::MapOptimizerOptions GraphOptionsFor(const localize::HeadingCorrectionOpti
   g.heading = h;
   g.direction_split_m = o.direction_split_m;
   g.threads = o.threads;
+  g.drift_known = o.remove_drift_rad_per_m != 0.0;
   return g;
 }
 }  // namespace
@@ -175,6 +180,7 @@ MappingPipeline::MappingPipeline(sensors::RobotDescription robot, MappingOptions
       // vectorised and placed on the mapper's threads while the next is
       // mapped, the one before it is placed by then.
       if (options_.pre_bend) mapper_->SetPreBend(2, [this](int placed) { return PreBendAfter(placed); });
+      if (options_.remove_drift_rad_per_m != 0.0) mapper_->SetFixedPreBend(options_.remove_drift_rad_per_m);
       break;
     case Correction::kPerAsrEm:
       mapper_->SetCorrector([this](asr::Asr raw) { return KeepEstimate(corrector_.Close(std::move(raw))); });

@@ -50,6 +50,11 @@ struct MappingOptions {
   bool correct = true;                 // false: every ASR at its odometry pose
   bool pose_graph = true;              // default mode: the pose graph (false: the drift filter)
   bool pre_bend = false;               // pose graph, --pre-bend: the drift it has pinned is removed while the next rooms are mapped
+  // Pose graph: a drift known before the run (rad per metre, CCW), removed
+  // inside every room while it is mapped (asr::CognitiveMapper::SetFixedPreBend;
+  // the graph still estimates the whole drift). `cogmap map`'s second pass
+  // sets it to the drift its first pass found (MapJob::second_pass).
+  double remove_drift_rad_per_m = 0.0;
   bool drift_filter = true;            // without the graph: the drift-rate filter
   bool smooth = true;                  // drift filter: revise the run's corrections at the end
   double add_drift_rad_per_m = 0.0;    // a systematic heading drift added to the odometry (tests on real logs)
@@ -103,6 +108,12 @@ struct RunResult {
   int drift_rejects = 0;
   double drift_walk_rad_per_sqrt_m = 0.0;
   double drift_sigma_scale = 0.0;
+  // kPoseGraph, `cogmap map`'s second pass (MapJob::second_pass): the drift
+  // its first pass found, removed inside every room this time (0: one pass),
+  // and the first pass's figures.
+  double second_pass_drift_removed_rad_per_m = 0.0;
+  double first_pass_seconds = 0.0;
+  double first_pass_drift_rate_sigma_rad_per_m = 0.0;
   double duration_s() const { return last_time_s - first_time_s; }
 };
 
@@ -149,6 +160,12 @@ class MappingPipeline {
   const sensors::RobotDescription& robot() const { return robot_; }
   const MappingOptions& options() const { return options_; }
   const RunResult& result() const { return result_; }
+  // `cogmap map`'s second pass: what its first pass found (RunResult's second_pass fields).
+  void NoteSecondPass(double removed_rad_per_m, double first_pass_seconds, double first_pass_sigma_rad_per_m) {
+    result_.second_pass_drift_removed_rad_per_m = removed_rad_per_m;
+    result_.first_pass_seconds = first_pass_seconds;
+    result_.first_pass_drift_rate_sigma_rad_per_m = first_pass_sigma_rad_per_m;
+  }
   // The mapper itself (the open room's grid, statistics), read-only.
   const asr::CognitiveMapper& mapper() const { return *mapper_; }
 

@@ -199,6 +199,13 @@ void WriteReport(const ReportContext& c, std::ostream& out) {
     int bent = 0;
     for (const AsrSummary& s : run.asrs) bent += s.pre_bend_rad_per_m != 0.0 ? 1 : 0;
     report["pose_graph"]["pre_bent_asrs"] = bent;
+    if (run.second_pass_drift_removed_rad_per_m != 0.0)
+      report["pose_graph"]["second_pass"] = {
+          {"drift_removed_deg_per_m", RadToDeg(run.second_pass_drift_removed_rad_per_m)},
+          {"first_pass_drift_sigma_deg_per_m", RadToDeg(run.first_pass_drift_rate_sigma_rad_per_m)},
+          {"first_pass_seconds", run.first_pass_seconds}};
+    else
+      report["pose_graph"]["second_pass"] = nullptr;
   }
   for (const auto& [k, v] : localize::HeadingErrorEvalKeys(*c.heading)) report[k] = v;
   if (c.room_metrics) {
