@@ -3,7 +3,7 @@
 # demo's run): the first pass finds the drift, the log is mapped again with
 # it removed inside every room, and that map is written. Its walls no
 # longer lean with the drift inside each room: their p95 must beat the
-# one-pass map's (0.438 against 0.306 m when written), report.json must name
+# one-pass map's (0.370 against 0.331 m when written), report.json must name
 # the drift removed (near the 1 deg/m added), and without a drift found
 # (no drift added) the run must stay at one pass.
 #   tests/second_pass_test.sh COGMAP WORLD
