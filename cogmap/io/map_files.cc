@@ -26,7 +26,8 @@ std::vector<Vec2> Footprint(const MasterRoom& room) {
 
 }  // namespace
 
-MasterMap BuildMasterMap(const std::vector<asr::Asr>& asrs, bool corrected) {
+MasterMap BuildMasterMap(const std::vector<asr::Asr>& asrs, bool corrected,
+                         std::map<int, std::vector<Pose2>>* placed_paths) {
   MasterMap map;
   std::map<int, Pose2> correction;  // raw world -> map frame, per ASR
   for (const auto& a : asrs) {
@@ -37,9 +38,18 @@ MasterMap BuildMasterMap(const std::vector<asr::Asr>& asrs, bool corrected) {
     room.id = a.id;
     room.walls = Transform(place, a.walls_local);
     Vec2 sum(0, 0);
-    for (const auto& p : a.path) {
-      room.path.push_back(corr * p.translation());
-      sum += room.path.back();
+    auto placed = placed_paths && corrected ? placed_paths->find(a.id) : std::map<int, std::vector<Pose2>>::iterator{};
+    if (placed_paths && corrected && placed != placed_paths->end() && !placed->second.empty()) {
+      for (const auto& p : placed->second) {
+        room.path.push_back(p.translation());
+        sum += room.path.back();
+      }
+      std::vector<Pose2>().swap(placed->second);
+    } else {
+      for (const auto& p : a.path) {
+        room.path.push_back(corr * p.translation());
+        sum += room.path.back();
+      }
     }
     room.label_m = room.path.empty() ? place.translation() : Vec2(sum / static_cast<double>(room.path.size()));
     map.rooms.push_back(std::move(room));

@@ -1,5 +1,6 @@
 #pragma once
 #include <string>
+#include <map>
 #include <vector>
 
 #include "cogmap/asr/asr.h"
@@ -32,8 +33,12 @@ struct MasterMap {
 
 // Places the ASRs (by world_from_local_corrected, or _raw when !corrected).
 // Exit centres are recorded in the raw frame; they follow the correction of
-// the ASR they lead out of.
-MasterMap BuildMasterMap(const std::vector<asr::Asr>& asrs, bool corrected = true);
+// the ASR they lead out of. 'placed_paths' (corrected only; optional): each
+// ASR's path as the correction placed it, the drift inside the ASR removed
+// (asr::Placement::corrected_path), drawn instead of its raw path moved as
+// a whole (which leans with that drift); each entry used is freed.
+MasterMap BuildMasterMap(const std::vector<asr::Asr>& asrs, bool corrected = true,
+                         std::map<int, std::vector<Pose2>>* placed_paths = nullptr);
 
 // The master map's pictures (map.svg, map.png) are drawn by cogmap/draw
 // (draw::DrawMasterMap, draw::WriteMasterMapPictures).

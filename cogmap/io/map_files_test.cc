@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -68,6 +69,25 @@ TEST(MasterMap, UsesTheCorrectedPoseAndCarriesExits) {
   EXPECT_NEAR(m.exits[0].center_m.x(), -1.5, 1e-12);  // (4, 1.5) rotated by 90 degrees
   const MasterMap raw = BuildMasterMap(asrs, false);
   EXPECT_NEAR(raw.rooms[0].walls[0][1].x(), 4.0, 1e-12);
+}
+
+// A path as the correction placed it (the drift inside its ASR removed) is
+// drawn as it is, not the raw path moved as a whole; an ASR without one
+// keeps its raw path moved; the raw map ignores them.
+TEST(MasterMap, DrawsEachPathAsPlaced) {
+  const auto asrs = TwoAsrs();
+  std::map<int, std::vector<Pose2>> placed;
+  placed[0] = {{0.5, 1.0, 0.0}, {1.5, 1.0, 0.0}, {2.5, 1.0, 0.0}};
+  const MasterMap m = BuildMasterMap(asrs, true, &placed);
+  ASSERT_EQ(m.rooms[0].path.size(), 3u);
+  EXPECT_EQ(m.rooms[0].path[2], Vec2(2.5, 1.0));
+  EXPECT_NEAR(m.rooms[0].label_m.x(), 1.5, 1e-12);
+  EXPECT_TRUE(placed[0].empty());  // freed once copied
+  ASSERT_EQ(m.rooms[1].path.size(), asrs[1].path.size());
+  EXPECT_EQ(m.rooms[1].path[0], asrs[1].path[0].translation());
+  placed[0] = {{0.5, 1.0, 0.0}};
+  const MasterMap raw = BuildMasterMap(asrs, false, &placed);
+  EXPECT_EQ(raw.rooms[0].path.size(), asrs[0].path.size());
 }
 
 TEST(MapFiles, MapServerPairLoadsWithWallsOccupied) {

@@ -279,9 +279,10 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   std::set<int> placed_ids;  // the ASRs with a placed path
   for (const auto& [id, p] : placed_paths)
     if (!p.empty()) placed_ids.insert(id);
+  // The master map: each path as placed (the drift inside its ASR removed),
+  // each placed path freed as it is copied.
+  io::MasterMap master = io::BuildMasterMap(all, !job.raw, job.raw ? nullptr : &placed_paths);
   std::map<int, std::vector<Pose2>>().swap(placed_paths);
-  // The master map.
-  io::MasterMap master = io::BuildMasterMap(all, !job.raw);
   MapJobSummary out;
   out.written = {"map.sqlite"};
   // walls.json for `cogmap eval` (the master map's walls; map frame = the raw
