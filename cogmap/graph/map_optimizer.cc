@@ -828,9 +828,9 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
   // (PoseGraph::DirectionProfile: the odometry does not resist such a
   // change, the loop closures do) is sampled at a sixteenth of its finest
   // period (a quarter turn over the whole path) for every rate within the
-  // prior's 3 sigma; its lowest local minima
-  // outside the drift's own basin are each solved from their own
-  // dead-reckoned start. A quarter turn more over the longest stretch
+  // prior's 3 sigma; its lowest local minima outside the drift's own basin
+  // are each solved from their own dead-reckoned start (at most
+  // max_drift_aliases). A quarter turn more over the longest stretch
   // without a wall direction is one such rate; on a long sonar run with few
   // directions there are many (CARMEN intel as a 16-sonar ring, 1 deg/m
   // added: minima every 0.2-0.4 deg/m, five of them within the test's
