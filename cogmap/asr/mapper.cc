@@ -301,11 +301,9 @@ void CognitiveMapper::Start(const Pose2& entry_pose, double time_s, const std::o
   Asr& a = current_->asr;
   a.id = next_id_++;
   if (pre_bend_ && !odometry_filter_ && a.id - pre_bend_lag_ >= 0) {
-    if (worker_) worker_->WaitPlaced(a.id - pre_bend_lag_);
+    if (worker_ && pre_bend_lag_ > 0) worker_->WaitPlaced(a.id - pre_bend_lag_);
     const double rate = pre_bend_(a.id - pre_bend_lag_);
     a.pre_bend_rad_per_m = std::isfinite(rate) ? rate : 0.0;
-  } else if (fixed_pre_bend_ != 0.0 && !odometry_filter_) {
-    a.pre_bend_rad_per_m = fixed_pre_bend_;
   }
   a.world_from_local_raw = Pose2{entry_pose.x, entry_pose.y, 0.0};
   a.world_from_local_corrected = a.world_from_local_raw;

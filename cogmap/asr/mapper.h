@@ -162,17 +162,15 @@ class CognitiveMapper {
   // CorrectedPath does), and records that rate in Asr::pre_bend_rad_per_m.
   // The path it keeps stays raw. With the rate of an ASR 'lag' back, the
   // rooms come out the same with the placing done on another thread or not.
+  // lag 0: a rate known before the run (the second pass of `cogmap map`,
+  // mapping::MappingOptions::remove_drift_rad_per_m), asked with the room's
+  // own id and waiting for nothing: every room, the first included, is bent.
   // Before the first Push.
   using PreBend = std::function<double(int placed_id)>;
   void SetPreBend(int lag, PreBend rate_after) {
-    pre_bend_lag_ = std::max(1, lag);
+    pre_bend_lag_ = std::max(0, lag);
     pre_bend_ = std::move(rate_after);
   }
-  // A drift rate known before the run (the second pass of `cogmap map`,
-  // mapping::MappingOptions::remove_drift_rad_per_m): every room, the first
-  // included, is built on its odometry re-integrated under it, as SetPreBend
-  // does. Before the first Push; not with SetPreBend.
-  void SetFixedPreBend(double rate_rad_per_m) { fixed_pre_bend_ = rate_rad_per_m; }
   // Before the first Push.
   void Resume(const MapperResume& resume);
 
@@ -244,7 +242,6 @@ class CognitiveMapper {
   OdometryFilter odometry_filter_;
   PreBend pre_bend_;
   int pre_bend_lag_ = 2;
-  double fixed_pre_bend_ = 0.0;
   BoundaryDetector detector_;
   std::unique_ptr<Current> current_;
   bool seen_truth_ = false;  // the log has ground truth: sample paths only at records with it

@@ -803,7 +803,8 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
   const PoseGraph::SolveSummary no_drift = graph_.Solve(0, options_.full_iterations);
   const PoseGraph::State no_drift_state = graph_.Save();
   out.chi2 = 2.0 * (no_drift.final_cost - with_drift.final_cost);
-  out.detected = out.chi2 > ChiSquareQuantile(options_.drift_test_probability, 1);
+  const double quantile = ChiSquareQuantile(options_.drift_test_probability, 1);
+  out.detected = out.chi2 > quantile;
   if (!out.detected) {
     if (options_.drift_known) out.detected = true;  // held at the drift removed (SetRatesHeldAtOffsets)
     return out;
@@ -868,10 +869,9 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
       while (home > 0 && profile[home - 1] < profile[home]) --home;
       while (home + 1 < n_d && profile[home + 1] < profile[home]) ++home;
       std::vector<size_t> cands;
-      const double q = ChiSquareQuantile(options_.drift_test_probability, 1);
       for (size_t k = 1; k + 1 < n_d; ++k)
         if (k != home && profile[k] <= profile[k - 1] && profile[k] <= profile[k + 1] &&
-            2.0 * (profile[k] - profile[home]) < 2.0 * q)
+            2.0 * (profile[k] - profile[home]) < 2.0 * quantile)
           cands.push_back(k);
       std::sort(cands.begin(), cands.end(), [&](size_t a, size_t b) { return profile[a] < profile[b]; });
       if (cands.size() > static_cast<size_t>(options_.max_drift_aliases)) cands.resize(options_.max_drift_aliases);
@@ -905,7 +905,7 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
     const double d = 2.0 * (minima[k].cost - minima[best].cost);
     out.alias_chi2 = std::min(out.alias_chi2, d);
     alias_weight += std::exp(-0.5 * d);
-    if (d < ChiSquareQuantile(options_.drift_test_probability, 1)) {
+    if (d < quantile) {
       out.alias_risk = true;
       ++close;
     }
@@ -917,8 +917,7 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
   const double strict = ChiSquareQuantile(1.0 - (1.0 - options_.drift_test_probability) / (1 + std::max(2, solved)), 1);
   const double odds = alias_weight > 0.0 ? 1.0 / alias_weight : std::numeric_limits<double>::infinity();
   const bool beats_alias = odds >= std::max(1.0, options_.alias_min_odds);
-  const bool keep = (!out.alias_risk && out.chi2 > ChiSquareQuantile(options_.drift_test_probability, 1)) ||
-                    (out.chi2 > strict && beats_alias);
+  const bool keep = !out.alias_risk || (out.chi2 > strict && beats_alias);
   if (keep) {
     graph_.SetRatesFixedAtZero(false);
     graph_.Restore(drift_state);

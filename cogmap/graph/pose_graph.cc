@@ -244,6 +244,12 @@ struct DirectionCost {
   double scale = 1.0;   // 1 / the variance components' factor on sigma
   double s_spread = 0.0;  // 1-sigma spread of where along the path the walls were seen
   double bend = 0.0;      // s_spread x |the rate left| at the last update (SetDirectionBend)
+  // The factor's 1-sigma: the measurement's (scaled by the variance
+  // components) with the bend error, at least the floor.
+  double Sigma() const {
+    const double m = sigma / scale;
+    return std::max({floor, std::sqrt(m * m + bend * bend), 1e-9});
+  }
   template <typename T>
   bool operator()(const T* pi, const T* phi, const T* rate, T* r) const {
     // Walls seen after driving s from the ASR's origin were placed with a
@@ -252,8 +258,7 @@ struct DirectionCost {
     // direction is corrected by the mean.
     const T v = pi[2] + T(d) - (rate[0] - T(offset)) * T(s_mean) - phi[0];
     const double k = std::round(Value(v) / kQuarter);  // nearest of the four branches
-    const double m = sigma / scale;
-    r[0] = (v - T(k * kQuarter)) / T(std::max({floor, std::sqrt(m * m + bend * bend), 1e-9}));
+    r[0] = (v - T(k * kQuarter)) / T(Sigma());
     return true;
   }
 };
@@ -648,7 +653,8 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
   // Each enabled direction factor's residual angle at delta = 0 (before
   // the branch is chosen), its change per unit of delta, its sigma and loss.
   struct Term {
-    double v0, slope, inv_sigma2, c2;
+    double v0, slope, inv_sigma2;
+    const ceres::LossFunction* loss;  // may be null
   };
   std::vector<Term> terms;
   for (const auto& f : m.factors) {
@@ -656,10 +662,8 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
     const DirectionCost& d = *f.direction;
     const double rate = m.rates[f.i] - d.offset;
     const double v0 = m.nodes[f.i][2] + d.d - rate * d.s_mean - m.phi;
-    const double ms = d.sigma / d.scale;
-    const double sigma = std::max({d.floor, std::sqrt(ms * ms + d.bend * d.bend), 1e-9});
-    const double c = f.cauchy_scale > 0.0 ? f.cauchy_scale : 0.0;
-    terms.push_back({v0, turn[f.i] - d.s_mean, 1.0 / (sigma * sigma), c * c});
+    const double sigma = d.Sigma();
+    terms.push_back({v0, turn[f.i] - d.s_mean, 1.0 / (sigma * sigma), f.loss.get()});
   }
   // The registrations and loop closures: a common rate change turns node j
   // against node i by delta x the distance driven between them, and each
@@ -668,7 +672,8 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
   // registration is bent by node i's path to node j). Their headings alone,
   // with their marginal sigma: a lower bound on what they add.
   struct Heading {
-    double e0, slope, inv_sigma2, c2;
+    double e0, slope, inv_sigma2;
+    const ceres::LossFunction* loss;
   };
   std::vector<Heading> headings;
   for (const auto& f : m.factors) {
@@ -679,14 +684,16 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
     const double measured = f.rel_theta - ri * f.bend_s_i + rj * f.bend_s_j;
     const double e0 = NormalizeAngle(m.nodes[f.j][2] - m.nodes[f.i][2] - measured);
     const double scale = f.scale ? *f.scale : 1.0;
-    const double c = f.cauchy_scale > 0.0 ? f.cauchy_scale : 0.0;
-    headings.push_back({e0, slope, scale * scale / f.rel_heading_var, c * c});
+    headings.push_back({e0, slope, scale * scale / f.rel_heading_var, f.loss.get()});
   }
   if (terms.empty()) return out;
   auto fold = [](double a) { return a - kQuarter * std::round(a / kQuarter); };
-  // Half the robust chi^2 of a whitened squared residual, and its slope.
-  auto rho = [](double s, double c2) { return c2 > 0.0 ? c2 * std::log1p(s / c2) : s; };
-  auto drho = [](double s, double c2) { return c2 > 0.0 ? 1.0 / (1.0 + s / c2) : 1.0; };
+  // A whitened squared residual through a factor's loss: rho(s) and rho'(s).
+  auto robust = [](const ceres::LossFunction* loss, double s) {
+    double r[3] = {s, 1.0, 0.0};
+    if (loss) loss->Evaluate(s, r);
+    return std::pair<double, double>(r[0], r[1]);
+  };
   std::vector<double> a(terms.size());
   for (size_t k = 0; k < deltas.size(); ++k) {
     for (size_t t = 0; t < terms.size(); ++t) a[t] = terms[t].v0 + deltas[k] * terms[t].slope;
@@ -702,7 +709,7 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
       double c = 0.0;
       for (size_t t = 0; t < terms.size(); ++t) {
         const double e = fold(a[t] - phi);
-        c += rho(e * e * terms[t].inv_sigma2, terms[t].c2);
+        c += robust(terms[t].loss, e * e * terms[t].inv_sigma2).first;
       }
       return 0.5 * c;
     };
@@ -711,7 +718,7 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
         double num = 0.0, den = 0.0;
         for (size_t t = 0; t < terms.size(); ++t) {
           const double e = fold(a[t] - phi);
-          const double w = terms[t].inv_sigma2 * drho(e * e * terms[t].inv_sigma2, terms[t].c2);
+          const double w = terms[t].inv_sigma2 * robust(terms[t].loss, e * e * terms[t].inv_sigma2).second;
           num += w * e;
           den += w;
         }
@@ -723,7 +730,7 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
     double rest = 0.0;
     for (const Heading& h : headings) {
       const double e = NormalizeAngle(h.e0 + deltas[k] * h.slope);
-      rest += rho(e * e * h.inv_sigma2, h.c2);
+      rest += robust(h.loss, e * e * h.inv_sigma2).first;
     }
     out[k] = std::min(refit(0.0), refit(0.25 * std::atan2(sy, sx))) + 0.5 * rest;
   }

@@ -180,7 +180,8 @@ MappingPipeline::MappingPipeline(sensors::RobotDescription robot, MappingOptions
       // vectorised and placed on the mapper's threads while the next is
       // mapped, the one before it is placed by then.
       if (options_.pre_bend) mapper_->SetPreBend(2, [this](int placed) { return PreBendAfter(placed); });
-      if (options_.remove_drift_rad_per_m != 0.0) mapper_->SetFixedPreBend(options_.remove_drift_rad_per_m);
+      if (const double known = options_.remove_drift_rad_per_m; known != 0.0)
+        mapper_->SetPreBend(0, [known](int) { return known; });
       break;
     case Correction::kPerAsrEm:
       mapper_->SetCorrector([this](asr::Asr raw) { return KeepEstimate(corrector_.Close(std::move(raw))); });

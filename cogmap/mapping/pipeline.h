@@ -51,7 +51,7 @@ struct MappingOptions {
   bool pose_graph = true;              // default mode: the pose graph (false: the drift filter)
   bool pre_bend = false;               // pose graph, --pre-bend: the drift it has pinned is removed while the next rooms are mapped
   // Pose graph: a drift known before the run (rad per metre, CCW), removed
-  // inside every room while it is mapped (asr::CognitiveMapper::SetFixedPreBend;
+  // inside every room while it is mapped (asr::CognitiveMapper::SetPreBend, lag 0;
   // the graph still estimates the whole drift). `cogmap map`'s second pass
   // sets it to the drift its first pass found (MapJob::second_pass).
   double remove_drift_rad_per_m = 0.0;

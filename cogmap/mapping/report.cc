@@ -202,7 +202,9 @@ void WriteReport(const ReportContext& c, std::ostream& out) {
     if (run.second_pass_drift_removed_rad_per_m != 0.0)
       report["pose_graph"]["second_pass"] = {
           {"drift_removed_deg_per_m", RadToDeg(run.second_pass_drift_removed_rad_per_m)},
-          {"first_pass_drift_sigma_deg_per_m", RadToDeg(run.first_pass_drift_rate_sigma_rad_per_m)},
+          {"first_pass_drift_sigma_deg_per_m", run.first_pass_drift_rate_sigma_rad_per_m >= 0.0
+                                                   ? nlohmann::json(RadToDeg(run.first_pass_drift_rate_sigma_rad_per_m))
+                                                   : nlohmann::json(nullptr)},
           {"first_pass_seconds", run.first_pass_seconds}};
     else
       report["pose_graph"]["second_pass"] = nullptr;
