@@ -5,7 +5,8 @@
 # longer lean with the drift inside each room: their p95 must beat the
 # one-pass map's (0.370 against 0.331 m when written), report.json must name
 # the drift removed (near the 1 deg/m added), and without a drift found
-# (no drift added) the run must stay at one pass.
+# (no drift added) the run must stay at one pass, and say so, as on standard
+# input (read once).
 #   tests/second_pass_test.sh COGMAP WORLD
 set -eu
 cogmap=$1 world=$2
@@ -15,7 +16,8 @@ trap 'rm -rf "$work"' EXIT
 "$cogmap" simulate "$world" --robot pioneer16 --route --seed 1 --drift-deg-per-m 0 -o "$work/none.log" > /dev/null
 "$cogmap" map "$work/drift.log" --outputs geojson -o "$work/one" > /dev/null 2>&1
 "$cogmap" map "$work/drift.log" --outputs geojson --second-pass -o "$work/two" > /dev/null 2> "$work/err"
-"$cogmap" map "$work/none.log" --outputs geojson --second-pass -o "$work/none" > /dev/null 2>&1
+"$cogmap" map "$work/none.log" --outputs geojson --second-pass -o "$work/none" > /dev/null 2> "$work/none.err"
+"$cogmap" map - --outputs geojson --second-pass -o "$work/stdin" < "$work/drift.log" > /dev/null 2> "$work/stdin.err"
 for d in one two; do "$cogmap" eval "$work/$d" --world "$world" --json > "$work/$d.json"; done
 python3 - "$work" <<'PY'
 import json, os, sys
@@ -37,4 +39,11 @@ if not two["ate_rmse_m"] < 1.2 * one["ate_rmse_m"]:
     sys.exit("the second pass placed the rooms worse")
 if pg0["second_pass"] is not None:
     sys.exit("a run without drift made a second pass")
+# Asked for and not made: said why.
+if "second pass not made: no drift found" not in open(os.path.join(w, "none.err")).read():
+    sys.exit("a second pass not made without drift was not said")
+if "second pass not made: the log cannot be read again" not in open(os.path.join(w, "stdin.err")).read():
+    sys.exit("a second pass not made on standard input was not said")
+if json.load(open(os.path.join(w, "stdin", "report.json")))["pose_graph"]["second_pass"] is not None:
+    sys.exit("standard input was read twice")
 PY

@@ -206,11 +206,19 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   {
     const RunResult& first = pipeline->result();
     const graph::OptimizerResult& g = first.graph;
-    const bool wanted = job.second_pass && job.reopen_log && !job.resume && !job.mapping.pre_bend &&
-                        job.mapping.remove_drift_rad_per_m == 0.0 && first.correction == Correction::kPoseGraph &&
-                        g.drift_detected && !g.drift_alias_risk && g.solution != "odometry" &&
-                        g.drift_rate_rad_per_m != 0.0 && std::isfinite(g.drift_rate_rad_per_m);
-    if (wanted) {
+    // Why a second pass asked for is not made ("": it is).
+    std::string not_made;
+    if (!job.reopen_log) not_made = "the log cannot be read again (standard input)";
+    else if (job.resume) not_made = "not with --resume";
+    else if (job.mapping.pre_bend) not_made = "not with --pre-bend";
+    else if (job.mapping.remove_drift_rad_per_m != 0.0) not_made = "a drift was given (--remove-drift-deg-per-m)";
+    else if (first.correction != Correction::kPoseGraph) not_made = "only with the pose graph";
+    else if (g.solution == "odometry") not_made = "the map was left at its odometry";
+    else if (!g.drift_detected || g.drift_rate_rad_per_m == 0.0 || !std::isfinite(g.drift_rate_rad_per_m))
+      not_made = "no drift found";
+    else if (g.drift_alias_risk) not_made = "the drift found is ambiguous";
+    if (job.second_pass && !not_made.empty() && job.notice) job.notice("second pass not made: " + not_made);
+    if (job.second_pass && not_made.empty()) {
       const double rate = g.drift_rate_rad_per_m, sigma = g.drift_rate_sigma_rad_per_m;
       const double first_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       if (job.notice) {
