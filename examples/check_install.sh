@@ -10,7 +10,7 @@ build=$(cd "$1" && pwd); src=$(cd "$2" && pwd); shared=$(cd "$3" && pwd)
 work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
 prefix=$work/prefix
 
-cmake --install "$build" --prefix "$prefix" >/dev/null
+cmake --install "$build" --prefix "$prefix" --strip >/dev/null
 test -x "$prefix/bin/cogmap"
 test -f "$prefix/lib/cmake/cogmap/cogmapConfig.cmake" || test -f "$prefix"/lib/*/cmake/cogmap/cogmapConfig.cmake
 test -f "$prefix/include/cogmap/mapping/pipeline.h"
@@ -38,4 +38,9 @@ contents=$(dpkg-deb -c "$deb"); info=$(dpkg-deb -I "$deb")
 grep -q "usr/bin/cogmap$" <<<"$contents"
 grep -q "cogmapConfig.cmake$" <<<"$contents"
 grep -q "Package: cogmap" <<<"$info"
+# Stripped (CPACK_STRIP_FILES): no debug sections in the packaged command.
+dpkg-deb -x "$deb" "$work/unpacked"
+if readelf -S "$work/unpacked/usr/bin/cogmap" | grep -q "\.debug_info"; then
+  echo "the packaged cogmap keeps its debug info" >&2; exit 1
+fi
 echo "package: $(basename "$deb") $(du -k "$deb" | cut -f1) KiB"
