@@ -87,6 +87,13 @@ struct Asr {
   // run matches what the uninterrupted run matched.
   bool has_matched_walls = false;
   std::vector<Polyline> matched_walls_local;
+  // Transient: per vertex of walls_local (and of output_walls_local) the
+  // distance the robot had driven in the ASR when the echoes there were
+  // heard, the mean over the grid's hits within two cells (NaN: none); the
+  // pose graph bends each vertex by the drift at that distance. Empty: not
+  // known (then the nearest path pose stands in).
+  std::vector<std::vector<double>> walls_seen_s;
+  std::vector<std::vector<double>> output_walls_seen_s;
   // The drift rate (rad per metre) removed inside the ASR while its grids were
   // built (default mode, asr::CognitiveMapper::SetPreBend): each odometry step
   // re-integrated from the ASR's entry turned by -rate x the distance driven,

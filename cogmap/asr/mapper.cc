@@ -348,8 +348,16 @@ void CognitiveMapper::Feed(const sensors::LogRecord& record, const Pose2& raw_od
   Current& c = *current_;
   const auto t0 = Clock::now();
   const Pose2 at = c.Bent(c.local_from_world * record.odom);
+  // Where along the path these echoes are heard from (the path's poses as
+  // the pose graph's bend counts them, then the way to this record).
+  const double seen_s =
+      c.path_s + (c.asr.path.empty() ? 0.0 : (record.odom.translation() - c.asr.path.back().translation()).norm());
+  c.grid->SetDistance(seen_s);
   c.grid->InsertSweep(at, robot_, record.ranges);
-  if (c.cone_grid) c.cone_grid->InsertSweep(at, robot_, record.ranges);
+  if (c.cone_grid) {
+    c.cone_grid->SetDistance(seen_s);
+    c.cone_grid->InsertSweep(at, robot_, record.ranges);
+  }
   c.asr.seconds.grid += Since(t0);
   stats_.peak_grid_cells = std::max<int64_t>(stats_.peak_grid_cells, c.grid->limits().cell_count());
   // The path is sampled every path_step_m of odometry. When the log has
@@ -366,6 +374,7 @@ void CognitiveMapper::Feed(const sensors::LogRecord& record, const Pose2& raw_od
   const bool moved =
       path.empty() || (path.back().translation() - record.odom.translation()).norm() >= options_.path_step_m - 1e-9;
   if (moved && (record.truth || !seen_truth_)) {
+    if (!path.empty()) c.path_s += (record.odom.translation() - path.back().translation()).norm();
     path.push_back(record.odom);
     c.asr.path_turn_rad.push_back(path.size() == 1 ? 0.0 : c.turn_acc);
     c.turn_acc = 0.0;
@@ -414,10 +423,26 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
   Deliver(out);
 }
 
+namespace {
+// Per vertex of 'walls', the distance driven when the hits within two cells
+// of it were heard (HimmFusion::HitDistance; NaN: none).
+std::vector<std::vector<double>> SeenDistances(const grid::HimmFusion& grid, const std::vector<Polyline>& walls) {
+  std::vector<std::vector<double>> out(walls.size());
+  const double radius = 2.0 * grid.limits().cell_m();
+  for (size_t i = 0; i < walls.size(); ++i)
+    for (const Vec2& p : walls[i]) {
+      const std::optional<double> s = grid.HitDistance(p, radius);
+      out[i].push_back(s ? *s : std::numeric_limits<double>::quiet_NaN());
+    }
+  return out;
+}
+}  // namespace
+
 void CognitiveMapper::BuildWalls(Current& c) {
   Asr& a = c.asr;
   const vectorize::VectorizeResult v = vectorize::Vectorize(c.grid->values(), options_.vectorize);
   a.walls_local = v.polylines;
+  a.walls_seen_s = SeenDistances(*c.grid, a.walls_local);
   a.bytes.grid = v.bytes.grid;
   a.bytes.vertices = v.bytes.vertices;
   a.bytes.polylines = v.bytes.polylines;
@@ -449,6 +474,7 @@ Asr CognitiveMapper::Place(std::unique_ptr<Current> closing, const Pose2& last_r
     const auto t0 = Clock::now();
     vectorize::VectorizeResult kept = vectorize::Vectorize(c.cone_grid->values(), options_.vectorize);
     a.output_walls_local = std::move(kept.polylines);
+    a.output_walls_seen_s = SeenDistances(*c.cone_grid, a.output_walls_local);
     a.has_output_walls = true;
     // The sizes are those of the walls kept (the grid's, of the axis grid).
     a.bytes.vertices = kept.bytes.vertices;

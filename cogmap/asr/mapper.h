@@ -207,6 +207,9 @@ class CognitiveMapper {
     // local position, the bent position and the distance driven so far.
     Vec2 bend_last{0.0, 0.0}, bend_at{0.0, 0.0};
     double bend_s = 0.0;
+    // The distance along asr.path to its last pose (the grids' hits are
+    // tagged with it plus the way from there: HimmFusion::SetDistance).
+    double path_s = 0.0;
     // The turn summed since the last path pose (Asr::path_turn_rad).
     double turn_acc = 0.0, turn_last = 0.0;
     bool turn_started = false;

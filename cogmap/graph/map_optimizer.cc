@@ -180,6 +180,14 @@ MapOptimizer::Node MapOptimizer::MakeNode(const asr::Asr& a) const {
   n.walls = a.has_matched_walls ? a.matched_walls_local : a.walls_local;
   if (a.has_output_walls) n.output_walls = a.output_walls_local;
   else if (a.has_matched_walls) n.output_walls = a.walls_local;
+  for (const asr::Exit& e : a.exits)
+    n.exits_local.emplace_back(a.world_from_local_raw.inverse() * e.center_m, 0.5 * e.width_m);
+  // Where each vertex was seen from: known for the ASRs of this run as
+  // mapped (walls_local, output_walls_local), not for stored ones.
+  if (!a.has_matched_walls) {
+    n.walls_seen_s = a.walls_seen_s;
+    if (a.has_output_walls) n.output_walls_seen_s = a.output_walls_seen_s;
+  }
   n.faces = FaceWalls(n.walls, n.path_local);
   // The samples and the face index are made again when a loop closure needs
   // them (TryLoopClosures, a few candidates per ASR) rather than kept for
@@ -752,12 +760,45 @@ MapOptimizer::Consistency MapOptimizer::MapConsistency(const std::vector<Pose2>&
     std::sort(others.begin(), others.end());
     others.erase(std::unique(others.begin(), others.end()), others.end());
     others.erase(std::remove(others.begin(), others.end(), static_cast<int>(i)), others.end());
-    for (int j : others) out.crossings += PathWallCrossings(walls[j], paths[i]);
+    // The path away from the doorways of i and of each other ASR j: its
+    // pieces between them (consistency_door_margin_m).
+    auto near_door = [&](const Vec2& m, size_t of) {
+      for (const auto& [c, half] : nodes_[of].exits_local)
+        if ((m - poses[of] * c).norm() <= half + options_.consistency_door_margin_m) return true;
+      return false;
+    };
+    const double margin = options_.consistency_door_margin_m;
+    std::vector<char> at_own_door(paths[i].size(), 0);
+    if (margin > 0.0)
+      for (size_t k = 1; k < paths[i].size(); ++k) at_own_door[k] = near_door(0.5 * (paths[i][k] + paths[i][k - 1]), i);
+    for (int j : others) {
+      if (margin <= 0.0) {
+        out.crossings += PathWallCrossings(walls[j], paths[i]);
+        continue;
+      }
+      std::vector<Vec2> piece;
+      auto flush = [&] {
+        out.crossings += PathWallCrossings(walls[j], piece);
+        piece.clear();
+      };
+      for (size_t k = 1; k < paths[i].size(); ++k) {
+        const Vec2 m = 0.5 * (paths[i][k] + paths[i][k - 1]);
+        if (at_own_door[k] || near_door(m, static_cast<size_t>(j))) {
+          flush();
+          continue;
+        }
+        if (piece.empty()) piece.push_back(paths[i][k - 1]);
+        piece.push_back(paths[i][k]);
+      }
+      flush();
+    }
     // Path inside another ASR's box: where its walls could contradict it.
     for (size_t k = 1; k < paths[i].size(); ++k) {
       const Vec2 m = 0.5 * (paths[i][k] + paths[i][k - 1]);
+      if (margin > 0.0 && at_own_door[k]) continue;
       for (int j : others)
-        if (m.x() >= box[j](0) && m.x() <= box[j](2) && m.y() >= box[j](1) && m.y() <= box[j](3)) {
+        if (m.x() >= box[j](0) && m.x() <= box[j](2) && m.y() >= box[j](1) && m.y() <= box[j](3) &&
+            !(margin > 0.0 && near_door(m, static_cast<size_t>(j)))) {
           out.overlap_m += (paths[i][k] - paths[i][k - 1]).norm();
           break;
         }
@@ -1320,16 +1361,30 @@ std::vector<Polyline> MapOptimizer::BendWalls(const Node& n, double rate, bool o
     const Vec2 prev = k == 0 ? Vec2(0, 0) : q[k - 1];
     s[k] = (k == 0 ? 0.0 : s[k - 1]) + (q[k] - prev).norm();
   }
+  // Each vertex moves as the pose it was seen from: by the drift at the
+  // distance its echoes were heard (the path pose at that distance), or,
+  // where that is not known, at the nearest path pose.
+  const std::vector<std::vector<double>>& seen =
+      output && n.output_walls ? n.output_walls_seen_s : n.walls_seen_s;
+  const bool use_seen = options_.bend_where_seen && seen.size() == walls.size();
   std::vector<Polyline> out = walls;
-  for (Polyline& line : out) {
-    for (Vec2& p : line) {
+  for (size_t i = 0; i < out.size(); ++i) {
+    Polyline& line = out[i];
+    for (size_t v = 0; v < line.size(); ++v) {
+      Vec2& p = line[v];
       size_t best = 0;
-      double bd = std::numeric_limits<double>::infinity();
-      for (size_t k = 0; k < q.size(); ++k) {
-        const double d = (q[k] - p).squaredNorm();
-        if (d < bd) {
-          bd = d;
-          best = k;
+      const double at = use_seen && v < seen[i].size() ? seen[i][v] : std::numeric_limits<double>::quiet_NaN();
+      if (std::isfinite(at)) {
+        best = static_cast<size_t>(std::lower_bound(s.begin(), s.end(), at) - s.begin());
+        if (best == s.size() || (best > 0 && at - s[best - 1] < s[best] - at)) --best;
+      } else {
+        double bd = std::numeric_limits<double>::infinity();
+        for (size_t k = 0; k < q.size(); ++k) {
+          const double d = (q[k] - p).squaredNorm();
+          if (d < bd) {
+            bd = d;
+            best = k;
+          }
         }
       }
       p = cl[best].translation() + RotateAbout(p - q[best], Vec2(0, 0), -(rate - n.pre_rate) * s[best]);

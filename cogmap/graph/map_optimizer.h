@@ -150,6 +150,16 @@ struct MapOptimizerOptions {
   // min_factors_for_variance factors and min_redundancy_for_variance
   // redundancy to be fitted.
   int variance_rounds = 12;
+  // The walls bent by the drift where each vertex was seen from (the hits'
+  // distance driven, asr::Asr::walls_seen_s) rather than at its nearest path
+  // pose (BendWalls).
+  bool bend_where_seen = true;
+  // The consistency check (MapConsistency) leaves out the robot's path
+  // within this far of a doorway's jambs (half its width plus this from its
+  // centre): there the walls of the two ASRs it joins end where each saw
+  // them, and a placement a decimetre or two off (well within its sigma)
+  // puts the path across the other's jamb. 0: every crossing counts.
+  double consistency_door_margin_m = 0.5;
   int min_factors_for_variance = 10;
   double min_redundancy_for_variance = 3.0;
   // A-posteriori variance factor on the covariances (see Finish): it may
@@ -204,7 +214,8 @@ struct AsrEstimate {
   // drift rate removed inside the ASR (asr::CorrectedPath).
   std::vector<Pose2> corrected_path;
   // The ASR's walls (local frame) with the same drift removed: each vertex
-  // moves with the path pose nearest to it (the robot saw it from there).
+  // moves with the path pose it was seen from (asr::Asr::walls_seen_s; the
+  // nearest path pose where that is not known).
   std::vector<Polyline> corrected_walls;
   bool direction_factor = false;
   double direction_residual_sigmas = 0.0;
@@ -291,6 +302,12 @@ class MapOptimizer {
     double pre_rate = 0.0;           // drift removed while it was mapped (asr::Asr::pre_bend_rad_per_m)
     std::vector<Polyline> walls;     // local frame, as mapped
     std::optional<std::vector<Polyline>> output_walls;  // the walls the ASR keeps, when not 'walls'
+    // Per vertex of walls / output_walls, the distance driven when it was
+    // seen (asr::Asr::walls_seen_s; empty or NaN: not known).
+    std::vector<std::vector<double>> walls_seen_s, output_walls_seen_s;
+    // Its exits (doorways): centre (local frame) and the radius around it
+    // where the consistency check counts no crossing (MapConsistency).
+    std::vector<std::pair<Vec2, double>> exits_local;
     Vec2 centre_local{0, 0};
     Vec2 box_lo{0, 0}, box_hi{0, 0};  // of walls and path, local frame
     double radius_m = 0.0;

@@ -318,6 +318,41 @@ TEST(MapOptimizer, IdenticalRoomsFarApartAreNotMerged) {
     EXPECT_LE(PoseError(r.asrs[i].pose, v[i].entry), PoseError(asrs[i].world_from_local_raw, v[i].entry) + 0.02) << i;
 }
 
+// Two rooms joined by a doorway at (4, 2), the second room's west wall
+// seen with its jamb 0.1 m into the opening: the path through the door
+// crosses it there, as a correct map's paths do at door jambs. The
+// consistency check (robot path through another room's walls) counts
+// crossings away from the doorways only.
+TEST(MapOptimizer, APathGrazingTheJambOfADoorwayIsNoInconsistency) {
+  auto room = [](int id, const std::vector<Polyline>& walls, Vec2 from, Vec2 to) {
+    asr::Asr a;
+    a.id = id;
+    a.world_from_local_raw = Pose2{from.x(), from.y(), 0.0};
+    a.world_from_local_corrected = a.world_from_local_raw;
+    a.walls_local = Transform(a.world_from_local_raw.inverse(), walls);
+    for (int k = 0; k <= 40; ++k) a.path.push_back(Pose2{from.x() + (to.x() - from.x()) * k / 40.0, from.y(), 0.0});
+    a.exits.push_back({Vec2(4.0, 2.0), 1.0, 0, 1});
+    return a;
+  };
+  // Room 0: 0..4 x 0..4, its east doorway 1.5..2.5; the robot leaves at 4.3.
+  const std::vector<Polyline> w0 = {{Vec2(4, 1.5), Vec2(4, 0), Vec2(0, 0), Vec2(0, 4), Vec2(4, 4), Vec2(4, 2.5)},
+                                    {Vec2(0, 1.0), Vec2(0.6, 1.0), Vec2(0.6, 0)}};
+  // Room 1: 4..8 x 0..4, its west jamb seen at 2.1 (the doorway 2.1..2.6).
+  const std::vector<Polyline> w1 = {{Vec2(4, 2.6), Vec2(4, 4), Vec2(8, 4), Vec2(8, 0), Vec2(4, 0), Vec2(4, 2.1)},
+                                    {Vec2(7.4, 4.0), Vec2(7.4, 3.0), Vec2(8, 3.0)}};
+  const std::vector<asr::Asr> asrs = {room(0, w0, Vec2(1, 2), Vec2(4.3, 2)), room(1, w1, Vec2(4.3, 2), Vec2(7, 2))};
+  auto crossings = [&](double margin) {
+    MapOptimizerOptions o;
+    o.consistency_door_margin_m = margin;
+    MapOptimizer opt(o);
+    const OptimizerResult r = PlaceAll(opt, asrs);
+    EXPECT_EQ(r.crossings_graph, r.crossings_odometry);  // the same poses: the odometry is exact
+    return r.crossings_graph;
+  };
+  EXPECT_EQ(crossings(0.0), 1);  // every crossing counted: the jamb
+  EXPECT_EQ(crossings(0.5), 0);  // the default
+}
+
 TEST(MapOptimizer, AClosureOnOneWallIsNotAccepted) {
   // A long wall seen from one side (a hall's side, the rest beyond the
   // sensors), a room 10 m away, then the same wall again. The two visits

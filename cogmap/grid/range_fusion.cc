@@ -99,7 +99,21 @@ HimmFusion::HimmFusion(bool modified, const MhimmOptions& options, const GridBou
 }
 
 void HimmFusion::Reach(const Vec2& lo, const Vec2& hi) {
-  if (!bounded_) ReachBox(&grid_, lo, hi, bounds_, 0.0f);
+  if (bounded_) return;
+  ReachBox(&grid_, lo, hi, bounds_, 0.0f);
+  if (track_distance_) {  // grown alike from the same limits: the same limits
+    ReachBox(&hit_distance_sum_, lo, hi, bounds_, 0.0f);
+    ReachBox(&hit_weight_, lo, hi, bounds_, 0.0f);
+  }
+}
+
+void HimmFusion::SetDistance(double s_m) {
+  if (!track_distance_) {
+    hit_distance_sum_ = Grid2D<float>(grid_.limits(), 0.0f);
+    hit_weight_ = Grid2D<float>(grid_.limits(), 0.0f);
+    track_distance_ = true;
+  }
+  distance_ = s_m;
 }
 
 void HimmFusion::MarkRobot(const Pose2& world_from_robot) {
@@ -323,10 +337,33 @@ void HimmFusion::InsertRay(const CellIndex& r0, double sx, double sy, double cos
   }
   // Beam first, then the hit: t +3, its 8 neighbours +1.5 (SPEC 2).
   add(tx, ty, options_.hit_increment);
+  if (track_distance_ && static_cast<unsigned>(tx) < static_cast<unsigned>(w) &&
+      static_cast<unsigned>(ty) < static_cast<unsigned>(h)) {
+    const long at = static_cast<long>(ty) * w + tx;
+    hit_distance_sum_.cells()[at] += static_cast<float>(options_.hit_increment * distance_);
+    hit_weight_.cells()[at] += options_.hit_increment;
+  }
   const float n = options_.neighbour_increment;
   add(tx - 1, ty - 1, n); add(tx, ty - 1, n); add(tx + 1, ty - 1, n);
   add(tx - 1, ty, n);                         add(tx + 1, ty, n);
   add(tx - 1, ty + 1, n); add(tx, ty + 1, n); add(tx + 1, ty + 1, n);
+}
+
+std::optional<double> HimmFusion::HitDistance(const Vec2& p, double radius_m) const {
+  if (!track_distance_) return std::nullopt;
+  const MapLimits& lim = hit_weight_.limits();
+  const double cell = lim.cell_m();
+  const CellIndex c = lim.CellOf(p);
+  const int r = std::max(0, static_cast<int>(std::ceil(radius_m / cell)));
+  double sum = 0.0, weight = 0.0;
+  for (int y = std::max(0, c.y() - r); y <= std::min(lim.height() - 1, c.y() + r); ++y)
+    for (int x = std::max(0, c.x() - r); x <= std::min(lim.width() - 1, c.x() + r); ++x) {
+      if ((lim.CenterOf(CellIndex(x, y)) - p).norm() > radius_m + 0.5 * cell) continue;
+      sum += hit_distance_sum_.at(x, y);
+      weight += hit_weight_.at(x, y);
+    }
+  if (!(weight > 0.0)) return std::nullopt;
+  return sum / weight;
 }
 
 Grid2D<float> HimmFusion::Occupancy() const {

@@ -169,6 +169,15 @@ class HimmFusion : public RangeFusion {
   const Grid2D<float>& values() const { return grid_; }
   const MhimmOptions& options() const { return options_; }
 
+  // Where each echo was heard from, as the distance the robot had driven:
+  // after SetDistance(s), every hit inserted adds s to its cell, weighted by
+  // the evidence it adds (the hit increment). HitDistance is the weighted
+  // mean over the cells within radius_m of p (nullopt: no hit there, or
+  // SetDistance never called). The mapper bends each wall point by the
+  // drift at the distance it was seen from (MapOptimizer::BendWalls).
+  void SetDistance(double s_m);
+  std::optional<double> HitDistance(const Vec2& p, double radius_m) const;
+
  private:
   // Fuses one reading given the sensor's world position and unit heading.
   void InsertRay(const CellIndex& r0, double sx, double sy, double cos_h, double sin_h,
@@ -182,6 +191,11 @@ class HimmFusion : public RangeFusion {
   Grid2D<float> grid_;
   bool bounded_;
   std::optional<Vec2> last_path_point_;  // for join_path_max_m
+  // SetDistance: per cell of grid_ (the same limits, grown with it) the sum
+  // of distance x weight and of weight of the hits on it.
+  bool track_distance_ = false;
+  double distance_ = 0.0;
+  Grid2D<float> hit_distance_sum_, hit_weight_;
 };
 
 // Bayes in log-odds (Moravec; thesis §2.2.1, table 2.2, eq. 2.9) or

@@ -113,6 +113,25 @@ TEST(Mhimm, ManyHitsClampAtFifteen) {
   EXPECT_EQ(g.values().at(50, 41), 15.0f);  // 10 x 1.5
 }
 
+// Each echo is tagged with the distance the robot had driven when it came;
+// a wall point reads the mean over the hits near it, each weighted by the
+// evidence it added (the mapper bends the walls by the drift there).
+TEST(Mhimm, HitsRememberTheDistanceTheyWereHeardFrom) {
+  auto g = Mhimm();
+  g.Insert(kRobot, Ahead(), 1.0);
+  EXPECT_FALSE(g.HitDistance(Vec2(1.05, 0.05), 0.05).has_value());  // not asked for
+  g.SetDistance(1.0);
+  g.Insert(kRobot, Ahead(), 1.0);
+  g.SetDistance(4.0);
+  g.Insert(kRobot, Ahead(), 1.0);
+  g.Insert(kRobot, Ahead(), 1.0);
+  g.Insert(Pose2{0.05, 0.05, kPi / 2}, Ahead(), 1.0);  // a hit at (0.05, 1.05)
+  ASSERT_TRUE(g.HitDistance(Vec2(1.05, 0.05), 0.05).has_value());
+  EXPECT_DOUBLE_EQ(*g.HitDistance(Vec2(1.05, 0.05), 0.05), 3.0);
+  EXPECT_DOUBLE_EQ(*g.HitDistance(Vec2(0.05, 1.05), 0.05), 4.0);
+  EXPECT_FALSE(g.HitDistance(Vec2(0.55, 0.55), 0.2).has_value());  // no hit there
+}
+
 TEST(Mhimm, ManyMissesClampAtMinusThree) {
   auto g = Mhimm();
   for (int i = 0; i < 10; ++i) g.Insert(kRobot, Ahead(), 1.0);
