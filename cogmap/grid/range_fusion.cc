@@ -100,8 +100,13 @@ HimmFusion::HimmFusion(bool modified, const MhimmOptions& options, const GridBou
 
 void HimmFusion::Reach(const Vec2& lo, const Vec2& hi) {
   if (bounded_) return;
+  const int w = grid_.limits().width(), h = grid_.limits().height();
+  const Vec2 origin = grid_.limits().origin();
   ReachBox(&grid_, lo, hi, bounds_, 0.0f);
-  if (track_distance_) {  // grown alike from the same limits: the same limits
+  // The hit distances grow alike (from the same limits, the same limits),
+  // when the grid did.
+  if (track_distance_ && (grid_.limits().width() != w || grid_.limits().height() != h ||
+                          grid_.limits().origin() != origin)) {
     ReachBox(&hit_distance_sum_, lo, hi, bounds_, 0.0f);
     ReachBox(&hit_weight_, lo, hi, bounds_, 0.0f);
   }
