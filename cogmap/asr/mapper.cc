@@ -352,10 +352,10 @@ void CognitiveMapper::Feed(const sensors::LogRecord& record, const Pose2& raw_od
   // the pose graph's bend counts them, then the way to this record).
   const double seen_s =
       c.path_s + (c.asr.path.empty() ? 0.0 : (record.odom.translation() - c.asr.path.back().translation()).norm());
-  c.grid->SetDistance(seen_s);
+  if (options_.seen_distances) c.grid->SetDistance(seen_s);
   c.grid->InsertSweep(at, robot_, record.ranges);
   if (c.cone_grid) {
-    c.cone_grid->SetDistance(seen_s);
+    if (options_.seen_distances) c.cone_grid->SetDistance(seen_s);
     c.cone_grid->InsertSweep(at, robot_, record.ranges);
   }
   c.asr.seconds.grid += Since(t0);
@@ -442,7 +442,7 @@ void CognitiveMapper::BuildWalls(Current& c) {
   Asr& a = c.asr;
   const vectorize::VectorizeResult v = vectorize::Vectorize(c.grid->values(), options_.vectorize);
   a.walls_local = v.polylines;
-  a.walls_seen_s = SeenDistances(*c.grid, a.walls_local);
+  if (options_.seen_distances) a.walls_seen_s = SeenDistances(*c.grid, a.walls_local);
   a.bytes.grid = v.bytes.grid;
   a.bytes.vertices = v.bytes.vertices;
   a.bytes.polylines = v.bytes.polylines;
@@ -474,7 +474,7 @@ Asr CognitiveMapper::Place(std::unique_ptr<Current> closing, const Pose2& last_r
     const auto t0 = Clock::now();
     vectorize::VectorizeResult kept = vectorize::Vectorize(c.cone_grid->values(), options_.vectorize);
     a.output_walls_local = std::move(kept.polylines);
-    a.output_walls_seen_s = SeenDistances(*c.cone_grid, a.output_walls_local);
+    if (options_.seen_distances) a.output_walls_seen_s = SeenDistances(*c.cone_grid, a.output_walls_local);
     a.has_output_walls = true;
     // The sizes are those of the walls kept (the grid's, of the axis grid).
     a.bytes.vertices = kept.bytes.vertices;

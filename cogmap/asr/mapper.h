@@ -42,6 +42,11 @@ struct MapperOptions {
   // correction and the pose graph work on the walls of the axis grid
   // (Asr::output_walls_local; docs/walls.md, "Sonar cone").
   bool cone_output_walls = false;
+  // Every hit of the room's grids tagged with the distance driven in the
+  // ASR, and each wall vertex with the mean over the hits near it
+  // (Asr::walls_seen_s): the pose graph bends the walls by the drift where
+  // they were seen (default mode with the pose graph; nothing else reads them).
+  bool seen_distances = false;
   // Each closed ASR is finished (vectorised on one thread; corrected, placed
   // and stored on another: the Worker in mapper.cc) while the next room's
   // records are fused on the caller's thread:

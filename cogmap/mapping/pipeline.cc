@@ -105,6 +105,8 @@ asr::MapperOptions MapperOptionsFor(const sensors::RobotDescription& robot, cons
   // "Sonar cone"). A laser's beam is narrower than a cell: its cone grid
   // would be the same grid.
   m.cone_output_walls = !o.paper && !o.cone_hits && o.cone_walls && !LaserOnly(robot);
+  // Where each wall was heard from, for the pose graph's bend (docs/pose-graph.md).
+  m.seen_distances = o.correction() == Correction::kPoseGraph;
   m.vectorize = o.paper ? vectorize::VectorizeOptions::Paper() : vectorize::VectorizeOptions{};
   if (!o.paper) ConfigureWallLines(robot, o.wall_lines, &m.vectorize);
   m.boundary.mode = o.boundary;

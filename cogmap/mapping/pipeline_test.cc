@@ -97,6 +97,21 @@ TEST(MapperOptionsFor, WallLinesFollowTheModeAndTheRobot) {
   EXPECT_FALSE(MapperOptionsFor(sensors::BuiltinRobot("pioneer16"), o).vectorize.wall_lines);
 }
 
+// The hits' distances are kept for the pose graph's bend only.
+TEST(MapperOptionsFor, SeenDistancesWithThePoseGraphOnly) {
+  const auto robot = sensors::BuiltinRobot("pioneer16");
+  MappingOptions o;
+  EXPECT_TRUE(MapperOptionsFor(robot, o).seen_distances);
+  o.pose_graph = false;  // the drift filter
+  EXPECT_FALSE(MapperOptionsFor(robot, o).seen_distances);
+  o.pose_graph = true;
+  o.paper = true;
+  EXPECT_FALSE(MapperOptionsFor(robot, o).seen_distances);
+  o.paper = false;
+  o.correct = false;
+  EXPECT_FALSE(MapperOptionsFor(robot, o).seen_distances);
+}
+
 TEST(MapperOptionsFor, DoorGapIsDefaultModeOnRequestOnly) {
   MappingOptions o;
   const auto robot = sensors::BuiltinRobot("pioneer16");
