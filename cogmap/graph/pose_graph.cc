@@ -1104,7 +1104,9 @@ std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
     out[k].redundancy = std::clamp(factors[k].dof - JSJ.trace(), 0.0, static_cast<double>(factors[k].dof));
     if (factors[k].part_scale) out[k].redundancy_heading = std::clamp(1.0 - JSJ(2, 2), 0.0, 1.0);
   }
-  std::map<std::pair<int, double>, double> kappa;
+  // (A run asks for the same few (dof, scale) pairs in every round of the
+  // variance components: each thread keeps the ones it computed.)
+  thread_local std::map<std::pair<int, double>, double> kappa;
   for (size_t k = 0; k < factors.size(); ++k) {
     if (!factors[k].enabled) continue;
     const std::pair<int, double> key{factors[k].dof, factors[k].cauchy_scale};

@@ -282,8 +282,13 @@ class CarmenReader : public LogReader {
     const std::string& path = src_.path();
     std::string line;
     while (scan.Next(&line)) {
+      // Only PARAMs and range messages matter here: the others (ODOM, most
+      // of a log's lines) are not split.
+      const size_t b = line.find_first_not_of(" \t");
+      if (b == std::string::npos) continue;
+      const std::string_view head = std::string_view(line).substr(b, line.find_first_of(" \t", b) - b);
+      if (head != "PARAM" && DeviceOf(head) < 0) continue;
       const auto f = SplitFields(line);
-      if (f.empty()) continue;
       try {
         auto num = [&](size_t i) { return ParseNumber(f.at(i), path, 0, "x"); };
         const int id = DeviceOf(f[0]);
