@@ -750,6 +750,18 @@ MapOptimizer::Consistency MapOptimizer::MapConsistency(const std::vector<Pose2>&
   std::map<std::pair<long, long>, std::vector<int>> grid;
   for (size_t i = 0; i < N; ++i)
     if (box[i](0) <= box[i](2)) cells(box[i], [&](long x, long y) { grid[{x, y}].push_back(static_cast<int>(i)); });
+  // Each ASR's doorways as placed: centre and the radius around it where no
+  // crossing counts (none when the margin is 0).
+  std::vector<std::vector<std::pair<Vec2, double>>> doors(N);
+  if (options_.consistency_door_margin_m > 0.0)
+    for (size_t i = 0; i < N; ++i)
+      for (const auto& [c, half] : nodes_[i].exits_local)
+        doors[i].emplace_back(poses[i] * c, half + options_.consistency_door_margin_m);
+  auto near_door = [&](const Vec2& m, size_t of) {
+    for (const auto& [c, r] : doors[of])
+      if ((m - c).norm() <= r) return true;
+    return false;
+  };
   Consistency out;
   for (size_t i = 0; i < N; ++i) {
     if (box[i](0) > box[i](2)) continue;
@@ -762,20 +774,9 @@ MapOptimizer::Consistency MapOptimizer::MapConsistency(const std::vector<Pose2>&
     others.erase(std::remove(others.begin(), others.end(), static_cast<int>(i)), others.end());
     // The path away from the doorways of i and of each other ASR j: its
     // pieces between them (consistency_door_margin_m).
-    auto near_door = [&](const Vec2& m, size_t of) {
-      for (const auto& [c, half] : nodes_[of].exits_local)
-        if ((m - poses[of] * c).norm() <= half + options_.consistency_door_margin_m) return true;
-      return false;
-    };
-    const double margin = options_.consistency_door_margin_m;
     std::vector<char> at_own_door(paths[i].size(), 0);
-    if (margin > 0.0)
-      for (size_t k = 1; k < paths[i].size(); ++k) at_own_door[k] = near_door(0.5 * (paths[i][k] + paths[i][k - 1]), i);
+    for (size_t k = 1; k < paths[i].size(); ++k) at_own_door[k] = near_door(0.5 * (paths[i][k] + paths[i][k - 1]), i);
     for (int j : others) {
-      if (margin <= 0.0) {
-        out.crossings += PathWallCrossings(walls[j], paths[i]);
-        continue;
-      }
       std::vector<Vec2> piece;
       auto flush = [&] {
         out.crossings += PathWallCrossings(walls[j], piece);
@@ -795,10 +796,10 @@ MapOptimizer::Consistency MapOptimizer::MapConsistency(const std::vector<Pose2>&
     // Path inside another ASR's box: where its walls could contradict it.
     for (size_t k = 1; k < paths[i].size(); ++k) {
       const Vec2 m = 0.5 * (paths[i][k] + paths[i][k - 1]);
-      if (margin > 0.0 && at_own_door[k]) continue;
+      if (at_own_door[k]) continue;
       for (int j : others)
         if (m.x() >= box[j](0) && m.x() <= box[j](2) && m.y() >= box[j](1) && m.y() <= box[j](3) &&
-            !(margin > 0.0 && near_door(m, static_cast<size_t>(j)))) {
+            !near_door(m, static_cast<size_t>(j))) {
           out.overlap_m += (paths[i][k] - paths[i][k - 1]).norm();
           break;
         }
@@ -916,7 +917,6 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
           cands.push_back(k);
       std::sort(cands.begin(), cands.end(), [&](size_t a, size_t b) { return profile[a] < profile[b]; });
       if (cands.size() > static_cast<size_t>(options_.max_drift_aliases)) cands.resize(options_.max_drift_aliases);
-      graph_.SetRatesFixedAtZero(false);
       for (size_t k : cands) {
         graph_.ChainWithRate(rate + deltas[k]);
         const PoseGraph::SolveSummary a = graph_.Solve(0, options_.full_iterations);

@@ -38,13 +38,15 @@ MasterMap BuildMasterMap(const std::vector<asr::Asr>& asrs, bool corrected,
     room.id = a.id;
     room.walls = Transform(place, a.walls_local);
     Vec2 sum(0, 0);
-    auto placed = placed_paths && corrected ? placed_paths->find(a.id) : std::map<int, std::vector<Pose2>>::iterator{};
-    if (placed_paths && corrected && placed != placed_paths->end() && !placed->second.empty()) {
-      for (const auto& p : placed->second) {
+    std::vector<Pose2>* placed = nullptr;
+    if (placed_paths && corrected)
+      if (auto it = placed_paths->find(a.id); it != placed_paths->end() && !it->second.empty()) placed = &it->second;
+    if (placed) {
+      for (const auto& p : *placed) {
         room.path.push_back(p.translation());
         sum += room.path.back();
       }
-      std::vector<Pose2>().swap(placed->second);
+      std::vector<Pose2>().swap(*placed);
     } else {
       for (const auto& p : a.path) {
         room.path.push_back(corr * p.translation());
