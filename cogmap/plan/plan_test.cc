@@ -312,6 +312,32 @@ TEST(BuildPlan, SameFaceFoundTwiceIsOneWall) {
   EXPECT_NEAR(x1, 11.0, 0.1);
 }
 
+// A long wall (11 m, y = 0) and a short piece of it seen by another room,
+// 1.1 m long and 16 degrees off (one end 0.31 m off the long wall's line:
+// a face of its own, merged as the same face afterwards). The merged wall
+// is fitted to the evidence of both: the long one holds it. Averaging the
+// two lines' directions about their overlap turned the whole wall 1.5
+// degrees about the short piece, its far end 0.29 m off.
+TEST(BuildPlan, AShortPieceMergedIntoALongWallDoesNotTurnIt) {
+  std::vector<asr::Asr> asrs = {
+      MakeAsr(0, {{{0, 0}, {11, 0}}}, Line({1, 2}, {10, 2})),
+      MakeAsr(1, {{{9.9, 0.31}, {11, 0}}}, Line({9.5, 1.5}, {11, 1.5}), 10.0),
+  };
+  const Plan plan = BuildPlan(asrs, {});
+  ASSERT_EQ(plan.walls.size(), 1u);
+  const Wall& w = plan.walls[0];
+  EXPECT_EQ(w.asr_ids, (std::vector<int>{0, 1}));
+  EXPECT_TRUE(w.squared);
+  double x0 = 1e9, x1 = -1e9;
+  for (const Vec2& q : w.points) {
+    x0 = std::min(x0, q.x()), x1 = std::max(x1, q.x());
+    // The evidence's centroid, weighted by length: 1.14 m at 0.155 in 12.1 m.
+    EXPECT_NEAR(q.y(), 0.0146, 0.005) << q.transpose();
+  }
+  EXPECT_NEAR(x0, 0.0, 0.05);
+  EXPECT_NEAR(x1, 11.0, 0.05);
+}
+
 TEST(BuildPlan, ExitCutsADoorInTheWall) {
   // Room A below y = 4, room B above; the wall y = 4 seen whole by both (thin),
   // the robot went through at x = 3 (exit 0.9 m wide).
