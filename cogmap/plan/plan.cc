@@ -852,44 +852,61 @@ std::vector<Vec2> TraceRegion(const Region& reg, const Vec2& origin, double step
   if (reg.count == 0) return {};
   auto filled = [&](int x, int y) { return reg.at(x, y); };
   const int x0 = reg.x0, y0 = reg.y0;
-  // Boundary edges with the region on the left, as a map from start vertex to
-  // end vertex (vertices are cell corners, keyed (x, y) on the local lattice).
+  // Boundary edges with the region on the left, from start vertex to end
+  // vertex (vertices are cell corners, keyed (x, y) on the local lattice), in
+  // scan order, then stably sorted by start vertex: a vertex's edges are
+  // found by binary search, in the order they were found (a list as long as
+  // the outline, not a table of the lattice's vertices).
   auto key = [&](int x, int y) { return static_cast<int64_t>(y) * (W + 1) + x; };
-  std::unordered_map<int64_t, std::vector<int64_t>> next;
+  struct Edge {
+    int64_t from, to;
+  };
+  std::vector<Edge> edges;
   int64_t start = -1;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       if (!filled(x, y)) continue;
-      if (!filled(x, y - 1)) next[key(x, y)].push_back(key(x + 1, y));              // bottom, left to right
-      if (!filled(x + 1, y)) next[key(x + 1, y)].push_back(key(x + 1, y + 1));      // right, upwards
-      if (!filled(x, y + 1)) next[key(x + 1, y + 1)].push_back(key(x, y + 1));      // top, right to left
-      if (!filled(x - 1, y)) next[key(x, y + 1)].push_back(key(x, y));              // left, downwards
+      if (!filled(x, y - 1)) edges.push_back({key(x, y), key(x + 1, y)});          // bottom, left to right
+      if (!filled(x + 1, y)) edges.push_back({key(x + 1, y), key(x + 1, y + 1)});  // right, upwards
+      if (!filled(x, y + 1)) edges.push_back({key(x + 1, y + 1), key(x, y + 1)});  // top, right to left
+      if (!filled(x - 1, y)) edges.push_back({key(x, y + 1), key(x, y)});          // left, downwards
       if (start < 0 && !filled(x, y - 1)) start = key(x, y);
     }
+  std::stable_sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) { return a.from < b.from; });
+  std::vector<char> used(edges.size(), 0);
+  size_t vertices = 0;  // distinct start vertices
+  for (size_t k = 0; k < edges.size(); ++k) vertices += k == 0 || edges[k].from != edges[k - 1].from;
   // Walk the outer loop; at a pinch (two ways out) take the left turn, which
   // keeps the loop on the region's outline.
   std::vector<Vec2> ring;
   std::vector<std::pair<int, int>> corners;  // lattice corner of each ring vertex
   int64_t cur = start, prev = -1;
-  const size_t limit = next.size() * 2 + 8;
+  const size_t limit = vertices * 2 + 8;
+  std::vector<size_t> outs;  // the unused edges out of the current vertex, in order
   for (size_t guard = 0; guard < limit; ++guard) {
     const int cx = static_cast<int>(cur % (W + 1)), cy = static_cast<int>(cur / (W + 1));
     ring.push_back(Vec2(origin.x() + (x0 - 1 + cx) * step, origin.y() + (y0 - 1 + cy) * step));
     corners.push_back({x0 - 1 + cx, y0 - 1 + cy});
-    auto& outs = next[cur];
+    outs.clear();
+    auto it = std::lower_bound(edges.begin(), edges.end(), cur, [](const Edge& e, int64_t v) { return e.from < v; });
+    for (; it != edges.end() && it->from == cur; ++it) {
+      const size_t k = static_cast<size_t>(it - edges.begin());
+      if (!used[k]) outs.push_back(k);
+    }
     if (outs.empty()) break;
     size_t pick = 0;
     if (outs.size() > 1 && prev >= 0) {
       const Vec2 din(static_cast<double>(cx - prev % (W + 1)), static_cast<double>(cy - prev / (W + 1)));
       double best_turn = -10;
       for (size_t k = 0; k < outs.size(); ++k) {
-        const Vec2 dout(static_cast<double>(outs[k] % (W + 1) - cx), static_cast<double>(outs[k] / (W + 1) - cy));
+        const int64_t to = edges[outs[k]].to;
+        const Vec2 dout(static_cast<double>(to % (W + 1) - cx), static_cast<double>(to / (W + 1) - cy));
         const double turn = Cross(din, dout);  // > 0: left
         if (turn > best_turn) best_turn = turn, pick = k;
       }
     }
-    const int64_t nxt = outs[pick];
-    outs.erase(outs.begin() + static_cast<long>(pick));
+    const int64_t nxt = edges[outs[pick]].to;
+    used[outs[pick]] = 1;
     prev = cur;
     cur = nxt;
     if (cur == start) break;
@@ -904,25 +921,30 @@ std::vector<Vec2> TraceRegion(const Region& reg, const Vec2& origin, double step
   }
   // The cell deepest inside (farthest from the outline, 4-distance) for the label.
   if (inner_point) {
+    // Breadth first from every site outside, in scan order: a queue of site
+    // indices read from its front, the part read dropped once it is half
+    // the queue (memory of the sites waiting, as a deque's, at half its).
     std::vector<int> dist(static_cast<size_t>(W) * H, -1);
-    std::deque<std::pair<int, int>> q;
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x)
-        if (!filled(x, y)) dist[static_cast<size_t>(y) * W + x] = 0, q.push_back({x, y});
+    std::vector<int> q;
+    for (int j = 0; j < W * H; ++j)
+      if (!reg.filled[static_cast<size_t>(j)]) dist[static_cast<size_t>(j)] = 0, q.push_back(j);
     std::pair<int, int> deep{1, 1};
     int dmax = -1;
-    while (!q.empty()) {
-      auto [cx, cy] = q.front();
-      q.pop_front();
-      const int d = dist[static_cast<size_t>(cy) * W + cx];
+    for (size_t head = 0; head < q.size(); ++head) {
+      if (head >= 4096 && 2 * head >= q.size()) {
+        q.erase(q.begin(), q.begin() + static_cast<std::ptrdiff_t>(head));
+        head = 0;
+      }
+      const int j0 = q[head];
+      const int cx = j0 % W, cy = j0 / W;
+      const int d = dist[static_cast<size_t>(j0)];
       if (d > dmax) dmax = d, deep = {cx, cy};
-      const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+      const bool ok[4] = {cx + 1 < W, cx > 0, cy + 1 < H, cy > 0};
+      const int nj[4] = {j0 + 1, j0 - 1, j0 + W, j0 - W};
       for (int k = 0; k < 4; ++k) {
-        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
-        const size_t j = static_cast<size_t>(ny[k]) * W + nx[k];
-        if (dist[j] >= 0) continue;
-        dist[j] = d + 1;
-        q.push_back({nx[k], ny[k]});
+        if (!ok[k] || dist[static_cast<size_t>(nj[k])] >= 0) continue;
+        dist[static_cast<size_t>(nj[k])] = d + 1;
+        q.push_back(nj[k]);
       }
     }
     *inner_point = Vec2(origin.x() + (x0 - 1 + deep.first + 0.5) * step, origin.y() + (y0 - 1 + deep.second + 0.5) * step);
