@@ -2,19 +2,15 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <deque>
-#include <exception>
 #include <functional>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <numeric>
 #include <optional>
 #include <set>
-#include <thread>
 #include <unordered_map>
 
 #include <Eigen/Eigenvalues>
@@ -79,34 +75,6 @@ class CellHash {
   std::unordered_map<int64_t, std::vector<int>> cells_;
   mutable std::set<int> seen_;
 };
-
-// f(0), ..., f(n - 1), each once, on 'threads' threads (this one and
-// threads - 1 more; at most 2) taking the next index as they come; the first
-// exception thrown is thrown here once all are done.
-template <class F>
-void ForEachIndex(int n, int threads, F&& f) {
-  if (threads < 2 || n < 2) {
-    for (int i = 0; i < n; ++i) f(i);
-    return;
-  }
-  std::atomic<int> next{0};
-  std::atomic<bool> failed{false};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto work = [&] {
-    try {
-      for (int i; !failed.load() && (i = next.fetch_add(1)) < n;) f(i);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(error_mutex);
-      if (!error) error = std::current_exception();
-      failed = true;
-    }
-  };
-  std::thread helper(work);
-  work();
-  helper.join();
-  if (error) std::rethrow_exception(error);
-}
 
 // ------------------------------------------------------------------ wall evidence
 struct Evidence {
@@ -2340,11 +2308,8 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         kept[r] = std::move(reg);
       }
     }
-    // Each room's outline, traced from the half cells (only read here; each
-    // room writes its own polygon and label point): on two threads when the
-    // run has them (the mapping's are done; nothing else runs meanwhile).
-    auto trace = [&](int r) {
-      if (boxes[r].x1 < 0) return;
+    for (int r = 0; r < n_plan; ++r) {
+      if (boxes[r].x1 < 0) continue;
       int x0, y0, x1, y1;
       half_box(r, &x0, &y0, &x1, &y1);
       const Region reg = !touched[r] && !kept[r].filled.empty()
@@ -2364,12 +2329,11 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         return distinct >= 3;
       };
       std::vector<Vec2> ring = TraceRegion(reg, g.lo, 0.5 * g.cell, &in_frame, junction);
-      if (ring.size() < 3) return;
+      if (ring.size() < 3) continue;
       for (auto& v : ring) v = g.FromFrame(v);
       polys[r] = ToBoost(ring);
       inner[r] = g.FromFrame(in_frame);
-    };
-    ForEachIndex(n_plan, o.threads, trace);
+    }
   }
 
   // ---------------------------------------------------------------- assemble rooms

@@ -142,9 +142,6 @@ struct PlanOptions {
   // MHIMM window); asr::kMetaSensorReach). 0: no bound but the hulls.
   double reach_m = 0.0;
   double min_room_area_m2 = 0.25;      // smaller rooms are dropped
-  // Threads for the rooms' outlines (1 or 2; `cogmap map --threads`): the
-  // plan is the same either way.
-  int threads = 1;
 };
 
 // The floor plan of placed ASRs (world_from_local_corrected, walls_local).

@@ -957,33 +957,6 @@ TEST(BuildPlan, CorridorOfOfficesCutAtEveryDoorIsOneCorridor) {
   EXPECT_EQ(corridors, 1);
 }
 
-// The rooms' outlines traced on two threads (PlanOptions::threads, `cogmap
-// map`'s default) are those traced on one, vertex for vertex: a row of six
-// rooms, each entered from the last through a door.
-TEST(BuildPlan, OutlinesTracedOnTwoThreadsAreThoseOfOne) {
-  std::vector<asr::Asr> asrs;
-  for (int k = 0; k < 6; ++k) {
-    const double x = 4.0 * k;
-    asrs.push_back(MakeAsr(k, {Box(x, 0, x + 4, 3 + 0.3 * k)}, Line({x + 0.5, 1.5}, {x + 3.5, 1.5}), 10.0 * k));
-    if (k > 0) {
-      const asr::Exit e{{x, 1.5}, 0.9, k - 1, k};
-      asrs[k - 1].exits.push_back(e);
-      asrs[k].exits.push_back(e);
-    }
-  }
-  PlanOptions one, two;
-  one.threads = 1;
-  two.threads = 2;
-  const Plan a = BuildPlan(asrs, {}, one), b = BuildPlan(asrs, {}, two);
-  ASSERT_EQ(a.rooms.size(), 6u);
-  ASSERT_EQ(b.rooms.size(), a.rooms.size());
-  for (size_t r = 0; r < a.rooms.size(); ++r) {
-    EXPECT_EQ(a.rooms[r].polygon, b.rooms[r].polygon) << r;
-    EXPECT_EQ(a.rooms[r].label, b.rooms[r].label) << r;
-    EXPECT_EQ(a.rooms[r].area_m2, b.rooms[r].area_m2) << r;
-  }
-}
-
 TEST(BuildPlan, OpenFloorBetweenTwoAsrsOfOneRoomIsOneRoom) {
   // One 12 x 6 m lab with a desk (5.5..6.5 x 1.5..3): the robot drove along
   // y = 0.75 between the wall and the desk, where the way narrowed to 1.5 m,
