@@ -26,12 +26,14 @@ std::vector<FacedSegment> FaceWalls(const std::vector<Polyline>& walls, const st
 
 // The faces near a point without looking at every face: a uniform grid over
 // the faces' bounding boxes, each cell listing the faces whose box meets it.
-// Nearest() gives exactly what the scan of every face gives (same face, same
-// residual, ties to the lowest index). Holds a pointer to 'faces': they must
-// outlive the index and not change.
+// With reach_m > 0 each cell also lists, in index order, the faces whose box
+// comes within reach_m of it: a query no farther than that reads its own
+// cell's list alone. Nearest() gives exactly what the scan of every face
+// gives (same face, same residual, ties to the lowest index). Holds a
+// pointer to 'faces': they must outlive the index and not change.
 class FaceIndex {
  public:
-  explicit FaceIndex(const std::vector<FacedSegment>& faces, double cell_m = 0.5);
+  explicit FaceIndex(const std::vector<FacedSegment>& faces, double cell_m = 0.5, double reach_m = 0.0);
 
   // The nearest face to p within max_d (strictly) whose normal agrees with n
   // (normal . n >= cos_max): its index, or -1; *residual is then the signed
@@ -51,6 +53,9 @@ class FaceIndex {
   int nx_ = 0, ny_ = 0;
   std::vector<int> start_;  // cell c's faces: items_[start_[c] .. start_[c + 1])
   std::vector<int> items_;
+  double reach_ = 0.0;           // the faces within this of a cell are listed for it (0: none)
+  std::vector<int> near_start_;  // cell c's faces within reach: near_[near_start_[c] .. near_start_[c + 1])
+  std::vector<int> near_;
   struct Box {
     double x0, y0, x1, y1;
   };

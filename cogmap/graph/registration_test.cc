@@ -212,8 +212,11 @@ TEST(FaceIndex, GivesWhatTheScanGivesOnRandomFaces) {
     }
     // Exact ties: copies of faces (and their normals) later in the list.
     for (int k = 0; k < n_faces / 5; ++k) faces.push_back(faces[rng() % n_faces]);
-    for (double cell : {0.1, 0.5, 3.0}) {
-      const FaceIndex index(faces, cell);
+    for (const auto& [cell, reach] : std::vector<std::pair<double, double>>{
+             {0.1, 0.0}, {0.5, 0.0}, {3.0, 0.0}, {0.1, 0.6}, {0.25, 0.6}, {0.5, 2.5}, {3.0, 0.3}}) {
+      // With a reach, queries within it read one cell's list (max_d 0.1 and
+      // 0.3 always, 0.6 and 2.5 where the reach covers them).
+      const FaceIndex index(faces, cell, reach);
       int found = 0;
       for (int q = 0; q < 2000; ++q) {
         const Vec2 p(ux(rng), uy(rng));
@@ -224,9 +227,9 @@ TEST(FaceIndex, GivesWhatTheScanGivesOnRandomFaces) {
         double e_scan = 0.0, e_index = 0.0;
         const int k_scan = NearestFaceByScan(faces, p, n, max_d, cos_max, &e_scan);
         const int k_index = index.Nearest(p, n, max_d, cos_max, &e_index);
-        ASSERT_EQ(k_index, k_scan) << trial << " " << cell << " " << q;
+        ASSERT_EQ(k_index, k_scan) << trial << " " << cell << " " << reach << " " << q;
         if (k_scan >= 0) {
-          ASSERT_EQ(e_index, e_scan);
+          ASSERT_EQ(e_index, e_scan) << trial << " " << cell << " " << reach << " " << q;
           ++found;
         }
       }
