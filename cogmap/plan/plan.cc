@@ -733,6 +733,26 @@ class HalfCells {
   }
   int w() const { return w_; }
   int h() const { return h_; }
+  // Marks 1 in 'mask' (row stride W; lattice site (x0, y0) at (1, 1)) the
+  // sites of [x0, x1] x [y0, y1] whose label is r, as Get would tell, each
+  // cell looked up once for its four quarters.
+  void MaskOf(int r, int x0, int y0, int x1, int y1, std::vector<uint8_t>* mask, int W) const {
+    for (int cy = y0 >> 1; cy <= (y1 >> 1); ++cy)
+      for (int cx = x0 >> 1; cx <= (x1 >> 1); ++cx) {
+        std::array<int, 4> q{-1, -1, -1, -1};
+        if (cx >= 0 && cy >= 0 && cx < g_.w && cy < g_.h) {
+          const int l = label_.Get(cx, cy);
+          if (l >= 0) q = {l, l, l, l};
+          else if (!quarters_.Find(cx, cy, &q)) q = {-1, -1, -1, -1};
+        }
+        for (int k = 0; k < 4; ++k) {
+          if (q[k] != r) continue;
+          const int i = 2 * cx + (k & 1), j = 2 * cy + (k >> 1);
+          if (i < x0 || i > x1 || j < y0 || j > y1 || i >= w_ || j >= h_) continue;
+          (*mask)[static_cast<size_t>(j - y0 + 1) * W + (i - x0 + 1)] = 1;
+        }
+      }
+  }
   int Get(int i, int j) const {
     if (i < 0 || j < 0 || i >= w_ || j >= h_) return -1;
     return Quarter(i >> 1, j >> 1, (j & 1) * 2 + (i & 1));
@@ -773,8 +793,10 @@ struct Region {
   bool at(int x, int y) const { return x >= 0 && y >= 0 && x < W && y < H && filled[static_cast<size_t>(y) * W + x]; }
 };
 
-template <class In>
-Region FillRegion(int x0, int y0, int x1, int y1, In&& in_lattice, bool fill_holes = true) {
+// The same from a mask the caller fills: mask_of(&mask, W) marks 1 the
+// room's sites (local site (x, y) at y * W + x, the frame left 0).
+template <class MaskOf>
+Region FillRegionMasked(int x0, int y0, int x1, int y1, MaskOf&& mask_of, bool fill_holes = true) {
   Region reg;
   reg.x0 = x0, reg.y0 = y0;
   if (x1 < x0 || y1 < y0) return reg;
@@ -785,8 +807,7 @@ Region FillRegion(int x0, int y0, int x1, int y1, In&& in_lattice, bool fill_hol
   // every neighbour it meets, and a look-up in the lattice is not free); the
   // array is reused for the hole filling below.
   std::vector<uint8_t> mask(static_cast<size_t>(W) * H, 0);
-  for (int y = 1; y < H - 1; ++y)
-    for (int x = 1; x < W - 1; ++x) mask[static_cast<size_t>(y) * W + x] = in_lattice(x0 + x - 1, y0 + y - 1) ? 1 : 0;
+  mask_of(&mask, W);
   auto in = [&](int x, int y) { return mask[static_cast<size_t>(y) * W + x] != 0; };
   int best = -1, best_size = 0, ncomp = 0;
   for (int y = 1; y < H - 1; ++y)
@@ -838,6 +859,18 @@ Region FillRegion(int x0, int y0, int x1, int y1, In&& in_lattice, bool fill_hol
   for (size_t j = 0; j < outside.size(); ++j)
     if (!outside[j]) reg.filled[j] = 1, ++reg.count;
   return reg;
+}
+
+template <class In>
+Region FillRegion(int x0, int y0, int x1, int y1, In&& in_lattice, bool fill_holes = true) {
+  return FillRegionMasked(
+      x0, y0, x1, y1,
+      [&](std::vector<uint8_t>* mask, int W) {
+        for (int y = 1; y < y1 - y0 + 2; ++y)
+          for (int x = 1; x < W - 1; ++x)
+            (*mask)[static_cast<size_t>(y) * W + x] = in_lattice(x0 + x - 1, y0 + y - 1) ? 1 : 0;
+      },
+      fill_holes);
 }
 
 // The outline of a filled region, counter-clockwise, collinear vertices merged,
@@ -2290,7 +2323,8 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       if (boxes[r].x1 < 0) continue;
       int x0, y0, x1, y1;
       half_box(r, &x0, &y0, &x1, &y1);
-      Region reg = FillRegion(x0, y0, x1, y1, [&](int i, int j) { return half.Get(i, j) == r; });
+      Region reg = FillRegionMasked(
+          x0, y0, x1, y1, [&](std::vector<uint8_t>* mask, int W) { half.MaskOf(r, x0, y0, x1, y1, mask, W); });
       const bool keep = reg.count * site_m2 >= o.min_room_area_m2;
       for (int y = 1; y < reg.H - 1; ++y)
         for (int x = 1; x < reg.W - 1; ++x) {
@@ -2314,7 +2348,9 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       half_box(r, &x0, &y0, &x1, &y1);
       const Region reg = !touched[r] && !kept[r].filled.empty()
                              ? std::move(kept[r])
-                             : FillRegion(x0, y0, x1, y1, [&](int i, int j) { return half.Get(i, j) == r; });
+                             : FillRegionMasked(x0, y0, x1, y1, [&](std::vector<uint8_t>* mask, int W) {
+                                 half.MaskOf(r, x0, y0, x1, y1, mask, W);
+                               });
       std::vector<uint8_t>().swap(kept[r].filled);
       Vec2 in_frame(0, 0);
       // A corner of the lattice where three or more labels (rooms, or none) meet.
