@@ -180,7 +180,7 @@ class CarmenReader : public LogReader {
     out->ranges.resize(n);
     for (int i = 0; i < n; ++i) {
       const double r = Num(f[first + i], "range");
-      CheckRange(r, src_.path(), src_.line_number(), what + std::to_string(i));
+      if (!RangeAccepted(r)) CheckRange(r, src_.path(), src_.line_number(), what + std::to_string(i));
       out->ranges[i] = {sensor0 + i, r};
     }
     readings_ += n;

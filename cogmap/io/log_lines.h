@@ -104,6 +104,9 @@ long ParseCount(std::string_view text, const std::string& path, long line, const
 constexpr double kAbsurdRangeM = 1000.0;
 // Throws unless 0 <= range_m <= kAbsurdRangeM ("negative range", "absurd range").
 void CheckRange(double range_m, const std::string& path, long line, const std::string& what);
+// What CheckRange accepts, tested without a message: readers call CheckRange
+// (and build the reading's name) only for a range outside it.
+inline bool RangeAccepted(double range_m) { return !(range_m < 0 || range_m > kAbsurdRangeM); }
 
 // "empty log: no range readings" naming the file.
 [[noreturn]] void ThrowEmptyLog(const std::string& path);

@@ -137,7 +137,7 @@ class NativeLogReader : public LogReader {
             throw InputError(p, n, "sensor index " + std::to_string(s) + " but robot '" + robot_.name +
                                        "' has " + std::to_string(robot_.sensors.size()) + " sensors");
           const double r = ParseNumber(f[4 + 2 * i], p, n, "range");
-          CheckRange(r, p, n, "sensor " + std::to_string(s));
+          if (!RangeAccepted(r)) CheckRange(r, p, n, "sensor " + std::to_string(s));
           current_.ranges.push_back({static_cast<int>(s), r});
         }
         readings_ += count;

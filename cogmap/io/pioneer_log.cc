@@ -55,7 +55,7 @@ class PioneerReader : public LogReader {
     out->ranges.resize(kSonars);
     for (int i = 0; i < kSonars; ++i) {
       const double r = ParseNumber(fm[1 + i], meas_.path(), lm, "r" + std::to_string(i)) / 1000.0;
-      CheckRange(r, meas_.path(), lm, "r" + std::to_string(i));
+      if (!RangeAccepted(r)) CheckRange(r, meas_.path(), lm, "r" + std::to_string(i));
       out->ranges[i] = {i, r};
     }
     readings_ += kSonars;
