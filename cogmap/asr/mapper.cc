@@ -49,6 +49,8 @@ void SetRobotRadius(AsrStore* store, double radius_m) { SetPositiveMeta(store, k
 std::optional<double> RobotRadius(const AsrStore& store) { return PositiveMeta(store, kMetaRobotRadius); }
 void SetSensorReach(AsrStore* store, double reach_m) { SetPositiveMeta(store, kMetaSensorReach, reach_m); }
 std::optional<double> SensorReach(const AsrStore& store) { return PositiveMeta(store, kMetaSensorReach); }
+void SetSensorBeam(AsrStore* store, double beam_rad) { SetPositiveMeta(store, kMetaSensorBeam, beam_rad); }
+std::optional<double> SensorBeam(const AsrStore& store) { return PositiveMeta(store, kMetaSensorBeam); }
 
 Pose2 BestRigidFit(const std::vector<Pose2>& from, const std::vector<Pose2>& to) {
   const size_t n = std::min(from.size(), to.size());

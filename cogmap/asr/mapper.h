@@ -107,6 +107,12 @@ std::optional<double> RobotRadius(const AsrStore& store);
 constexpr const char* kMetaSensorReach = "sensor_reach_m";
 void SetSensorReach(AsrStore* store, double reach_m);
 std::optional<double> SensorReach(const AsrStore& store);
+// The widest beam (full cone angle, rad) of the sensors of the store's last
+// run: how far a wall's direction in an ASR may lean from one view to
+// another (plan::PlanOptions::beam_width_rad). Same format.
+constexpr const char* kMetaSensorBeam = "sensor_beam_rad";
+void SetSensorBeam(AsrStore* store, double beam_rad);
+std::optional<double> SensorBeam(const AsrStore& store);
 // The largest ASR id of a run that finished (-1: none yet), written by
 // mapping::MappingPipeline when it creates a store and at Finish(). ASRs after
 // it were stored by a run that stopped before its end (a kill); absent in

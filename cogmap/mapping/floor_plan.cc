@@ -11,6 +11,7 @@ plan::PlanOptions PlanOptionsOfStore(const asr::AsrStore& store, const plan::Pla
   plan::PlanOptions o = options;
   if (const auto r = asr::RobotRadius(store)) o.robot_radius_m = *r;
   if (const auto r = asr::SensorReach(store)) o.reach_m = *r;
+  if (const auto b = asr::SensorBeam(store)) o.beam_width_rad = *b;
   return o;
 }
 

@@ -64,11 +64,14 @@ TEST(FloorPlanOfStore, EqualsThePlanJsonOfTheMapJob) {
     room_of[id] = store->RoomOf(id);
     if (auto pl = store->GetPlacement(id)) placed[id] = pl->corrected_path;
   }
-  const std::string kept = plan::PlanToJsonText(plan::BuildPlan(all, room_of, {}, placed));
+  // With the options the store carries (the robot's radius, reach and beam),
+  // as `cogmap map` plans.
+  const plan::PlanOptions options = PlanOptionsOfStore(*store);
+  const std::string kept = plan::PlanToJsonText(plan::BuildPlan(all, room_of, options, placed));
   EXPECT_EQ(kept, written.str());
   const std::vector<asr::Asr> before = all;
   ASSERT_FALSE(placed.empty());
-  EXPECT_EQ(plan::PlanToJsonText(plan::BuildPlanReleasing(&all, room_of, {}, &placed)), kept);
+  EXPECT_EQ(plan::PlanToJsonText(plan::BuildPlanReleasing(&all, room_of, options, &placed)), kept);
   EXPECT_TRUE(placed.empty());
   ASSERT_EQ(all.size(), before.size());
   for (size_t i = 0; i < all.size(); ++i) {

@@ -175,6 +175,9 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
     store->SetMeta("run_id", folder->run_id());
     asr::SetRobotRadius(store.get(), robot.radius_m);
     asr::SetSensorReach(store.get(), SensorReach(robot, job.mapping.window_m));
+    double beam = 0.0;
+    for (const auto& s : robot.sensors) beam = std::max(beam, s.beam_width_rad);
+    asr::SetSensorBeam(store.get(), beam);
     pipeline = std::make_unique<MappingPipeline>(robot, mapping, store.get());
     if (job.resume) pipeline->Resume();
     sensors::LogRecord rec;

@@ -1399,6 +1399,82 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     pieces = std::move(kept);
   }
 
+  // ---------------------------------------------------------------- one wall seen tilted from both sides
+  // Two faces that face away from each other and cross, each well inside
+  // the other (an X), cannot both be walls: each would put its free side
+  // inside the other's wall. A sonar draws the wall between two rooms so
+  // beside a doorway, each room's view of it leaning by up to half its beam
+  // (the echo at the jamb comes from off the axis): two views of one wall
+  // differ by up to a beam width. Such a pair is one wall seen from both
+  // sides, fitted to the evidence of both (the leans cancel) and squared by
+  // the faces' test. Only faces that differ by no more than the beam
+  // (PlanOptions::beam_width_rad; a laser's is a fraction of a degree) and
+  // cross between a fifth and four fifths of both (not two walls meeting at
+  // their ends).
+  if (o.beam_width_rad > 0.0) {
+    const double cos_opposite = std::cos(std::min(o.beam_width_rad, kPi / 4));
+    std::vector<bool> gone(pieces.size(), false);
+    std::vector<Piece> merged;
+    CellHash hash(2.0);
+    auto ends = [](const Piece& p, Vec2* a, Vec2* b) {
+      *a = p.c + p.spans.front().first * p.u;
+      *b = p.c + p.spans.back().second * p.u;
+    };
+    for (size_t i = 0; i < pieces.size(); ++i) {
+      if (pieces[i].spans.size() != 1) continue;
+      Vec2 a, b;
+      ends(pieces[i], &a, &b);
+      hash.Add(a.cwiseMin(b), a.cwiseMax(b), static_cast<int>(i));
+    }
+    for (size_t i = 0; i < pieces.size(); ++i) {
+      if (gone[i] || pieces[i].spans.size() != 1) continue;
+      Vec2 a0, a1;
+      ends(pieces[i], &a0, &a1);
+      for (int j : hash.Query(a0.cwiseMin(a1), a0.cwiseMax(a1))) {
+        if (j <= static_cast<int>(i) || gone[j] || gone[i]) continue;
+        const Piece& A = pieces[i];
+        const Piece& B = pieces[j];
+        if (A.two_sided || B.two_sided || A.n.dot(B.n) > -cos_opposite) continue;
+        Vec2 b0, b1;
+        ends(B, &b0, &b1);
+        if (!SegmentsCross(a0, a1, b0, b1)) continue;
+        // Where they cross, as fractions along each.
+        const Vec2 da = a1 - a0, db = b1 - b0;
+        const double den = Cross(da, db);
+        if (std::abs(den) < 1e-12) continue;
+        const double ta = Cross(b0 - a0, db) / den, tb = Cross(b0 - a0, da) / den;
+        if (ta < 0.2 || ta > 0.8 || tb < 0.2 || tb > 0.8) continue;
+        Piece f;
+        f.mom = A.mom;
+        f.mom.Add(B.mom);
+        f.raw = A.raw;
+        f.raw.Add(B.raw);
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(f.mom.Cov());
+        f.u = es.eigenvectors().col(1).normalized();
+        const double sigma_theta = DirectionSigma(es.eigenvalues()(0), floor2, f.u.dot(f.raw.Cov() * f.u) * f.raw.w,
+                                                  o.correlation_length_m);
+        f.squared = SquareTo(plan.dominant_direction_rad, plan.direction_scatter_rad, sigma_theta, o.square_z, &f.u);
+        f.n = Perp(f.u);
+        if (f.n.dot(A.n) < 0) f.n = -f.n;
+        f.c = f.mom.Mean();
+        double t0 = std::numeric_limits<double>::infinity(), t1 = -t0;
+        for (const Vec2& q : {a0, a1, b0, b1}) t0 = std::min(t0, f.u.dot(q - f.c)), t1 = std::max(t1, f.u.dot(q - f.c));
+        f.spans = {{t0, t1}};
+        f.asrs = A.asrs;
+        f.asrs.insert(B.asrs.begin(), B.asrs.end());
+        f.weight = A.weight + B.weight;
+        f.two_sided = true;
+        merged.push_back(std::move(f));
+        gone[i] = gone[j] = true;
+      }
+    }
+    std::vector<Piece> kept;
+    for (size_t i = 0; i < pieces.size(); ++i)
+      if (!gone[i]) kept.push_back(std::move(pieces[i]));
+    for (auto& m : merged) kept.push_back(std::move(m));
+    pieces = std::move(kept);
+  }
+
   // ---------------------------------------------------------------- thin walls: opposite faces that coincide
   {
     CellHash hash(2.0);

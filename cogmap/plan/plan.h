@@ -142,6 +142,12 @@ struct PlanOptions {
   // MHIMM window); asr::kMetaSensorReach). 0: no bound but the hulls.
   double reach_m = 0.0;
   double min_room_area_m2 = 0.25;      // smaller rooms are dropped
+  // Walls: two faces that face away from each other and cross (an X) are
+  // one wall seen tilted from both sides when they differ in direction by
+  // no more than the sensors' beam (`cogmap map` sets the widest beam of
+  // the robot, asr::kMetaSensorBeam: 30 degrees for a Polaroid sonar, a
+  // fraction of a degree for a laser). 0: never.
+  double beam_width_rad = 0.0;
 };
 
 // The floor plan of placed ASRs (world_from_local_corrected, walls_local).

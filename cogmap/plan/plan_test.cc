@@ -338,6 +338,42 @@ TEST(BuildPlan, AShortPieceMergedIntoALongWallDoesNotTurnIt) {
   EXPECT_NEAR(x1, 11.0, 0.05);
 }
 
+// The wall x = 5 between two rooms, each room's sonar view of it leaning
+// 11 degrees the other way (their ends pulled in): two faces that face away
+// from each other and cross in the middle, an X no two walls can make. With
+// the sonar's 30 degree beam they are one wall seen from both sides, on the
+// line fitted to both, squared; without a beam (or with a laser's) they
+// stay two.
+TEST(BuildPlan, OneWallSeenLeaningFromBothSidesIsOneWall) {
+  const std::vector<asr::Asr> asrs = {
+      MakeAsr(0, {{{0, 0}, {4.8, 0}}, {{0, 3}, {4.8, 3}}, {{4.8, 0.5}, {5.2, 2.5}}}, Line({1, 1.5}, {4, 1.5})),
+      MakeAsr(1, {{{5.2, 0}, {10, 0}}, {{5.2, 3}, {10, 3}}, {{5.2, 0.5}, {4.8, 2.5}}}, Line({6, 1.5}, {9, 1.5}), 10.0),
+  };
+  auto crossing_walls = [](const Plan& plan) {
+    std::vector<const Wall*> out;
+    for (const Wall& w : plan.walls)
+      if (std::abs(w.points.front().y() - w.points.back().y()) > 1.0) out.push_back(&w);
+    return out;
+  };
+  PlanOptions sonar;
+  sonar.beam_width_rad = DegToRad(30.0);
+  const Plan merged = BuildPlan(asrs, {}, sonar);
+  const auto one = crossing_walls(merged);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_TRUE(one[0]->two_sided);
+  EXPECT_TRUE(one[0]->squared);
+  EXPECT_EQ(one[0]->asr_ids, (std::vector<int>{0, 1}));
+  for (const Vec2& q : one[0]->points) EXPECT_NEAR(q.x(), 5.0, 0.02) << q.transpose();
+  // Its ends (0.5 and 2.5) closed onto the walls y = 0 and y = 3 as corners.
+  EXPECT_NEAR(std::min(one[0]->points.front().y(), one[0]->points.back().y()), 0.0, 0.05);
+  EXPECT_NEAR(std::max(one[0]->points.front().y(), one[0]->points.back().y()), 3.0, 0.05);
+  for (double beam : {0.0, DegToRad(1.0), DegToRad(20.0)}) {
+    PlanOptions o;
+    o.beam_width_rad = beam;  // none, a laser's, narrower than the views' 22.6 degrees
+    EXPECT_EQ(crossing_walls(BuildPlan(asrs, {}, o)).size(), 2u) << beam;
+  }
+}
+
 TEST(BuildPlan, ExitCutsADoorInTheWall) {
   // Room A below y = 4, room B above; the wall y = 4 seen whole by both (thin),
   // the robot went through at x = 3 (exit 0.9 m wide).
