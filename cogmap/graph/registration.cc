@@ -54,50 +54,39 @@ FaceIndex::FaceIndex(const std::vector<FacedSegment>& faces, double cell_m, doub
     *j0 = CellOf((box.y0 - lo_.y()) * inv_cell_, ny_);
     *j1 = CellOf((box.y1 - lo_.y()) * inv_cell_, ny_);
   };
-  start_.assign(static_cast<size_t>(nx_) * ny_ + 1, 0);
-  for (const Box& box : boxes_) {
-    int i0, i1, j0, j1;
-    cells_of(box, &i0, &i1, &j0, &j1);
-    for (int i = i0; i <= i1; ++i)
-      for (int j = j0; j <= j1; ++j) ++start_[static_cast<size_t>(i) * ny_ + j + 1];
-  }
-  for (size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
-  items_.resize(start_.back());
-  std::vector<int> fill(start_.begin(), start_.end() - 1);
-  for (size_t k = 0; k < faces.size(); ++k) {
-    int i0, i1, j0, j1;
-    cells_of(boxes_[k], &i0, &i1, &j0, &j1);
-    for (int i = i0; i <= i1; ++i)
-      for (int j = j0; j <= j1; ++j) items_[fill[static_cast<size_t>(i) * ny_ + j]++] = static_cast<int>(k);
-  }
+  // Each cell's list of the faces whose box, grown by 'grow', meets it:
+  // counted, then filled face by face (one flat array, each list in index
+  // order).
+  auto bucket = [&](double grow, std::vector<int>* start, std::vector<int>* items) {
+    start->assign(static_cast<size_t>(nx_) * ny_ + 1, 0);
+    auto grown_cells = [&](const Box& box, int* i0, int* i1, int* j0, int* j1) {
+      cells_of({box.x0 - grow, box.y0 - grow, box.x1 + grow, box.y1 + grow}, i0, i1, j0, j1);
+    };
+    for (const Box& box : boxes_) {
+      int i0, i1, j0, j1;
+      grown_cells(box, &i0, &i1, &j0, &j1);
+      for (int i = i0; i <= i1; ++i)
+        for (int j = j0; j <= j1; ++j) ++(*start)[static_cast<size_t>(i) * ny_ + j + 1];
+    }
+    for (size_t c = 1; c < start->size(); ++c) (*start)[c] += (*start)[c - 1];
+    items->resize(start->back());
+    std::vector<int> fill(start->begin(), start->end() - 1);
+    for (size_t k = 0; k < boxes_.size(); ++k) {
+      int i0, i1, j0, j1;
+      grown_cells(boxes_[k], &i0, &i1, &j0, &j1);
+      for (int i = i0; i <= i1; ++i)
+        for (int j = j0; j <= j1; ++j) (*items)[fill[static_cast<size_t>(i) * ny_ + j]++] = static_cast<int>(k);
+    }
+  };
+  bucket(0.0, &start_, &items_);
   if (!(reach_m > 0.0)) return;
   // The faces within reach of each cell: those whose box grown by reach (and
-  // a margin for rounding) meets the cell. A point in a cell (or clamped to
-  // it from outside the grid: its projection on the grid's box lies in that
-  // cell and is no farther from any face) has every face nearer than reach
-  // in its cell's list. Counted, then filled face by face: each list in
-  // index order.
+  // a margin for rounding) meets the cell. A point whose cell (CellOf,
+  // clamped and never decreasing) is that of a point within reach of a face
+  // lies in the face's grown box's cell range, so its cell's list holds
+  // every face nearer than reach.
   reach_ = reach_m;
-  const double grow = reach_m + 1e-6;
-  near_start_.assign(static_cast<size_t>(nx_) * ny_ + 1, 0);
-  auto near_cells = [&](const Box& box, int* i0, int* i1, int* j0, int* j1) {
-    cells_of({box.x0 - grow, box.y0 - grow, box.x1 + grow, box.y1 + grow}, i0, i1, j0, j1);
-  };
-  for (const Box& box : boxes_) {
-    int i0, i1, j0, j1;
-    near_cells(box, &i0, &i1, &j0, &j1);
-    for (int i = i0; i <= i1; ++i)
-      for (int j = j0; j <= j1; ++j) ++near_start_[static_cast<size_t>(i) * ny_ + j + 1];
-  }
-  for (size_t c = 1; c < near_start_.size(); ++c) near_start_[c] += near_start_[c - 1];
-  near_.resize(near_start_.back());
-  std::vector<int> near_fill(near_start_.begin(), near_start_.end() - 1);
-  for (size_t k = 0; k < faces.size(); ++k) {
-    int i0, i1, j0, j1;
-    near_cells(boxes_[k], &i0, &i1, &j0, &j1);
-    for (int i = i0; i <= i1; ++i)
-      for (int j = j0; j <= j1; ++j) near_[near_fill[static_cast<size_t>(i) * ny_ + j]++] = static_cast<int>(k);
-  }
+  bucket(reach_m + 1e-6, &near_start_, &near_);
 }
 
 int FaceIndex::Nearest(const Vec2& p, const Vec2& n, double max_d, double cos_max, double* residual,

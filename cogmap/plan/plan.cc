@@ -866,7 +866,8 @@ Region FillRegion(int x0, int y0, int x1, int y1, In&& in_lattice, bool fill_hol
   return FillRegionMasked(
       x0, y0, x1, y1,
       [&](std::vector<uint8_t>* mask, int W) {
-        for (int y = 1; y < y1 - y0 + 2; ++y)
+        const int H = y1 - y0 + 3;  // as FillRegionMasked frames the box
+        for (int y = 1; y < H - 1; ++y)
           for (int x = 1; x < W - 1; ++x)
             (*mask)[static_cast<size_t>(y) * W + x] = in_lattice(x0 + x - 1, y0 + y - 1) ? 1 : 0;
       },
@@ -1310,6 +1311,30 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   std::vector<std::map<int, double>>().swap(face_quality);
   face_hash = CellHash(2.0);
 
+  // Two pieces as one: the line fitted to the evidence of both (their
+  // quality-weighted moments added, as one face's is fitted), squared to the
+  // building's direction by the faces' test, free side A's; their ASRs and
+  // weight together. The caller sets the spans.
+  auto fit_both = [&](const Piece& A, const Piece& B) {
+    Piece f;
+    f.mom = A.mom;
+    f.mom.Add(B.mom);
+    f.raw = A.raw;
+    f.raw.Add(B.raw);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(f.mom.Cov());
+    f.u = es.eigenvectors().col(1).normalized();
+    const double sigma_theta =
+        DirectionSigma(es.eigenvalues()(0), floor2, f.u.dot(f.raw.Cov() * f.u) * f.raw.w, o.correlation_length_m);
+    f.squared = SquareTo(plan.dominant_direction_rad, plan.direction_scatter_rad, sigma_theta, o.square_z, &f.u);
+    f.n = Perp(f.u);
+    if (f.n.dot(A.n) < 0) f.n = -f.n;
+    f.c = f.mom.Mean();
+    f.asrs = A.asrs;
+    f.asrs.insert(B.asrs.begin(), B.asrs.end());
+    f.weight = A.weight + B.weight;
+    return f;
+  };
+
   // ---------------------------------------------------------------- one face found twice
   // Grouping tests each segment against a face's line as it stands when the
   // segment comes, so two faces of one wall can stay apart (each room placed
@@ -1364,19 +1389,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
           // degrees off turned a long wall about the overlap's middle, its
           // far end half a metre off (aria/office, 16 sonars: an 11 m wall
           // turned 2.7 degrees by a 1 m piece 15 degrees off).
-          Piece f;
-          f.mom = A.mom;
-          f.mom.Add(B.mom);
-          f.raw = A.raw;
-          f.raw.Add(B.raw);
-          Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(f.mom.Cov());
-          f.u = es.eigenvectors().col(1).normalized();
-          const double sigma_theta = DirectionSigma(es.eigenvalues()(0), floor2, f.u.dot(f.raw.Cov() * f.u) * f.raw.w,
-                                                    o.correlation_length_m);
-          f.squared = SquareTo(plan.dominant_direction_rad, plan.direction_scatter_rad, sigma_theta, o.square_z, &f.u);
-          f.n = Perp(f.u);
-          if (f.n.dot(A.n) < 0) f.n = -f.n;
-          f.c = f.mom.Mean();
+          Piece f = fit_both(A, B);
           std::vector<std::pair<double, double>> iv;
           for (const Piece* p : {static_cast<const Piece*>(&A), &B})
             for (const auto& sp : p->spans) {
@@ -1384,9 +1397,6 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
               iv.push_back({std::min(u0, u1), std::max(u0, u1)});
             }
           f.spans = JoinSpans(std::move(iv), o.join_gap_m);
-          f.asrs = A.asrs;
-          f.asrs.insert(B.asrs.begin(), B.asrs.end());
-          f.weight = A.weight + B.weight;
           A = std::move(f);
           gone[j] = true;
           again = true;
@@ -1444,25 +1454,10 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         if (std::abs(den) < 1e-12) continue;
         const double ta = Cross(b0 - a0, db) / den, tb = Cross(b0 - a0, da) / den;
         if (ta < 0.2 || ta > 0.8 || tb < 0.2 || tb > 0.8) continue;
-        Piece f;
-        f.mom = A.mom;
-        f.mom.Add(B.mom);
-        f.raw = A.raw;
-        f.raw.Add(B.raw);
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(f.mom.Cov());
-        f.u = es.eigenvectors().col(1).normalized();
-        const double sigma_theta = DirectionSigma(es.eigenvalues()(0), floor2, f.u.dot(f.raw.Cov() * f.u) * f.raw.w,
-                                                  o.correlation_length_m);
-        f.squared = SquareTo(plan.dominant_direction_rad, plan.direction_scatter_rad, sigma_theta, o.square_z, &f.u);
-        f.n = Perp(f.u);
-        if (f.n.dot(A.n) < 0) f.n = -f.n;
-        f.c = f.mom.Mean();
+        Piece f = fit_both(A, B);
         double t0 = std::numeric_limits<double>::infinity(), t1 = -t0;
         for (const Vec2& q : {a0, a1, b0, b1}) t0 = std::min(t0, f.u.dot(q - f.c)), t1 = std::max(t1, f.u.dot(q - f.c));
         f.spans = {{t0, t1}};
-        f.asrs = A.asrs;
-        f.asrs.insert(B.asrs.begin(), B.asrs.end());
-        f.weight = A.weight + B.weight;
         f.two_sided = true;
         merged.push_back(std::move(f));
         gone[i] = gone[j] = true;
