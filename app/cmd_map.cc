@@ -163,6 +163,11 @@ std::function<int()> SetupMap(CLI::App& sub) {
   sub.add_flag("--no-drift-filter", a->no_drift_filter,
                "With --no-graph: without the drift-rate filter (one EM rotation per ASR, odometry used as it "
                "comes). The pose graph estimates the drift itself and never uses the filter");
+  sub.add_flag("--scan-match", a->job.mapping.scan_match,
+               "Laser robots: correct the odometry by matching each scan against a reference scan before "
+               "mapping (point-to-line ICP with the wheels as its prior; where the scans cannot tell, along a "
+               "corridor, the wheels are kept); the corrected odometry is the run's odometry in the store. No "
+               "effect on sonar (docs/inputs.md 'Laser odometry')");
   sub.add_option("--add-drift-deg-per-m", a->add_drift_deg_per_m,
                  "Add a systematic heading drift to the log's odometry, degrees per metre driven (CCW positive; "
                  "the log's ground truth stays): to test the correction on a real log")

@@ -159,6 +159,7 @@ MappingPipeline::MappingPipeline(sensors::RobotDescription robot, MappingOptions
       drift_adder_(options.add_drift_rad_per_m) {
   options_.Validate();
   result_.correction = options_.correction();
+  if (options_.scan_match) scan_odometry_ = std::make_unique<localize::ScanOdometry>(robot_);
   if (store_ && store_->MaxId() < 0 && !store_->GetMeta(asr::kMetaFinishedThrough))
     store_->SetMeta(asr::kMetaFinishedThrough, "-1");
   asr::MapperOptions mapper_options = MapperOptionsFor(robot_, options_);
@@ -313,6 +314,10 @@ void MappingPipeline::Resume() {
 
 void MappingPipeline::Push(sensors::LogRecord rec) {
   if (options_.add_drift_rad_per_m != 0.0) rec.odom = drift_adder_.Add(rec.odom);
+  if (scan_odometry_) {
+    rec.odom = scan_odometry_->Correct(rec.odom, rec.ranges);
+    result_.scan_match = scan_odometry_->stats();
+  }
   if (result_.records == 0) result_.first_time_s = rec.time_s;
   if (!result_.world_from_map && rec.truth) result_.world_from_map = *rec.truth * rec.odom.inverse();
   result_.last_time_s = rec.time_s;

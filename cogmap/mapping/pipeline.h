@@ -22,6 +22,7 @@
 #include "cogmap/graph/map_optimizer.h"
 #include "cogmap/localize/heading_corrector.h"
 #include "cogmap/localize/odometry_corrector.h"
+#include "cogmap/localize/scan_odometry.h"
 #include "cogmap/sensors/reading.h"
 #include "cogmap/sensors/robot.h"
 
@@ -58,6 +59,10 @@ struct MappingOptions {
   bool drift_filter = true;            // without the graph: the drift-rate filter
   bool smooth = true;                  // drift filter: revise the run's corrections at the end
   double add_drift_rad_per_m = 0.0;    // a systematic heading drift added to the odometry (tests on real logs)
+  // --scan-match: a laser robot's odometry corrected by matching each scan
+  // against a reference scan (localize::ScanOdometry) before it is mapped;
+  // the corrected odometry is what the store keeps as the run's odometry.
+  bool scan_match = false;
   // Default mode: walls as lines in each room's cleaned cells (docs/walls.md);
   // false: the chain pipeline (simplify + fit). Paper mode: always the chains.
   bool wall_lines = false;
@@ -115,6 +120,8 @@ struct RunResult {
   double first_pass_seconds = 0.0;
   double first_pass_drift_rate_sigma_rad_per_m = 0.0;
   double duration_s() const { return last_time_s - first_time_s; }
+  // --scan-match: its figures (scans == 0 without it, or without a laser).
+  localize::ScanOdometryStats scan_match;
 };
 
 // Adds a systematic heading drift to odometry (the truth stays): each
@@ -190,6 +197,7 @@ class MappingPipeline {
   localize::DriftHeadingCorrector drift_corrector_;
   std::unique_ptr<graph::MapOptimizer> optimizer_;
   DriftAdder drift_adder_;
+  std::unique_ptr<localize::ScanOdometry> scan_odometry_;  // --scan-match
   std::function<void(const asr::Asr&, const AsrSummary&)> callback_;
   RunResult result_;
   std::mutex estimates_mutex_;

@@ -162,6 +162,17 @@ void WriteReport(const ReportContext& c, std::ostream& out) {
       {"drift_filter", drift_filter},
       {"smoothed_asrs", run.smoothed},
       {"added_drift_deg_per_m", RadToDeg(job.mapping.add_drift_rad_per_m)},
+      {"scan_match",
+       job.mapping.scan_match
+           ? nlohmann::json{{"scans", run.scan_match.scans},
+                            {"matched", run.scan_match.matched},
+                            {"references", run.scan_match.references},
+                            {"rejected", run.scan_match.rejected},
+                            {"mean_spacing_m", run.scan_match.MeanSpacing()},
+                            {"rmse_mean_m", run.scan_match.matched > 0
+                                                ? run.scan_match.rmse_sum_m / run.scan_match.matched
+                                                : 0.0}}
+           : nlohmann::json(nullptr)},
       {"resumed", job.resume},
       {"replayed_asrs", run.replayed},
       {"records", run.records},
