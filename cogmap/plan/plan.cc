@@ -841,21 +841,83 @@ Region FillRegionMasked(int x0, int y0, int x1, int y1, MaskOf&& mask_of, bool f
   }
   // Fill holes: sites not reachable from the frame without crossing the component.
   std::vector<uint8_t>& outside = mask;
-  std::fill(outside.begin(), outside.end(), 0);
-  std::vector<std::pair<int, int>> st{{0, 0}};
-  outside[0] = 1;
-  while (!st.empty()) {
-    auto [cx, cy] = st.back();
-    st.pop_back();
-    const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
-    for (int k = 0; k < 4; ++k) {
-      if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
-      const size_t j = static_cast<size_t>(ny[k]) * W + nx[k];
-      if (outside[j] || comp[j] == best) continue;
-      outside[j] = 1;
-      st.push_back({nx[k], ny[k]});
+  auto flood_outside = [&] {
+    std::fill(outside.begin(), outside.end(), 0);
+    std::vector<std::pair<int, int>> st{{0, 0}};
+    outside[0] = 1;
+    while (!st.empty()) {
+      auto [cx, cy] = st.back();
+      st.pop_back();
+      const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+      for (int k = 0; k < 4; ++k) {
+        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
+        const size_t j = static_cast<size_t>(ny[k]) * W + nx[k];
+        if (outside[j] || comp[j] == best) continue;
+        outside[j] = 1;
+        st.push_back({nx[k], ny[k]});
+      }
     }
+  };
+  flood_outside();
+  // A hole larger than the room itself is not part of it: it is what the
+  // room runs round (a corridor ring round its block, closed once the loop
+  // is: hallway_loop's ring filled to a 3,600 m2 square). A room is a
+  // polygon without holes, so the ring is cut instead: the shortest way
+  // across it from that hole to the outside is left to no room (a slit one
+  // site wide), and the hole stays outside. Smaller holes (walls and
+  // furniture inside a room, a room wholly inside it) are filled.
+  std::vector<int> hole(static_cast<size_t>(W) * H, -1);
+  bool cut = false;
+  for (size_t j0 = 0; j0 < hole.size(); ++j0) {
+    if (outside[j0] || comp[j0] == best || hole[j0] >= 0) continue;
+    std::vector<size_t> sites{j0};
+    hole[j0] = static_cast<int>(j0);
+    for (size_t i = 0; i < sites.size(); ++i) {
+      const int cx = static_cast<int>(sites[i] % W), cy = static_cast<int>(sites[i] / W);
+      const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+      for (int k = 0; k < 4; ++k) {
+        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
+        const size_t j = static_cast<size_t>(ny[k]) * W + nx[k];
+        if (outside[j] || comp[j] == best || hole[j] >= 0) continue;
+        hole[j] = static_cast<int>(j0);
+        sites.push_back(j);
+      }
+    }
+    if (static_cast<int64_t>(sites.size()) <= best_size) continue;
+    // Breadth first through the room from its sites beside this hole to the
+    // first one beside the outside.
+    std::vector<int64_t> parent(hole.size(), -2);
+    std::vector<size_t> queue;
+    for (size_t j : sites) {
+      const int cx = static_cast<int>(j % W), cy = static_cast<int>(j / W);
+      const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+      for (int k = 0; k < 4; ++k) {
+        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
+        const size_t q = static_cast<size_t>(ny[k]) * W + nx[k];
+        if (comp[q] == best && parent[q] == -2) parent[q] = -1, queue.push_back(q);
+      }
+    }
+    std::sort(queue.begin(), queue.end());  // a deterministic order whatever the hole's flood
+    int64_t exit = -1;
+    for (size_t i = 0; i < queue.size() && exit < 0; ++i) {
+      const size_t j = queue[i];
+      const int cx = static_cast<int>(j % W), cy = static_cast<int>(j / W);
+      const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+      for (int k = 0; k < 4 && exit < 0; ++k) {
+        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
+        const size_t q = static_cast<size_t>(ny[k]) * W + nx[k];
+        if (outside[q]) exit = static_cast<int64_t>(j);
+      }
+      for (int k = 0; k < 4 && exit < 0; ++k) {
+        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
+        const size_t q = static_cast<size_t>(ny[k]) * W + nx[k];
+        if (comp[q] == best && parent[q] == -2) parent[q] = static_cast<int64_t>(j), queue.push_back(q);
+      }
+    }
+    for (int64_t j = exit; j >= 0; j = parent[static_cast<size_t>(j)]) comp[static_cast<size_t>(j)] = -1;
+    cut = cut || exit >= 0;
   }
+  if (cut) flood_outside();
   for (size_t j = 0; j < outside.size(); ++j)
     if (!outside[j]) reg.filled[j] = 1, ++reg.count;
   return reg;

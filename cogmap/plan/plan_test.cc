@@ -875,6 +875,26 @@ TEST(BuildPlan, RingCorridorIsOneCorridorCutAtOneCorner) {
   EXPECT_EQ(plan.edges.size(), 2u);                  // the corner's two doors
 }
 
+TEST(BuildPlan, RingDrivenInOnePieceIsCutNotFilled) {
+  // The same ring driven round in one piece (a loop closed within one ASR,
+  // or pieces the flood joins across the loop's last gap): the room's region
+  // is a ring, and a polygon has no hole. Its hole (the 20 x 20 m block) is
+  // larger than the ring itself: not part of it but what it runs round, so
+  // the ring is cut across at its narrowest (a slit of one lattice site)
+  // instead of being filled (it was: a 576 m2 square).
+  const std::vector<Vec2> c = {{5, 1}, {23, 1}, {23, 23}, {1, 23}, {1, 1}, {4.5, 1}};
+  std::vector<asr::Asr> asrs = {CorridorPiece(0, c, 0.0)};
+  const Plan plan = BuildPlan(asrs, {});
+  ASSERT_EQ(plan.rooms.size(), 1u);
+  const Room& ring = plan.rooms[0];
+  EXPECT_NEAR(ring.area_m2, 176.0, 10.0);
+  EXPECT_FALSE(Inside({12, 12}, ring.polygon));
+  EXPECT_TRUE(Inside({12, 1}, ring.polygon));
+  EXPECT_TRUE(Inside({23, 12}, ring.polygon));
+  EXPECT_TRUE(Inside({12, 23}, ring.polygon));
+  EXPECT_TRUE(Inside({1, 12}, ring.polygon));
+}
+
 // Corridor piece along y = 1 from x = 0 to 10, a 5 x 5 m room from x = 10 to
 // 15 (doors at both ends, at (10, 1) and (15, 1)) with the robot's path
 // 'room_path' through it, corridor piece from 15 to 25: ASRs 0, 1, 2.
