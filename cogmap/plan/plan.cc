@@ -1686,6 +1686,13 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
           const Vec2 x = segs[i].a + t * du;
           const double d1 = (x - p).norm(), d2 = (x - q).norm();
           if (d1 > o.corner_m || d2 > o.corner_m) continue;
+          // Neither end may move farther than the two ends lie apart (a cell
+          // at least): at a right angle each moves 0.71 of that gap, but two
+          // walls at a shallow angle meet far beyond both ends, where
+          // neither was seen (cluttered_lab: a 0.6 m box's bottom face and a
+          // 31 degree diagonal of it, ends 0.33 m apart, met 0.55 m out: a
+          // spur 0.6 m off every true wall).
+          if (std::max(d1, d2) > std::max((p - q).norm(), o.cell_m)) continue;
           // The end must move along its wall by extending or trimming only a little:
           // a trim must not eat more than half the wall.
           if ((x - (end ? segs[i].a : segs[i].b)).norm() < 0.5 * (segs[i].b - segs[i].a).norm()) continue;

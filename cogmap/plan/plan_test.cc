@@ -177,6 +177,29 @@ TEST(BuildPlan, RoomWhollyInsideALaterRoomIsTakenByIt) {
   EXPECT_EQ(SampledOverlap(plan, 0.1), 0.0);
 }
 
+TEST(BuildPlan, WallsAtAShallowAngleAreNotExtendedToMeetFarOff) {
+  // An 8 x 6 m room with the two faces of a box seen from it: a bottom face
+  // and a face 33 degrees off it whose ends lie 0.33 m apart. Their lines
+  // cross 0.55-0.59 m beyond both ends, where neither was seen: closing that
+  // corner drew a spur 0.6 m off the box (cluttered_lab). The corner stays
+  // open; the room's own right-angled corners still close.
+  const Vec2 b0(3.69, 2.76), b1 = b0 + 0.6 * Vec2(std::cos(DegToRad(33.0)), std::sin(DegToRad(33.0)));
+  std::vector<Polyline> walls = {Box(0, 0, 8, 6), {{4.5, 2.44}, {3.75, 2.44}}, {b0, b1}};
+  const asr::Asr a = MakeAsr(0, walls, Line({1, 1}, {7, 1}));
+  const Plan plan = BuildPlan({a}, {});
+  bool spur = false, bottom = false;
+  for (const Wall& w : plan.walls) {
+    for (const Vec2& p : w.points) spur = spur || (p.x() < 3.6 && p.y() > 2.3 && p.y() < 3.2);
+    bottom = bottom || (std::abs(w.points.front().y() - 2.44) < 0.05 && std::abs(w.points.back().y() - 2.44) < 0.05);
+  }
+  EXPECT_FALSE(spur);
+  EXPECT_TRUE(bottom);
+  int full = 0;
+  for (const Wall& w : plan.walls)
+    if (std::abs(PolylineLength(w.points) - 8.0) < 0.05 || std::abs(PolylineLength(w.points) - 6.0) < 0.05) ++full;
+  EXPECT_EQ(full, 4);
+}
+
 TEST(BuildPlan, SquareRoomSeenTwiceGivesFourWalls) {
   // Two ASRs of one room see the same 4 x 4 m walls, the second 4 cm off.
   std::vector<asr::Asr> asrs = {
