@@ -467,27 +467,7 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
                           [&](std::ostream& o) { WriteReport(ctx, o); });
   out.run = run;
   out.warnings = run.graph.warnings;
-  if (job.mapping.scan_match) {
-    const localize::ScanOdometryStats& sm = run.scan_match;
-    const localize::ScanOdometryOptions so;
-    if (sm.scans == 0)
-      out.warnings.push_back("--scan-match: the robot has no laser scans to match; the odometry was used as it came");
-    else if (sm.MeanSpacing() > so.reference_m) {
-      std::string w;
-      AppendF(&w,
-              "--scan-match: the scans are %.2f m apart on average (more than %.1f m): each was matched against one "
-              "taken that far back, with less overlap, and the wheels' odometry may be the better of the two "
-              "(docs/inputs.md, 'Laser odometry')",
-              sm.MeanSpacing(), so.reference_m);
-      out.warnings.push_back(w);
-    }
-    if (sm.scans > 0 && sm.matched < 0.9 * sm.scans) {
-      std::string w;
-      AppendF(&w, "--scan-match: %ld of %ld scans could not be matched (the wheels were kept there)",
-              sm.scans - sm.matched, sm.scans);
-      out.warnings.push_back(w);
-    }
-  }
+  for (const std::string& w : ScanMatchWarnings(job.mapping, run)) out.warnings.push_back(w);
   return out;
 }
 

@@ -8,6 +8,7 @@
 
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
+#include "cogmap/core/text.h"
 #include "cogmap/localize/odometry_corrector.h"
 
 namespace cogmap::mapping {
@@ -310,6 +311,31 @@ void MappingPipeline::Resume() {
       return raw;
     });
   }
+}
+
+std::vector<std::string> ScanMatchWarnings(const MappingOptions& options, const RunResult& run) {
+  std::vector<std::string> out;
+  if (!options.scan_match) return out;
+  const localize::ScanOdometryStats& sm = run.scan_match;
+  const localize::ScanOdometryOptions so;
+  if (sm.scans == 0) {
+    out.push_back("--scan-match: the robot has no laser scans to match; the odometry was used as it came");
+  } else if (sm.MeanSpacing() > so.reference_m) {
+    std::string w;
+    AppendF(&w,
+            "--scan-match: the scans are %.2f m apart on average (more than %.1f m): each was matched against one "
+            "taken that far back, with less overlap, and the wheels' odometry may be the better of the two "
+            "(docs/inputs.md, 'Laser odometry')",
+            sm.MeanSpacing(), so.reference_m);
+    out.push_back(w);
+  }
+  if (sm.scans > 0 && sm.matched < 0.9 * sm.scans) {
+    std::string w;
+    AppendF(&w, "--scan-match: %ld of %ld scans could not be matched (the wheels were kept there)",
+            sm.scans - sm.matched, sm.scans);
+    out.push_back(w);
+  }
+  return out;
 }
 
 void MappingPipeline::Push(sensors::LogRecord rec) {

@@ -124,6 +124,12 @@ struct RunResult {
   localize::ScanOdometryStats scan_match;
 };
 
+// What `cogmap map --scan-match` warns of (report.json scan_match.warnings
+// and the command's warnings): a robot without a laser, scans farther apart
+// on average than the matcher's reference spacing, a tenth or more of the
+// scans not matched. Empty without --scan-match.
+std::vector<std::string> ScanMatchWarnings(const MappingOptions& options, const RunResult& run);
+
 // Adds a systematic heading drift to odometry (the truth stays): each
 // increment turns by an extra rate x its length, and the position follows the
 // drifted heading.

@@ -198,7 +198,11 @@ TEST(MappingPipeline, ScanMatchingCorrectsALasersOdometryBeforeMapping) {
   mo.scan_match = true;
   MappingPipeline p(sensors::BuiltinRobot("pioneer16"), mo, store.get());
   for (const auto& r : SimulatedRun(0.0)) p.Push(r);
-  EXPECT_EQ(p.Finish().scan_match.scans, 0);
+  const RunResult& sonar = p.Finish();
+  EXPECT_EQ(sonar.scan_match.scans, 0);
+  ASSERT_EQ(ScanMatchWarnings(mo, sonar).size(), 1u);  // nothing to match, and it says so
+  EXPECT_TRUE(ScanMatchWarnings(mo, scans).empty());   // 10 scans a second: dense, all matched
+  EXPECT_TRUE(ScanMatchWarnings({}, wheels).empty());  // not asked for
 }
 
 TEST(MappingPipeline, StreamingEqualsTheJobOnTheSameLog) {

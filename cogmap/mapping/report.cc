@@ -169,6 +169,7 @@ void WriteReport(const ReportContext& c, std::ostream& out) {
                             {"references", run.scan_match.references},
                             {"rejected", run.scan_match.rejected},
                             {"mean_spacing_m", run.scan_match.MeanSpacing()},
+                            {"warnings", ScanMatchWarnings(job.mapping, run)},
                             {"rmse_mean_m", run.scan_match.matched > 0
                                                 ? run.scan_match.rmse_sum_m / run.scan_match.matched
                                                 : 0.0}}
