@@ -30,6 +30,7 @@ struct MapArgs {
   double add_drift_deg_per_m = 0.0;
   double remove_drift_deg_per_m = 0.0;
   bool second_pass = false;
+  std::string scan_match = "auto";
   std::vector<std::string> topics;
 };
 
@@ -59,6 +60,7 @@ int RunMap(MapArgs& a) {
   job.mapping.smooth = !a.no_smooth;
   job.mapping.add_drift_rad_per_m = DegToRad(a.add_drift_deg_per_m);
   job.mapping.remove_drift_rad_per_m = DegToRad(a.remove_drift_deg_per_m);
+  job.mapping.scan_match = mapping::ParseScanMatch(a.scan_match);
   job.mapping.Validate();
   job.outputs = mapping::OutputChoice::Parse(a.outputs);
   if (!a.geo_anchor.empty()) job.geo_anchor = io::ParseGeoAnchor(a.geo_anchor);
@@ -163,11 +165,13 @@ std::function<int()> SetupMap(CLI::App& sub) {
   sub.add_flag("--no-drift-filter", a->no_drift_filter,
                "With --no-graph: without the drift-rate filter (one EM rotation per ASR, odometry used as it "
                "comes). The pose graph estimates the drift itself and never uses the filter");
-  sub.add_flag("--scan-match", a->job.mapping.scan_match,
-               "Laser robots: correct the odometry by matching each scan against a reference scan before "
-               "mapping (point-to-line ICP with the wheels as its prior; where the scans cannot tell, along a "
-               "corridor, the wheels are kept); the corrected odometry is the run's odometry in the store. No "
-               "effect on sonar (docs/inputs.md 'Laser odometry')");
+  sub.add_option("--scan-match", a->scan_match,
+                 "Laser robots: correct the odometry by matching each scan against a reference scan before "
+                 "mapping (point-to-line ICP with the wheels as its prior; where the scans cannot tell, along a "
+                 "corridor, the wheels are kept); the corrected odometry is the run's odometry in the store. auto: "
+                 "when the first scans come at most 0.5 m or 15 degrees apart on average (default mode; paper "
+                 "mode: never); on: always; off: never. No effect on sonar (docs/inputs.md 'Laser odometry')")
+      ->capture_default_str();
   sub.add_option("--add-drift-deg-per-m", a->add_drift_deg_per_m,
                  "Add a systematic heading drift to the log's odometry, degrees per metre driven (CCW positive; "
                  "the log's ground truth stays): to test the correction on a real log")

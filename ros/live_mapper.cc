@@ -300,7 +300,7 @@ void LiveMapper::Impl::Run(std::function<void()> on_asr) {
     auto store = asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kReplace);
     mapping::MappingOptions mo;
     mo.paper = options.mode == "paper";
-    mo.scan_match = options.scan_match;
+    mo.scan_match = mapping::ParseScanMatch(options.scan_match);
     mapping::MappingPipeline pipeline(robot, mo, store.get());
     mapping::MapJob job;
     job.log_path = "-";

@@ -30,7 +30,7 @@ struct LiveOptions {
   // reader sees it, so that messages of one moment on different topics, which
   // arrive over separate connections in any order, are put back in stamp order.
   double reorder_window_s = 0.5;
-  bool scan_match = false;  // a laser's scans correct the odometry first (`cogmap map --scan-match`)
+  std::string scan_match = "auto";  // a laser's scans correct the odometry first (`cogmap map --scan-match`)
 };
 
 // What the node publishes, in the map frame (metres).

@@ -13,9 +13,40 @@ constexpr double kThin = 0.04;
 
 }  // namespace
 
+bool HasLaser(const sensors::RobotDescription& robot) {
+  for (const auto& s : robot.sensors)
+    if (s.kind == sensors::SensorKind::kLaser) return true;
+  return false;
+}
+
+ScanDensity::ScanDensity(const sensors::RobotDescription& robot, ScanOdometryOptions options, int gaps)
+    : robot_(robot), o_(options), want_(std::max(1, gaps)) {}
+
+bool ScanDensity::Add(const Pose2& odom, const std::vector<sensors::RangeReading>& ranges) {
+  if (decided()) return true;
+  bool scan = false;
+  for (const auto& r : ranges) {
+    if (r.sensor < 0 || r.sensor >= static_cast<int>(robot_.sensors.size())) continue;
+    const sensors::RangeSensor& s = robot_.sensors[r.sensor];
+    if (s.kind == sensors::SensorKind::kLaser && r.range_m >= s.min_range_m && r.range_m < s.max_range_m) {
+      scan = true;
+      break;
+    }
+  }
+  if (!scan) return false;
+  if (have_last_) {
+    const Pose2 w = last_.inverse() * odom;
+    steps_ += std::max(std::hypot(w.x, w.y) / o_.reference_m, std::abs(w.theta) / o_.reference_rad);
+    ++gaps_;
+  }
+  last_ = odom;
+  have_last_ = true;
+  return decided();
+}
+
 ScanOdometry::ScanOdometry(sensors::RobotDescription robot, ScanOdometryOptions options)
     : robot_(std::move(robot)), o_(options) {
-  for (const auto& s : robot_.sensors) has_laser_ = has_laser_ || s.kind == sensors::SensorKind::kLaser;
+  has_laser_ = HasLaser(robot_);
 }
 
 std::vector<Vec2> ScanOdometry::ScanPoints(const std::vector<sensors::RangeReading>& ranges) const {

@@ -71,6 +71,36 @@ struct ScanOdometryStats {
   double MeanSpacing() const { return scans > 1 ? spacing_sum_m / (scans - 1) : 0.0; }
 };
 
+// Are a log's laser scans dense enough for ScanOdometry (`cogmap map`'s
+// default, `--scan-match` auto)? Each gap between consecutive scans (the
+// wheels' motion) in units of the reference's spacing: its travel over
+// reference_m or its turn over reference_rad, the larger. Dense when the
+// mean over the first `gaps` gaps is at most 1: a scan farther from the
+// last is matched against it alone, with less overlap (the CARMEN logs,
+// 0.55-0.83 m and up to 30 degrees apart: worse than their odometry).
+class ScanDensity {
+ public:
+  explicit ScanDensity(const sensors::RobotDescription& robot, ScanOdometryOptions options = {}, int gaps = 10);
+  // One record, in the log's order: counted when it has laser returns.
+  // Returns decided().
+  bool Add(const Pose2& odom, const std::vector<sensors::RangeReading>& ranges);
+  bool decided() const { return gaps_ >= want_; }
+  bool dense() const { return gaps_ > 0 && mean_step() <= 1.0; }
+  double mean_step() const { return gaps_ > 0 ? steps_ / gaps_ : 0.0; }
+  int gaps() const { return gaps_; }
+
+ private:
+  sensors::RobotDescription robot_;
+  ScanOdometryOptions o_;
+  int want_ = 10, gaps_ = 0;
+  double steps_ = 0.0;
+  bool have_last_ = false;
+  Pose2 last_;
+};
+
+// True when the robot has at least one laser beam (SensorKind::kLaser).
+bool HasLaser(const sensors::RobotDescription& robot);
+
 class ScanOdometry {
  public:
   // The robot's laser beams (SensorKind::kLaser) are used; a robot with none

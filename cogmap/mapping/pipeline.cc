@@ -160,7 +160,12 @@ MappingPipeline::MappingPipeline(sensors::RobotDescription robot, MappingOptions
       drift_adder_(options.add_drift_rad_per_m) {
   options_.Validate();
   result_.correction = options_.correction();
-  if (options_.scan_match) scan_odometry_ = std::make_unique<localize::ScanOdometry>(robot_);
+  if (options_.scan_match == ScanMatch::kOn) {
+    scan_odometry_ = std::make_unique<localize::ScanOdometry>(robot_);
+    result_.scan_match_active = localize::HasLaser(robot_);
+  } else if (options_.scan_match == ScanMatch::kAuto && !options_.paper && localize::HasLaser(robot_)) {
+    scan_density_ = std::make_unique<localize::ScanDensity>(robot_);
+  }
   if (store_ && store_->MaxId() < 0 && !store_->GetMeta(asr::kMetaFinishedThrough))
     store_->SetMeta(asr::kMetaFinishedThrough, "-1");
   asr::MapperOptions mapper_options = MapperOptionsFor(robot_, options_);
@@ -313,9 +318,29 @@ void MappingPipeline::Resume() {
   }
 }
 
+const char* ScanMatchName(ScanMatch m) {
+  switch (m) {
+    case ScanMatch::kOn:
+      return "on";
+    case ScanMatch::kOff:
+      return "off";
+    case ScanMatch::kAuto:
+      break;
+  }
+  return "auto";
+}
+
+ScanMatch ParseScanMatch(const std::string& s) {
+  if (s == "auto") return ScanMatch::kAuto;
+  if (s == "on") return ScanMatch::kOn;
+  if (s == "off") return ScanMatch::kOff;
+  throw InputError("--scan-match " + s + ": expected auto, on or off");
+}
+
 std::vector<std::string> ScanMatchWarnings(const MappingOptions& options, const RunResult& run) {
   std::vector<std::string> out;
-  if (!options.scan_match) return out;
+  // Asked for: say when it could not help. (auto decides for itself.)
+  if (options.scan_match != ScanMatch::kOn) return out;
   const localize::ScanOdometryStats& sm = run.scan_match;
   const localize::ScanOdometryOptions so;
   if (sm.scans == 0) {
@@ -340,6 +365,33 @@ std::vector<std::string> ScanMatchWarnings(const MappingOptions& options, const 
 
 void MappingPipeline::Push(sensors::LogRecord rec) {
   if (options_.add_drift_rad_per_m != 0.0) rec.odom = drift_adder_.Add(rec.odom);
+  if (scan_density_) {
+    // Deciding: held back until the first scans tell whether they are dense
+    // enough to match (or a laser robot's log shows no scans for long).
+    const bool decided = scan_density_->Add(rec.odom, rec.ranges);
+    scan_pending_.push_back(std::move(rec));
+    constexpr size_t kMaxPending = 20000;
+    if (decided || scan_pending_.size() >= kMaxPending) DecideScanMatch();
+    return;
+  }
+  Process(std::move(rec));
+}
+
+void MappingPipeline::DecideScanMatch() {
+  if (!scan_density_) return;
+  result_.scan_match_mean_step = scan_density_->mean_step();
+  result_.scan_match_gaps = scan_density_->gaps();
+  if (scan_density_->dense()) {
+    scan_odometry_ = std::make_unique<localize::ScanOdometry>(robot_);
+    result_.scan_match_active = true;
+  }
+  scan_density_.reset();
+  std::vector<sensors::LogRecord> pending;
+  pending.swap(scan_pending_);
+  for (auto& r : pending) Process(std::move(r));
+}
+
+void MappingPipeline::Process(sensors::LogRecord rec) {
   if (scan_odometry_) {
     rec.odom = scan_odometry_->Correct(rec.odom, rec.ranges);
     result_.scan_match = scan_odometry_->stats();
@@ -357,6 +409,7 @@ void MappingPipeline::Settle() {
 
 const RunResult& MappingPipeline::Finish() {
   if (finished_) return result_;
+  DecideScanMatch();  // a run too short to decide on: the wheels
   finished_ = true;
   mapper_->Finish();
   result_.mapper = mapper_->stats();

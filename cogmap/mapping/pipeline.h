@@ -36,6 +36,13 @@ enum class Correction {
   kNone,         // odometry as it comes
 };
 
+// Laser odometry (localize::ScanOdometry, docs/inputs.md "Laser odometry").
+enum class ScanMatch {
+  kAuto,  // default mode: when the first scans are dense (localize::ScanDensity); paper mode: never
+  kOn,    // always (`--scan-match on`)
+  kOff,   // never
+};
+
 struct MappingOptions {
   bool paper = false;                  // --mode paper: the thesis's line fit and EM rotation per ASR
   double cell_m = 0.1;                 // grid cell of each room (SPEC 2)
@@ -59,10 +66,10 @@ struct MappingOptions {
   bool drift_filter = true;            // without the graph: the drift-rate filter
   bool smooth = true;                  // drift filter: revise the run's corrections at the end
   double add_drift_rad_per_m = 0.0;    // a systematic heading drift added to the odometry (tests on real logs)
-  // --scan-match: a laser robot's odometry corrected by matching each scan
-  // against a reference scan (localize::ScanOdometry) before it is mapped;
-  // the corrected odometry is what the store keeps as the run's odometry.
-  bool scan_match = false;
+  // A laser robot's odometry corrected by matching each scan against a
+  // reference scan (localize::ScanOdometry) before it is mapped; the
+  // corrected odometry is what the store keeps as the run's odometry.
+  ScanMatch scan_match = ScanMatch::kAuto;
   // Default mode: walls as lines in each room's cleaned cells (docs/walls.md);
   // false: the chain pipeline (simplify + fit). Paper mode: always the chains.
   bool wall_lines = false;
@@ -120,7 +127,13 @@ struct RunResult {
   double first_pass_seconds = 0.0;
   double first_pass_drift_rate_sigma_rad_per_m = 0.0;
   double duration_s() const { return last_time_s - first_time_s; }
-  // --scan-match: its figures (scans == 0 without it, or without a laser).
+  // Laser odometry: whether it ran (kAuto: decided on the first scans'
+  // spacing, their mean gap in units of the reference's spacing and how
+  // many gaps that was; kOn: whenever the robot has a laser), and its
+  // figures (scans == 0 when it did not run).
+  bool scan_match_active = false;
+  double scan_match_mean_step = 0.0;
+  int scan_match_gaps = 0;
   localize::ScanOdometryStats scan_match;
 };
 
@@ -129,6 +142,10 @@ struct RunResult {
 // on average than the matcher's reference spacing, a tenth or more of the
 // scans not matched. Empty without --scan-match.
 std::vector<std::string> ScanMatchWarnings(const MappingOptions& options, const RunResult& run);
+
+// "auto", "on" or "off"; and back (InputError naming the value otherwise).
+const char* ScanMatchName(ScanMatch m);
+ScanMatch ParseScanMatch(const std::string& s);
 
 // Adds a systematic heading drift to odometry (the truth stays): each
 // increment turns by an extra rate x its length, and the position follows the
@@ -203,7 +220,14 @@ class MappingPipeline {
   localize::DriftHeadingCorrector drift_corrector_;
   std::unique_ptr<graph::MapOptimizer> optimizer_;
   DriftAdder drift_adder_;
-  std::unique_ptr<localize::ScanOdometry> scan_odometry_;  // --scan-match
+  // Laser odometry: the matcher once it runs; with kAuto, the density test
+  // and the records held back until it decides (10 scan gaps, about a
+  // second of a laser at 10 Hz).
+  std::unique_ptr<localize::ScanOdometry> scan_odometry_;
+  std::unique_ptr<localize::ScanDensity> scan_density_;
+  std::vector<sensors::LogRecord> scan_pending_;
+  void Process(sensors::LogRecord rec);
+  void DecideScanMatch();
   std::function<void(const asr::Asr&, const AsrSummary&)> callback_;
   RunResult result_;
   std::mutex estimates_mutex_;

@@ -170,7 +170,7 @@ TEST(MappingPipeline, ScanMatchingCorrectsALasersOdometryBeforeMapping) {
   auto run = [&](bool scan_match, const std::string& name, RunResult* out) {
     auto store = asr::SqliteAsrStore::Open(TestTempPath(name), asr::SqliteAsrStore::OpenMode::kReplace);
     MappingOptions mo;
-    mo.scan_match = scan_match;
+    mo.scan_match = scan_match ? ScanMatch::kOn : ScanMatch::kOff;
     MappingPipeline p(laser, mo, store.get());
     std::vector<double> errors;  // each room's odometry heading against the truth, relative to the first's
     std::optional<double> first;
@@ -195,7 +195,7 @@ TEST(MappingPipeline, ScanMatchingCorrectsALasersOdometryBeforeMapping) {
   // A sonar ring is no laser: nothing to match.
   auto store = asr::SqliteAsrStore::Open(TestTempPath("sonar.sqlite"), asr::SqliteAsrStore::OpenMode::kReplace);
   MappingOptions mo;
-  mo.scan_match = true;
+  mo.scan_match = ScanMatch::kOn;
   MappingPipeline p(sensors::BuiltinRobot("pioneer16"), mo, store.get());
   for (const auto& r : SimulatedRun(0.0)) p.Push(r);
   const RunResult& sonar = p.Finish();
@@ -203,6 +203,67 @@ TEST(MappingPipeline, ScanMatchingCorrectsALasersOdometryBeforeMapping) {
   ASSERT_EQ(ScanMatchWarnings(mo, sonar).size(), 1u);  // nothing to match, and it says so
   EXPECT_TRUE(ScanMatchWarnings(mo, scans).empty());   // 10 scans a second: dense, all matched
   EXPECT_TRUE(ScanMatchWarnings({}, wheels).empty());  // not asked for
+  // By default (auto): the laser's scans, 10 a second, are dense enough; the
+  // sonar ring has none, and nothing is held back or decided for it.
+  RunResult automatic;
+  {
+    auto st = asr::SqliteAsrStore::Open(TestTempPath("auto.sqlite"), asr::SqliteAsrStore::OpenMode::kReplace);
+    MappingPipeline a(laser, {}, st.get());
+    for (const auto& r : records) a.Push(r);
+    automatic = a.Finish();
+  }
+  EXPECT_TRUE(automatic.scan_match_active);
+  EXPECT_EQ(automatic.scan_match_gaps, 10);
+  EXPECT_LE(automatic.scan_match_mean_step, 1.0);
+  EXPECT_EQ(automatic.records, static_cast<long>(records.size()));  // every record held back was mapped
+  // The records held back while it decided are matched too: the same run as
+  // with it on from the start.
+  EXPECT_EQ(automatic.scan_match.matched, scans.scan_match.matched);
+  ASSERT_EQ(automatic.graph.asrs.size(), scans.graph.asrs.size());
+  for (size_t i = 0; i < scans.graph.asrs.size(); ++i) EXPECT_EQ(automatic.graph.asrs[i].pose.x, scans.graph.asrs[i].pose.x);
+  EXPECT_FALSE(sonar.scan_match_active);
+  EXPECT_EQ(sonar.scan_match_gaps, 0);
+}
+
+// Scans taken every 0.8 m or 30 degrees (as in the CARMEN logs) are too far
+// apart to match against one another: auto keeps the wheels, and the map is
+// the one made without it.
+TEST(MappingPipeline, SparseLaserScansKeepTheWheels) {
+  const FloorPlan plan = io::ReadAriaMap(std::string(COGMAP_SHARED_DIR) + "/worlds/nine_rooms.map").plan;
+  sim::SimulatorOptions so;
+  so.seed = 5;
+  so.odometry.drift_rad_per_m = DegToRad(1.0);
+  const sensors::RobotDescription laser = sensors::BuiltinRobot("laser");
+  std::vector<sensors::LogRecord> records;
+  std::optional<Pose2> last;
+  sim::Simulate(plan, laser, so, [&](const sensors::LogRecord& r) {
+    sensors::LogRecord x = r;
+    // Keep a scan only 0.8 m or 30 degrees from the last kept (the rest odometry only).
+    if (last) {
+      const Pose2 d = last->inverse() * r.odom;
+      if (std::hypot(d.x, d.y) < 0.8 && std::abs(d.theta) < DegToRad(30.0)) x.ranges.clear();
+    }
+    if (!x.ranges.empty()) last = r.odom;
+    records.push_back(x);
+  });
+  auto run = [&](ScanMatch m, const std::string& name) {
+    auto store = asr::SqliteAsrStore::Open(TestTempPath(name), asr::SqliteAsrStore::OpenMode::kReplace);
+    MappingOptions mo;
+    mo.scan_match = m;
+    MappingPipeline p(laser, mo, store.get());
+    for (const auto& r : records) p.Push(r);
+    return p.Finish();
+  };
+  const RunResult a = run(ScanMatch::kAuto, "sparse_auto.sqlite"), off = run(ScanMatch::kOff, "sparse_off.sqlite");
+  EXPECT_FALSE(a.scan_match_active);
+  EXPECT_EQ(a.scan_match_gaps, 10);
+  EXPECT_GT(a.scan_match_mean_step, 1.0);
+  EXPECT_EQ(a.scan_match.scans, 0);
+  ASSERT_EQ(a.graph.asrs.size(), off.graph.asrs.size());
+  for (size_t i = 0; i < a.graph.asrs.size(); ++i) {
+    EXPECT_EQ(a.graph.asrs[i].pose.x, off.graph.asrs[i].pose.x) << i;
+    EXPECT_EQ(a.graph.asrs[i].pose.theta, off.graph.asrs[i].pose.theta) << i;
+  }
 }
 
 TEST(MappingPipeline, StreamingEqualsTheJobOnTheSameLog) {

@@ -35,6 +35,27 @@ nlohmann::json PlacementJson(const graph::AsrEstimate& e) {
 
 // The pose_graph section, its two per-ASR arrays (closure_candidates,
 // placements) left as streams of 'streams'.
+// Laser odometry: null when it was never considered (off, paper mode, no
+// laser); else the mode, whether it ran and why, and its figures.
+nlohmann::json ScanMatchJson(const MappingOptions& mo, const RunResult& run) {
+  if (!(run.scan_match_active || run.scan_match_gaps > 0 || mo.scan_match == ScanMatch::kOn)) return nullptr;
+  const localize::ScanOdometryStats& sm = run.scan_match;
+  nlohmann::json j = {{"mode", ScanMatchName(mo.scan_match)},
+                      {"active", run.scan_match_active},
+                      {"scans", sm.scans},
+                      {"matched", sm.matched},
+                      {"references", sm.references},
+                      {"rejected", sm.rejected},
+                      {"rmse_mean_m", sm.matched > 0 ? sm.rmse_sum_m / sm.matched : 0.0},
+                      {"mean_spacing_m", sm.MeanSpacing()},
+                      {"warnings", ScanMatchWarnings(mo, run)}};
+  if (mo.scan_match == ScanMatch::kAuto) {
+    j["decided_on_gaps"] = run.scan_match_gaps;
+    j["decided_mean_step"] = run.scan_match_mean_step;  // in units of the reference's spacing: dense at most 1
+  }
+  return j;
+}
+
 nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStreams* streams) {
   nlohmann::json uncertain = nlohmann::json::array();
   int accepted = 0, same_room = 0;
@@ -162,18 +183,7 @@ void WriteReport(const ReportContext& c, std::ostream& out) {
       {"drift_filter", drift_filter},
       {"smoothed_asrs", run.smoothed},
       {"added_drift_deg_per_m", RadToDeg(job.mapping.add_drift_rad_per_m)},
-      {"scan_match",
-       job.mapping.scan_match
-           ? nlohmann::json{{"scans", run.scan_match.scans},
-                            {"matched", run.scan_match.matched},
-                            {"references", run.scan_match.references},
-                            {"rejected", run.scan_match.rejected},
-                            {"mean_spacing_m", run.scan_match.MeanSpacing()},
-                            {"warnings", ScanMatchWarnings(job.mapping, run)},
-                            {"rmse_mean_m", run.scan_match.matched > 0
-                                                ? run.scan_match.rmse_sum_m / run.scan_match.matched
-                                                : 0.0}}
-           : nlohmann::json(nullptr)},
+      {"scan_match", ScanMatchJson(job.mapping, run)},
       {"resumed", job.resume},
       {"replayed_asrs", run.replayed},
       {"records", run.records},

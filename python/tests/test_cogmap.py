@@ -86,18 +86,21 @@ def test_map_log_second_pass_equals_the_command(sim_log, tmp_path):
 
 
 def test_map_log_scan_match_equals_the_command(tmp_path):
-    """scan_match=True is `cogmap map --scan-match`: a laser's scans correct its odometry first."""
+    """scan_match="on" is `cogmap map --scan-match on`: a laser's scans correct its odometry first."""
     log = tmp_path / "laser.log"
     subprocess.run([COGMAP, "simulate", os.path.join(SHARED, "worlds", "nine_rooms.map"), "--robot", "laser",
                     "--seed", "2", "--drift-deg-per-m", "2", "-o", str(log)], check=True, capture_output=True)
     out = tmp_path / "cmd"
-    subprocess.run([COGMAP, "map", str(log), "--scan-match", "-o", str(out)], check=True, capture_output=True)
+    subprocess.run([COGMAP, "map", str(log), "--scan-match", "on", "-o", str(out)], check=True, capture_output=True)
     with open(out / "report.json") as f:
         cmd_report = json.load(f)
-    report = cogmap.map_log(str(log), str(tmp_path / "py"), scan_match=True)
+    report = cogmap.map_log(str(log), str(tmp_path / "py"), scan_match="on")
     assert report["scan_match"] == cmd_report["scan_match"]
     assert report["scan_match"]["matched"] > 0.95 * report["scan_match"]["scans"]
-    assert cogmap.map_log(str(log), str(tmp_path / "wheels"))["scan_match"] is None
+    assert cogmap.map_log(str(log), str(tmp_path / "wheels"), scan_match="off")["scan_match"] is None
+    # By default (auto) a laser scanning 10 times a second is dense enough to match.
+    auto = cogmap.map_log(str(log), str(tmp_path / "auto"))["scan_match"]
+    assert auto["mode"] == "auto" and auto["active"] and auto["decided_mean_step"] <= 1.0
     a = cogmap.open_store(str(out / "map.sqlite"))
     b = cogmap.open_store(str(tmp_path / "py" / "map.sqlite"))
     assert a.ids() == b.ids()
