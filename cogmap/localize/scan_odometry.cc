@@ -101,21 +101,13 @@ ScanOdometry::Keyscan ScanOdometry::Lines(const std::vector<Vec2>& pts, const Po
 }
 
 void ScanOdometry::MakeReference(std::vector<Vec2> points, const Pose2& corrected, const Pose2& odom) {
-  keyscans_.push_back(Lines(points, corrected));
-  if (static_cast<int>(keyscans_.size()) > std::max(1, o_.reference_scans)) keyscans_.erase(keyscans_.begin());
+  Keyscan k = Lines(points, corrected);
   Reference ref;
   ref.corrected = corrected;
   ref.odom = odom;
   ref.cell = o_.max_correspondence_m;
-  for (const Keyscan& k : keyscans_) {
-    const Pose2 T = corrected.inverse() * k.corrected;
-    const double c = std::cos(T.theta), s = std::sin(T.theta);
-    for (size_t i = 0; i < k.points.size(); ++i) {
-      ref.points.push_back(T * k.points[i]);
-      const Vec2& n = k.normals[i];
-      ref.normals.emplace_back(c * n.x() - s * n.y(), s * n.x() + c * n.y());
-    }
-  }
+  ref.points = std::move(k.points);
+  ref.normals = std::move(k.normals);
   if (!ref.points.empty()) {
     double x1 = ref.points[0].x(), y1 = ref.points[0].y();
     ref.x0 = x1, ref.y0 = y1;

@@ -20,10 +20,6 @@ struct ScanOdometryOptions {
   // the error accumulates per reference, not per scan.
   double reference_m = 0.5;
   double reference_rad = 0.26;  // 15 degrees
-  // The reference is the last this many such scans together (in the newest
-  // one's frame): more of the surroundings than one scan saw, so a scan
-  // taken after a turn still finds most of its returns' surfaces.
-  int reference_scans = 1;
   // Returns farther than this take no part (their angular error grows with
   // range, and a laser's far returns are sparse).
   double max_point_range_m = 20.0;
@@ -120,8 +116,8 @@ class ScanOdometry {
     std::vector<Vec2> points, normals;
     Pose2 corrected;
   };
-  // What scans are matched against: the last reference_scans keyscans, in
-  // the newest one's frame.
+  // What scans are matched against: the reference scan's returns that have
+  // a line, in its frame.
   struct Reference {
     std::vector<Vec2> points, normals;
     // The points by cell of a grid over their bounding box (cells of the
@@ -131,7 +127,7 @@ class ScanOdometry {
     double x0 = 0.0, y0 = 0.0;
     int nx = 0, ny = 0;
     std::vector<int> start, order;
-    Pose2 corrected, odom;                         // the newest keyscan's poses
+    Pose2 corrected, odom;  // the reference scan's poses
   };
   Keyscan Lines(const std::vector<Vec2>& points, const Pose2& corrected) const;
   // A scan's returns in the robot frame, in beam order (lasers only, within range).
@@ -144,7 +140,6 @@ class ScanOdometry {
   bool has_laser_ = false;
   bool started_ = false;
   bool has_reference_ = false;
-  std::vector<Keyscan> keyscans_;  // the last reference_scans, oldest first
   Reference ref_;
   Pose2 last_odom_, last_corrected_, last_scan_odom_;
   ScanOdometryStats stats_;
