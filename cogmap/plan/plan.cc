@@ -2113,11 +2113,8 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // and elongated, or already in a corridor; through an exit or along
   // corridor_touch_m of border) with at most corner_floor_ratio times their
   // mean floor per metre of path is a corner of the corridor and joins
-  // them. A piece whose corridor neighbours are already one corridor would
-  // close a loop (a ring corridor): it stays apart, a corridor of its own,
-  // so the ring stays a simple polygon instead of enclosing the block it
-  // runs around.
-  std::vector<char> ring_gap(n1, 0);  // a corner left apart so that a ring corridor stays cut
+  // them, also the one that closes a ring corridor (the polygon step cuts
+  // a ring across rather than fill the block it runs round).
   {
     std::vector<double> piece_path(n1, 0.0);
     for (int u = 0; u < n_units; ++u)
@@ -2149,31 +2146,12 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
           const int a = unit_room[unit_root(u)], b = unit_room[unit_root(v)];
           if (a != b) nb[a].insert(b), nb[b].insert(a);
         }
-    std::vector<std::set<int>> meets = nb;  // every contact, however short: the flood crosses it
-    for (const auto& [pair, edges] : touching) {
-      meets[pair.first].insert(pair.second), meets[pair.second].insert(pair.first);
+    for (const auto& [pair, edges] : touching)
       if (edges * g.cell >= o.corridor_touch_m) nb[pair.first].insert(pair.second), nb[pair.second].insert(pair.first);
-    }
-    // Would joining r to these corridor pieces close a loop? Two of them are
-    // one corridor already, or the pieces of the joined corridor meet in a
-    // cycle (at least as many meeting pairs as pieces).
     auto corridors_of = [&](const std::vector<int>& pieces) {
       std::set<int> groups;
       for (int q : pieces) groups.insert(corr.Find(q));
       return groups;
-    };
-    auto closes_ring = [&](int r, const std::vector<int>& pieces) {
-      const std::set<int> groups = corridors_of(pieces);
-      if (groups.size() < pieces.size()) return true;
-      std::vector<char> member(n1, 0);
-      int members = 1, pairs = 0;
-      member[r] = 1;
-      for (int q = 0; q < n1; ++q)
-        if (groups.count(corr.Find(q))) member[q] = 1, ++members;
-      for (int q = 0; q < n1; ++q)
-        if (member[q])
-          for (int t : meets[q]) pairs += t > q && member[t];
-      return pairs >= members;
     };
     // First the corners.
     for (int r = 0; r < n1; ++r) {
@@ -2192,19 +2170,10 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         for (size_t b = a + 1; b < pieces.size() && !turns; ++b)
           turns = std::abs(shapes[pieces[a]].axis.dot(shapes[pieces[b]].axis)) < std::cos(Deg(45.0));
       if (!turns) continue;
-      if (closes_ring(r, pieces)) {
-        // The corner that would close a ring corridor: a corridor piece of
-        // its own (one plan corridor of its own), so that every plan room
-        // stays a simple polygon; it was a "room" before, though it is as
-        // much corridor as its neighbours (hallway_loop: an L of the ring).
-        ring_gap[r] = 1;
-        continue;
-      }
       for (int q : pieces) corr.Unite(r, q), in_corridor[q] = 1;
       in_corridor[r] = 1;
     }
-    // Then (so that they do not change which corners close a ring) the
-    // pieces in a straight corridor's band: short pieces the boundary
+    // Then the pieces in a straight corridor's band: short pieces the boundary
     // detector cut out of the corridor itself (the robot stopped at a door
     // and looked in, every few metres along a corridor of offices), whose
     // floor spans the corridor's width and no more, centred on it. A room
@@ -2223,11 +2192,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         for (int q : nb[r])
           if (in_corridor[q] || (narrow[q] && elongated[q])) pieces.push_back(q);
         if (pieces.empty()) continue;
-        // Two of its neighbours one corridor already: r is the last gap of a
-        // ring, which stays cut (the meeting-pairs test of the corners would
-        // also refuse pieces whose straight neighbours touch each other).
         const std::set<int> groups = corridors_of(pieces);
-        if (groups.size() < pieces.size()) continue;
         // The band is drawn by the elongated pieces of the neighbours'
         // corridors (a short piece's axis says little: one 1.5 x 1.9 m piece
         // read across the corridor) at least as wide as the robot (a sliver
@@ -2266,10 +2231,6 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         joined = true;
       }
     }
-    // The ring's corners left apart are corridor, after every join (as a
-    // corridor piece one of them would let a piece beside it close the ring).
-    for (int r = 0; r < n1; ++r)
-      if (ring_gap[r]) in_corridor[r] = 1;
   }
   // Open plan. Two rooms the robot drove between (an exit joins them),
   // neither a corridor (nor a lone corridor piece), whose pass-1 regions
@@ -2434,14 +2395,73 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     // room's outline is traced along the lattice: the outlines of disjoint
     // sets, so no two rooms overlap, exactly (they share edges where they
     // meet). docs/floor-plan.md, "Polygons".
-    const std::vector<CellBox> boxes = LabelBoxes(label, n_plan);
-    for (int r = 0; r < n_plan; ++r) {  // one piece of cells per room, before it grows onto the walls
-      const CellBox& b = boxes[r];
+    std::vector<CellBox> boxes = LabelBoxes(label, n_plan);
+    const int n_first = n_plan;
+    for (int r = 0; r < n_first; ++r) {  // one piece of cells per room, before it grows onto the walls
+      const CellBox b = boxes[r];
       if (b.x1 < 0) continue;
       const Region reg = FillRegion(b.x0, b.y0, b.x1, b.y1, [&](int x, int y) { return label.Get(x, y) == r; }, false);
+      // Its other pieces are floor too, not to be lost (aria/office: up to
+      // 55 m2 of a corridor the flood reached only round a door line, and
+      // the start of a run, went to no room): each piece no smaller than a
+      // small room (small_room_radii, as below) is a room of its own, with
+      // the room's kind and no ASRs or doors of its own; a smaller one joins
+      // the room it meets along the most border, or no room.
       for (int y = b.y0; y <= b.y1; ++y)
-        for (int x = b.x0; x <= b.x1; ++x)
-          if (label.Get(x, y) == r && !reg.at(x - b.x0 + 1, y - b.y0 + 1)) label.Set(x, y, -1);
+        for (int x = b.x0; x <= b.x1; ++x) {
+          if (label.Get(x, y) != r || reg.at(x - b.x0 + 1, y - b.y0 + 1)) continue;
+          // A new piece: flood it under a provisional label.
+          const bool room_left = n_plan + 1 < std::numeric_limits<int16_t>::max();
+          const int id = room_left ? n_plan : -1;
+          std::vector<std::pair<int, int>> cells{{x, y}};
+          label.Set(x, y, -2);
+          for (size_t i = 0; i < cells.size(); ++i) {
+            const auto [cx, cy] = cells[i];
+            const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+            for (int k = 0; k < 4; ++k) {
+              if (nx[k] < b.x0 || ny[k] < b.y0 || nx[k] > b.x1 || ny[k] > b.y1) continue;
+              if (label.Get(nx[k], ny[k]) != r || reg.at(nx[k] - b.x0 + 1, ny[k] - b.y0 + 1)) continue;
+              label.Set(nx[k], ny[k], -2);
+              cells.push_back({nx[k], ny[k]});
+            }
+          }
+          const double piece_m2 = static_cast<double>(cells.size()) * g.cell * g.cell;
+          const bool keep = id >= 0 && piece_m2 >= std::max(o.min_room_area_m2, small_m2);
+          int into = keep ? id : -1;
+          if (!keep) {
+            std::map<int, long> border;
+            for (const auto& [cx, cy] : cells) {
+              const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+              for (int k = 0; k < 4; ++k) {
+                if (nx[k] < 0 || ny[k] < 0 || nx[k] >= g.w || ny[k] >= g.h) continue;
+                const int q = label.Get(nx[k], ny[k]);
+                if (q >= 0) ++border[q];
+              }
+            }
+            long most = 0;
+            for (const auto& [q, n] : border)
+              if (n > most) most = n, into = q;
+          }
+          CellBox nb;
+          for (const auto& [cx, cy] : cells) {
+            label.Set(cx, cy, into);
+            nb.x0 = std::min(nb.x0, cx), nb.y0 = std::min(nb.y0, cy), nb.x1 = std::max(nb.x1, cx), nb.y1 = std::max(nb.y1, cy);
+          }
+          if (!keep) {
+            if (into >= 0) {
+              CellBox& ib = boxes[into];
+              ib.x0 = std::min(ib.x0, nb.x0), ib.y0 = std::min(ib.y0, nb.y0);
+              ib.x1 = std::max(ib.x1, nb.x1), ib.y1 = std::max(ib.y1, nb.y1);
+            }
+            continue;
+          }
+          ++n_plan;
+          boxes.push_back(nb);
+          rooms.push_back(Room{});
+          is_corridor.push_back(is_corridor[r]);
+          polys.emplace_back();
+          inner.push_back(Vec2(0, 0));
+        }
     }
     HalfCells half(g, &label);
     auto half_box = [&](int r, int* x0, int* y0, int* x1, int* y1) {

@@ -640,9 +640,15 @@ TEST(BuildPlan, RoomLookedIntoFromACorridorIsARoomAndTheCorridorIsOne) {
   EXPECT_NEAR(room.area_m2, 3.8 * 3.8 + 0.5 * (3.8 + 3.0) * 0.1, 0.8);
   // Without the floor seen (a store older than schema 4) the fan reads as a
   // corridor piece and joins the corridor, as before.
+  // The fan's floor beyond the door line, cut off from the corridor's, is
+  // kept as a piece of its own (it was dropped: 6 m2 of floor lost).
   const Plan fan = BuildPlan(CorridorWithARoomLookedInto(false), {});
-  ASSERT_EQ(fan.rooms.size(), 1u);
+  ASSERT_EQ(fan.rooms.size(), 2u);
   EXPECT_TRUE(fan.rooms[0].corridor);
+  EXPECT_EQ(fan.rooms[0].asr_ids, (std::vector<int>{0, 1, 2}));
+  EXPECT_TRUE(fan.rooms[1].asr_ids.empty());
+  EXPECT_NEAR(fan.rooms[0].area_m2 + fan.rooms[1].area_m2, 40.0 + 6.4, 1.5);
+  EXPECT_EQ(SampledOverlap(fan, 0.1), 0.0);
 }
 
 TEST(BuildPlan, CorridorTurningACornerDoesNotFillTheCorner) {
@@ -870,14 +876,14 @@ TEST(BuildPlan, LShapedCorridorIsOneCorridor) {
   EXPECT_FALSE(cut.rooms[1].corridor);
 }
 
-TEST(BuildPlan, RingCorridorIsOneCorridorCutAtOneCorner) {
+TEST(BuildPlan, RingCorridorIsOneCorridorCutAcross) {
   // A ring 2 m wide around a 20 x 20 m block (centreline 1..23), driven
   // counter-clockwise in eight pieces: four arms and four L corners, the last
-  // corner leading back into the first arm. Every corner joins the corridor
-  // but the one that would close the loop: one polygon cannot have a hole,
-  // and a closed ring would enclose the block. That corner is a corridor of
-  // its own (it was a room until the twentieth session: a corner of the
-  // ring, named "Room 1" in the plan).
+  // corner leading back into the first arm. Every corner joins the corridor,
+  // the one that closes the loop too: one corridor, its outline cut across
+  // the ring at its narrowest (a polygon has no hole, and a closed ring
+  // would enclose the block). Until the twenty-fourth session that corner
+  // was left a corridor of its own (and before the twentieth a "Room 1").
   std::vector<std::vector<Vec2>> c = {{{5, 1}, {17, 1}},  {{17, 1}, {23, 1}, {23, 7}},   {{23, 7}, {23, 17}},
                                       {{23, 17}, {23, 23}, {17, 23}}, {{17, 23}, {7, 23}}, {{7, 23}, {1, 23}, {1, 17}},
                                       {{1, 17}, {1, 7}},   {{1, 7}, {1, 1}, {5, 1}}};
@@ -885,17 +891,15 @@ TEST(BuildPlan, RingCorridorIsOneCorridorCutAtOneCorner) {
   for (int k = 0; k < 8; ++k) asrs.push_back(CorridorPiece(k, c[k], 10.0 * k));
   for (int k = 0; k < 8; ++k) Join(&asrs, k, (k + 1) % 8, c[k].back());
   const Plan plan = BuildPlan(asrs, {});
-  ASSERT_EQ(plan.rooms.size(), 2u);
+  ASSERT_EQ(plan.rooms.size(), 1u);
   const Room& corridor = plan.rooms[0];
   EXPECT_TRUE(corridor.corridor);
-  EXPECT_EQ(corridor.asr_ids, (std::vector<int>{0, 1, 2, 3, 4, 5, 6}));
-  EXPECT_TRUE(plan.rooms[1].corridor);
-  EXPECT_EQ(plan.rooms[1].asr_ids, (std::vector<int>{7}));
-  EXPECT_EQ(plan.rooms[1].name, "Corridor 2");
-  // The ring's floor: 24^2 - 20^2 = 176 m2, the last corner's L 20 m2 of it.
-  EXPECT_NEAR(corridor.area_m2, 176.0 - 20.0, 6.0);
+  EXPECT_EQ(corridor.asr_ids, (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7}));
+  // The ring's floor: 24^2 - 20^2 = 176 m2, less the cut (0.05 m x 2 m).
+  EXPECT_NEAR(corridor.area_m2, 176.0, 6.0);
   EXPECT_FALSE(Inside({12, 12}, corridor.polygon));  // the block is not floor
-  EXPECT_EQ(plan.edges.size(), 2u);                  // the corner's two doors
+  for (const Vec2& p : {Vec2(12, 1), Vec2(23, 12), Vec2(12, 23), Vec2(1, 12)}) EXPECT_TRUE(Inside(p, corridor.polygon));
+  EXPECT_TRUE(plan.edges.empty());  // no doors inside one corridor
 }
 
 TEST(BuildPlan, RingDrivenInOnePieceIsCutNotFilled) {
