@@ -26,13 +26,15 @@ namespace {
 
 using testing_util::TestTempPath;
 
-std::vector<sensors::LogRecord> SimulatedRun(double drift_deg_per_m) {
+// A robot (by default the 16-sonar Pioneer) driving nine_rooms with this drift.
+std::vector<sensors::LogRecord> SimulatedRun(double drift_deg_per_m, const std::string& robot = "pioneer16",
+                                             unsigned seed = 3) {
   const FloorPlan plan = io::ReadAriaMap(std::string(COGMAP_SHARED_DIR) + "/worlds/nine_rooms.map").plan;
   sim::SimulatorOptions so;
-  so.seed = 3;
+  so.seed = seed;
   so.odometry.drift_rad_per_m = DegToRad(drift_deg_per_m);
   std::vector<sensors::LogRecord> records;
-  sim::Simulate(plan, sensors::BuiltinRobot("pioneer16"), so,
+  sim::Simulate(plan, sensors::BuiltinRobot(robot), so,
                 [&records](const sensors::LogRecord& r) { records.push_back(r); });
   return records;
 }
@@ -153,20 +155,13 @@ TEST(DriftAdder, TurnsEachIncrementByTheRateTimesItsLength) {
   EXPECT_NEAR(RadToDeg(std::atan2(p.y, p.x)), 5.0, 1e-9);  // the chord follows the mean heading
 }
 
-// The pipeline pushed record by record and the whole job on the same log
-// store the same ASRs at the same corrected poses.
 // --scan-match: a laser's scans correct the wheels before the rooms are
 // mapped. nine_rooms at 2 deg/m of drift: the rooms' odometry poses (what
 // the mapper gets) lean by degrees without it and stay within a degree of the
 // truth with it; a sonar robot is left as it was.
 TEST(MappingPipeline, ScanMatchingCorrectsALasersOdometryBeforeMapping) {
-  const FloorPlan plan = io::ReadAriaMap(std::string(COGMAP_SHARED_DIR) + "/worlds/nine_rooms.map").plan;
-  sim::SimulatorOptions so;
-  so.seed = 5;
-  so.odometry.drift_rad_per_m = DegToRad(2.0);
   const sensors::RobotDescription laser = sensors::BuiltinRobot("laser");
-  std::vector<sensors::LogRecord> records;
-  sim::Simulate(plan, laser, so, [&records](const sensors::LogRecord& r) { records.push_back(r); });
+  const std::vector<sensors::LogRecord> records = SimulatedRun(2.0, "laser", 5);
   auto run = [&](bool scan_match, const std::string& name, RunResult* out) {
     auto store = asr::SqliteAsrStore::Open(TestTempPath(name), asr::SqliteAsrStore::OpenMode::kReplace);
     MappingOptions mo;
@@ -229,23 +224,17 @@ TEST(MappingPipeline, ScanMatchingCorrectsALasersOdometryBeforeMapping) {
 // apart to match against one another: auto keeps the wheels, and the map is
 // the one made without it.
 TEST(MappingPipeline, SparseLaserScansKeepTheWheels) {
-  const FloorPlan plan = io::ReadAriaMap(std::string(COGMAP_SHARED_DIR) + "/worlds/nine_rooms.map").plan;
-  sim::SimulatorOptions so;
-  so.seed = 5;
-  so.odometry.drift_rad_per_m = DegToRad(1.0);
   const sensors::RobotDescription laser = sensors::BuiltinRobot("laser");
-  std::vector<sensors::LogRecord> records;
+  std::vector<sensors::LogRecord> records = SimulatedRun(1.0, "laser", 5);
   std::optional<Pose2> last;
-  sim::Simulate(plan, laser, so, [&](const sensors::LogRecord& r) {
-    sensors::LogRecord x = r;
+  for (sensors::LogRecord& x : records) {
     // Keep a scan only 0.8 m or 30 degrees from the last kept (the rest odometry only).
     if (last) {
-      const Pose2 d = last->inverse() * r.odom;
+      const Pose2 d = last->inverse() * x.odom;
       if (std::hypot(d.x, d.y) < 0.8 && std::abs(d.theta) < DegToRad(30.0)) x.ranges.clear();
     }
-    if (!x.ranges.empty()) last = r.odom;
-    records.push_back(x);
-  });
+    if (!x.ranges.empty()) last = x.odom;
+  }
   auto run = [&](ScanMatch m, const std::string& name) {
     auto store = asr::SqliteAsrStore::Open(TestTempPath(name), asr::SqliteAsrStore::OpenMode::kReplace);
     MappingOptions mo;
@@ -266,6 +255,8 @@ TEST(MappingPipeline, SparseLaserScansKeepTheWheels) {
   }
 }
 
+// The pipeline pushed record by record and the whole job on the same log
+// store the same ASRs at the same corrected poses.
 TEST(MappingPipeline, StreamingEqualsTheJobOnTheSameLog) {
   const auto records = SimulatedRun(1.0);
   ASSERT_GT(records.size(), 1000u);
