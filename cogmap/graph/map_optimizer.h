@@ -272,6 +272,9 @@ class MapOptimizer {
   // with world_from_local_corrected, heading_correction_rad and
   // heading_uncertainty_rad set.
   asr::Asr Place(asr::Asr a);
+  // The odometry's noise model for the ASRs placed from now on (the
+  // pipeline's laser odometry, once it has decided to match).
+  void SetOdometryNoise(const OdometryNoiseOptions& noise) { options_.odometry = noise; }
   // Full solve, consistency check against odometry, covariances.
   OptimizerResult Finish();
 

@@ -140,6 +140,23 @@ localize::HeadingCorrectionOptions HeadingOptionsFor(const sensors::RobotDescrip
   h.grid_refine = !LaserOnly(robot);
   return h;
 }
+// The pose graph's noise model for odometry the laser's scans corrected
+// (localize::ScanOdometry), from the matcher's measured accuracy: heading
+// 0.1 degrees per sqrt(m) (simulated 10 Hz laser 0.06-0.09 over 1-20 m of
+// travel; the CARMEN logs' reference-free check about 0.13 at their scans'
+// 0.55-0.83 m spacing), 0.3 degrees per sqrt(rad) of turning, 0.01 m per
+// sqrt(m) (twice the simulated laser's). With the wheels' model (0.35, 0.6,
+// 0.02) the graph pulled good scan odometry towards its wall directions:
+// worse than its input in 28 of the bench's 60 laser runs (docs/BENCHMARKS.md,
+// "Laser odometry"). The variance components scale it as they do the
+// wheels'; the drift-rate prior stays.
+graph::OdometryNoiseOptions ScanOdometryNoise(graph::OdometryNoiseOptions wheels) {
+  wheels.heading_sigma_rad_per_sqrt_m = DegToRad(0.1);
+  wheels.rot_sigma_rad_per_sqrt_rad = DegToRad(0.3);
+  wheels.trans_sigma_m_per_sqrt_m = 0.01;
+  return wheels;
+}
+
 graph::MapOptimizerOptions GraphOptionsFor(const localize::HeadingCorrectionOptions& h, const MappingOptions& o) {
   graph::MapOptimizerOptions g;
   g.heading = h;
@@ -180,6 +197,8 @@ MappingPipeline::MappingPipeline(sensors::RobotDescription robot, MappingOptions
       break;
     case Correction::kPoseGraph:
       optimizer_ = std::make_unique<graph::MapOptimizer>(GraphOptionsFor(heading_options_, options_));
+      if (result_.scan_match_active)  // --scan-match on
+        optimizer_->SetOdometryNoise(ScanOdometryNoise(GraphOptionsFor(heading_options_, options_).odometry));
       mapper_->SetPlacer([this](asr::Asr x) {
         asr::Asr out = KeepEstimate(optimizer_->Place(std::move(x)));
         NotePreBend(out.id);
@@ -384,6 +403,7 @@ void MappingPipeline::DecideScanMatch() {
   if (scan_density_->dense()) {
     scan_odometry_ = std::make_unique<localize::ScanOdometry>(robot_);
     result_.scan_match_active = true;
+    if (optimizer_) optimizer_->SetOdometryNoise(ScanOdometryNoise(GraphOptionsFor(heading_options_, options_).odometry));
   }
   scan_density_.reset();
   std::vector<sensors::LogRecord> pending;
