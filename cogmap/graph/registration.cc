@@ -103,52 +103,37 @@ int FaceIndex::Nearest(const Vec2& p, const Vec2& n, double max_d, double cos_ma
   const std::vector<FacedSegment>& faces = *faces_;
   int best = -1;
   double best_d = max_d;
+  // One candidate face: a face whose box lies farther than the best so far
+  // along x or y is farther (the margin covers rounding); then the normal;
+  // then the distance. The scan's answer: the smallest distance, the lowest
+  // index among equals.
+  auto consider = [&](int k) {
+    const Box& box = boxes_[k];
+    const double reach = best_d + 1e-6;
+    if (p.x() < box.x0 - reach || p.x() > box.x1 + reach || p.y() < box.y0 - reach || p.y() > box.y1 + reach)
+      return;
+    const FacedSegment& f = faces[k];
+    if (f.normal.dot(n) < cos_max) return;
+    const double d = PointSegmentDistance(p, f.a, f.b);
+    if (d < best_d || (d == best_d && k < best)) {
+      best_d = d;
+      best = k;
+    }
+  };
   if (reach_ > 0.0 && max_d <= reach_) {
-    // Every face nearer than max_d is in p's cell's list, once, in index
-    // order: the first of equal distances is the lowest index.
+    // Every face nearer than max_d is in p's cell's list, once, in index order.
     const size_t c = static_cast<size_t>(CellOf((p.x() - lo_.x()) * inv_cell_, nx_)) * ny_ +
                      static_cast<size_t>(CellOf((p.y() - lo_.y()) * inv_cell_, ny_));
-    for (const int* it = near_.data() + near_start_[c], *end = near_.data() + near_start_[c + 1]; it != end; ++it) {
-      const int k = *it;
-      const Box& box = boxes_[k];
-      const double reach = best_d + 1e-6;
-      if (p.x() < box.x0 - reach || p.x() > box.x1 + reach || p.y() < box.y0 - reach || p.y() > box.y1 + reach)
-        continue;
-      const FacedSegment& f = faces[k];
-      if (f.normal.dot(n) < cos_max) continue;
-      const double d = PointSegmentDistance(p, f.a, f.b);
-      if (d < best_d) {
-        best_d = d;
-        best = k;
-      }
-    }
-    if (best >= 0) {
-      *residual = faces[best].normal.dot(p - faces[best].a);
-      if (distance) *distance = best_d;
-    }
-    return best;
-  }
-  const int i0 = CellOf(ux0, nx_), i1 = CellOf(ux1, nx_), j0 = CellOf(uy0, ny_), j1 = CellOf(uy1, ny_);
-  for (int i = i0; i <= i1; ++i) {
-    const int* it = items_.data() + start_[static_cast<size_t>(i) * ny_ + j0];
-    const int* end = items_.data() + start_[static_cast<size_t>(i) * ny_ + j1 + 1];
-    for (; it != end; ++it) {
-      // A face listed in several cells is met again: same distance, no change.
-      const int k = *it;
-      // A face whose box lies farther than the best so far along x or y is
-      // farther (the margin covers rounding); then the normal; then the distance.
-      const Box& box = boxes_[k];
-      const double reach = best_d + 1e-6;
-      if (p.x() < box.x0 - reach || p.x() > box.x1 + reach || p.y() < box.y0 - reach || p.y() > box.y1 + reach)
-        continue;
-      const FacedSegment& f = faces[k];
-      if (f.normal.dot(n) < cos_max) continue;
-      const double d = PointSegmentDistance(p, f.a, f.b);
-      // The scan's answer: the smallest distance, the lowest index among equals.
-      if (d < best_d || (d == best_d && k < best)) {
-        best_d = d;
-        best = k;
-      }
+    for (const int* it = near_.data() + near_start_[c], *end = near_.data() + near_start_[c + 1]; it != end; ++it)
+      consider(*it);
+  } else {
+    // The cells of the square of max_d around p; a face listed in several
+    // cells is met again: same distance, no change.
+    const int i0 = CellOf(ux0, nx_), i1 = CellOf(ux1, nx_), j0 = CellOf(uy0, ny_), j1 = CellOf(uy1, ny_);
+    for (int i = i0; i <= i1; ++i) {
+      const int* it = items_.data() + start_[static_cast<size_t>(i) * ny_ + j0];
+      const int* end = items_.data() + start_[static_cast<size_t>(i) * ny_ + j1 + 1];
+      for (; it != end; ++it) consider(*it);
     }
   }
   if (best >= 0) {

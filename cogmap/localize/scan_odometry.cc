@@ -19,20 +19,21 @@ bool HasLaser(const sensors::RobotDescription& robot) {
   return false;
 }
 
+const sensors::RangeSensor* LaserReturn(const sensors::RobotDescription& robot, const sensors::RangeReading& r) {
+  if (r.sensor < 0 || r.sensor >= static_cast<int>(robot.sensors.size())) return nullptr;
+  const sensors::RangeSensor& s = robot.sensors[r.sensor];
+  if (s.kind != sensors::SensorKind::kLaser || !(r.range_m >= s.min_range_m && r.range_m < s.max_range_m))
+    return nullptr;
+  return &s;
+}
+
 ScanDensity::ScanDensity(const sensors::RobotDescription& robot, ScanOdometryOptions options, int gaps)
     : robot_(robot), o_(options), want_(std::max(1, gaps)) {}
 
 bool ScanDensity::Add(const Pose2& odom, const std::vector<sensors::RangeReading>& ranges) {
   if (decided()) return true;
   bool scan = false;
-  for (const auto& r : ranges) {
-    if (r.sensor < 0 || r.sensor >= static_cast<int>(robot_.sensors.size())) continue;
-    const sensors::RangeSensor& s = robot_.sensors[r.sensor];
-    if (s.kind == sensors::SensorKind::kLaser && r.range_m >= s.min_range_m && r.range_m < s.max_range_m) {
-      scan = true;
-      break;
-    }
-  }
+  for (const auto& r : ranges) scan = scan || LaserReturn(robot_, r) != nullptr;
   if (!scan) return false;
   if (have_last_) {
     const Pose2 w = last_.inverse() * odom;
@@ -53,11 +54,9 @@ std::vector<Vec2> ScanOdometry::ScanPoints(const std::vector<sensors::RangeReadi
   std::vector<Vec2> out;
   out.reserve(ranges.size());
   for (const auto& r : ranges) {
-    if (r.sensor < 0 || r.sensor >= static_cast<int>(robot_.sensors.size())) continue;
-    const sensors::RangeSensor& s = robot_.sensors[r.sensor];
-    if (s.kind != sensors::SensorKind::kLaser) continue;
-    if (!(r.range_m >= s.min_range_m && r.range_m < s.max_range_m && r.range_m <= o_.max_point_range_m)) continue;
-    const Vec2 p = sensors::ReadingEndPoint(Pose2{}, s, r.range_m);
+    const sensors::RangeSensor* s = LaserReturn(robot_, r);
+    if (!s || r.range_m > o_.max_point_range_m) continue;
+    const Vec2 p = sensors::ReadingEndPoint(Pose2{}, *s, r.range_m);
     // Within max_point_range_m of the robot's centre (a sensor mounted far
     // off it, in a robot file, must not stretch the reference's grid).
     if (p.norm() <= o_.max_point_range_m) out.push_back(p);
@@ -65,9 +64,7 @@ std::vector<Vec2> ScanOdometry::ScanPoints(const std::vector<sensors::RangeReadi
   return out;
 }
 
-ScanOdometry::Keyscan ScanOdometry::Lines(const std::vector<Vec2>& pts, const Pose2& corrected) const {
-  Keyscan k;
-  k.corrected = corrected;
+void ScanOdometry::Lines(const std::vector<Vec2>& pts, std::vector<Vec2>* on_line, std::vector<Vec2>* normals) const {
   const int n = static_cast<int>(pts.size());
   // Each point's line: the principal axis of the returns of up to
   // 'line_beams' beams either side within neighbour_m of it (a surface, not
@@ -94,20 +91,17 @@ ScanOdometry::Keyscan ScanOdometry::Lines(const std::vector<Vec2>& pts, const Po
       }
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(C);
     if (!(es.eigenvalues()(0) <= kThin * es.eigenvalues()(1))) continue;
-    k.points.push_back(pts[i]);
-    k.normals.push_back(es.eigenvectors().col(0).normalized());
+    on_line->push_back(pts[i]);
+    normals->push_back(es.eigenvectors().col(0).normalized());
   }
-  return k;
 }
 
-void ScanOdometry::MakeReference(std::vector<Vec2> points, const Pose2& corrected, const Pose2& odom) {
-  Keyscan k = Lines(points, corrected);
+void ScanOdometry::MakeReference(const std::vector<Vec2>& points, const Pose2& corrected, const Pose2& odom) {
   Reference ref;
   ref.corrected = corrected;
   ref.odom = odom;
   ref.cell = o_.max_correspondence_m;
-  ref.points = std::move(k.points);
-  ref.normals = std::move(k.normals);
+  Lines(points, &ref.points, &ref.normals);
   if (!ref.points.empty()) {
     double x1 = ref.points[0].x(), y1 = ref.points[0].y();
     ref.x0 = x1, ref.y0 = y1;
@@ -183,7 +177,7 @@ Pose2 ScanOdometry::Correct(const Pose2& odom, const std::vector<sensors::RangeR
   ++stats_.scans;
   if (!has_reference_) {
     last_scan_odom_ = odom;
-    if (static_cast<int>(points.size()) >= o_.min_matches) MakeReference(std::move(points), predicted, odom);
+    if (static_cast<int>(points.size()) >= o_.min_matches) MakeReference(points, predicted, odom);
     return predicted;
   }
   // The scan's pose in the reference's frame: the guess (the last scan's
@@ -276,7 +270,7 @@ Pose2 ScanOdometry::Correct(const Pose2& odom, const std::vector<sensors::RangeR
   last_corrected_ = corrected;
   const Pose2 rel = ref_.corrected.inverse() * corrected;
   if (!matched || std::hypot(rel.x, rel.y) > o_.reference_m || std::abs(rel.theta) > o_.reference_rad) {
-    if (static_cast<int>(points.size()) >= o_.min_matches) MakeReference(std::move(points), corrected, odom);
+    if (static_cast<int>(points.size()) >= o_.min_matches) MakeReference(points, corrected, odom);
   }
   return corrected;
 }

@@ -97,6 +97,10 @@ class ScanDensity {
 // True when the robot has at least one laser beam (SensorKind::kLaser).
 bool HasLaser(const sensors::RobotDescription& robot);
 
+// The laser beam that took reading r when it is a return (a laser's, in
+// [min_range_m, max_range_m)), else null.
+const sensors::RangeSensor* LaserReturn(const sensors::RobotDescription& robot, const sensors::RangeReading& r);
+
 class ScanOdometry {
  public:
   // The robot's laser beams (SensorKind::kLaser) are used; a robot with none
@@ -110,12 +114,6 @@ class ScanOdometry {
   const ScanOdometryStats& stats() const { return stats_; }
 
  private:
-  // A scan taken as a reference: its returns with a line, their normals
-  // (in its robot frame) and its corrected pose.
-  struct Keyscan {
-    std::vector<Vec2> points, normals;
-    Pose2 corrected;
-  };
   // What scans are matched against: the reference scan's returns that have
   // a line, in its frame.
   struct Reference {
@@ -129,10 +127,12 @@ class ScanOdometry {
     std::vector<int> start, order;
     Pose2 corrected, odom;  // the reference scan's poses
   };
-  Keyscan Lines(const std::vector<Vec2>& points, const Pose2& corrected) const;
+  // The returns of a scan (robot frame, beam order) that lie on a line, and
+  // their normals.
+  void Lines(const std::vector<Vec2>& points, std::vector<Vec2>* on_line, std::vector<Vec2>* normals) const;
   // A scan's returns in the robot frame, in beam order (lasers only, within range).
   std::vector<Vec2> ScanPoints(const std::vector<sensors::RangeReading>& ranges) const;
-  void MakeReference(std::vector<Vec2> points, const Pose2& corrected, const Pose2& odom);
+  void MakeReference(const std::vector<Vec2>& points, const Pose2& corrected, const Pose2& odom);
   int Nearest(const Vec2& q, double max_d, double* e) const;  // index into ref_.points, or -1
 
   sensors::RobotDescription robot_;

@@ -150,7 +150,8 @@ localize::HeadingCorrectionOptions HeadingOptionsFor(const sensors::RobotDescrip
 // wall directions: worse than its input in 28 of the bench's 60 laser runs
 // (docs/BENCHMARKS.md, "Laser odometry"). The variance components scale it
 // as they do the wheels'; the drift-rate prior stays.
-graph::OdometryNoiseOptions ScanOdometryNoise(graph::OdometryNoiseOptions wheels) {
+graph::OdometryNoiseOptions ScanOdometryNoise() {
+  graph::OdometryNoiseOptions wheels;
   wheels.heading_sigma_rad_per_sqrt_m = DegToRad(0.1);
   wheels.rot_sigma_rad_per_sqrt_rad = DegToRad(0.3);
   wheels.trans_sigma_m_per_sqrt_m = 0.01;
@@ -203,7 +204,7 @@ MappingPipeline::MappingPipeline(sensors::RobotDescription robot, MappingOptions
     case Correction::kPoseGraph:
       optimizer_ = std::make_unique<graph::MapOptimizer>(GraphOptionsFor(heading_options_, options_));
       if (result_.scan_match_active)  // --scan-match on
-        optimizer_->SetOdometryNoise(ScanOdometryNoise(GraphOptionsFor(heading_options_, options_).odometry));
+        optimizer_->SetOdometryNoise(ScanOdometryNoise());
       mapper_->SetPlacer([this](asr::Asr x) {
         asr::Asr out = KeepEstimate(optimizer_->Place(std::move(x)));
         NotePreBend(out.id);
@@ -408,7 +409,7 @@ void MappingPipeline::DecideScanMatch() {
   if (scan_density_->dense()) {
     scan_odometry_ = std::make_unique<localize::ScanOdometry>(robot_);
     result_.scan_match_active = true;
-    if (optimizer_) optimizer_->SetOdometryNoise(ScanOdometryNoise(GraphOptionsFor(heading_options_, options_).odometry));
+    if (optimizer_) optimizer_->SetOdometryNoise(ScanOdometryNoise());
   }
   scan_density_.reset();
   std::vector<sensors::LogRecord> pending;
@@ -417,10 +418,7 @@ void MappingPipeline::DecideScanMatch() {
 }
 
 void MappingPipeline::Process(sensors::LogRecord rec) {
-  if (scan_odometry_) {
-    rec.odom = scan_odometry_->Correct(rec.odom, rec.ranges);
-    result_.scan_match = scan_odometry_->stats();
-  }
+  if (scan_odometry_) rec.odom = scan_odometry_->Correct(rec.odom, rec.ranges);
   if (result_.records == 0) result_.first_time_s = rec.time_s;
   if (!result_.world_from_map && rec.truth) result_.world_from_map = *rec.truth * rec.odom.inverse();
   result_.last_time_s = rec.time_s;
@@ -429,12 +427,14 @@ void MappingPipeline::Process(sensors::LogRecord rec) {
 }
 
 void MappingPipeline::Settle() {
+  if (scan_odometry_) result_.scan_match = scan_odometry_->stats();
   if (!finished_) mapper_->Settle();
 }
 
 const RunResult& MappingPipeline::Finish() {
   if (finished_) return result_;
   DecideScanMatch();  // a run too short to decide on: the wheels
+  if (scan_odometry_) result_.scan_match = scan_odometry_->stats();
   finished_ = true;
   mapper_->Finish();
   result_.mapper = mapper_->stats();

@@ -866,53 +866,47 @@ Region FillRegionMasked(int x0, int y0, int x1, int y1, MaskOf&& mask_of, bool f
   // across it from that hole to the outside is left to no room (a slit one
   // site wide), and the hole stays outside. Smaller holes (walls and
   // furniture inside a room, a room wholly inside it) are filled.
-  std::vector<int> hole(static_cast<size_t>(W) * H, -1);
+  // Site j's 4-neighbours inside the frame.
+  auto neighbours = [&](size_t j, auto&& f) {
+    const int cx = static_cast<int>(j % W), cy = static_cast<int>(j / W);
+    const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+    for (int k = 0; k < 4; ++k)
+      if (nx[k] >= 0 && ny[k] >= 0 && nx[k] < W && ny[k] < H) f(static_cast<size_t>(ny[k]) * W + nx[k]);
+  };
+  std::vector<char> in_hole(static_cast<size_t>(W) * H, 0);
   bool cut = false;
-  for (size_t j0 = 0; j0 < hole.size(); ++j0) {
-    if (outside[j0] || comp[j0] == best || hole[j0] >= 0) continue;
+  for (size_t j0 = 0; j0 < in_hole.size(); ++j0) {
+    if (outside[j0] || comp[j0] == best || in_hole[j0]) continue;
     std::vector<size_t> sites{j0};
-    hole[j0] = static_cast<int>(j0);
-    for (size_t i = 0; i < sites.size(); ++i) {
-      const int cx = static_cast<int>(sites[i] % W), cy = static_cast<int>(sites[i] / W);
-      const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
-      for (int k = 0; k < 4; ++k) {
-        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
-        const size_t j = static_cast<size_t>(ny[k]) * W + nx[k];
-        if (outside[j] || comp[j] == best || hole[j] >= 0) continue;
-        hole[j] = static_cast<int>(j0);
+    in_hole[j0] = 1;
+    for (size_t i = 0; i < sites.size(); ++i)
+      neighbours(sites[i], [&](size_t j) {
+        if (outside[j] || comp[j] == best || in_hole[j]) return;
+        in_hole[j] = 1;
         sites.push_back(j);
-      }
-    }
+      });
     if (static_cast<int64_t>(sites.size()) <= best_size) continue;
     // Breadth first through the room from its sites beside this hole to the
     // first one beside the outside.
-    std::vector<int64_t> parent(hole.size(), -2);
+    std::vector<int64_t> parent(in_hole.size(), -2);
     std::vector<size_t> queue;
-    for (size_t j : sites) {
-      const int cx = static_cast<int>(j % W), cy = static_cast<int>(j / W);
-      const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
-      for (int k = 0; k < 4; ++k) {
-        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
-        const size_t q = static_cast<size_t>(ny[k]) * W + nx[k];
+    for (size_t j : sites)
+      neighbours(j, [&](size_t q) {
         if (comp[q] == best && parent[q] == -2) parent[q] = -1, queue.push_back(q);
-      }
-    }
+      });
     std::sort(queue.begin(), queue.end());  // a deterministic order whatever the hole's flood
     int64_t exit = -1;
     for (size_t i = 0; i < queue.size() && exit < 0; ++i) {
       const size_t j = queue[i];
-      const int cx = static_cast<int>(j % W), cy = static_cast<int>(j / W);
-      const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
-      for (int k = 0; k < 4 && exit < 0; ++k) {
-        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
-        const size_t q = static_cast<size_t>(ny[k]) * W + nx[k];
-        if (outside[q]) exit = static_cast<int64_t>(j);
+      bool beside_outside = false;
+      neighbours(j, [&](size_t q) { beside_outside = beside_outside || outside[q]; });
+      if (beside_outside) {
+        exit = static_cast<int64_t>(j);
+        break;
       }
-      for (int k = 0; k < 4 && exit < 0; ++k) {
-        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
-        const size_t q = static_cast<size_t>(ny[k]) * W + nx[k];
+      neighbours(j, [&](size_t q) {
         if (comp[q] == best && parent[q] == -2) parent[q] = static_cast<int64_t>(j), queue.push_back(q);
-      }
+      });
     }
     for (int64_t j = exit; j >= 0; j = parent[static_cast<size_t>(j)]) comp[static_cast<size_t>(j)] = -1;
     cut = cut || exit >= 0;
@@ -2455,10 +2449,11 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
             }
             continue;
           }
+          const char kind = is_corridor[r];
           ++n_plan;
           boxes.push_back(nb);
           rooms.push_back(Room{});
-          is_corridor.push_back(is_corridor[r]);
+          is_corridor.push_back(kind);
           polys.emplace_back();
           inner.push_back(Vec2(0, 0));
         }
