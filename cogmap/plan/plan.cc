@@ -1130,6 +1130,9 @@ struct DoorCand {
   // it does not part the rooms' first floods, and the open-plan rule
   // decides whether it is a door (BuildPlanFrom, "Open plan").
   bool unmeasured = false;
+  // An unmeasured exit whose ASRs' paths went through a doorway the walls
+  // show: a door the boundary detector missed, wherever the cut came.
+  bool crossed_door = false;
   Vec2 line_c{0, 0}, line_u{1, 0};
   double lo = 0, hi = 0;  // the gap along line_u from line_c
   // The robot's way through it: each of the two ASRs' paths within
@@ -1745,24 +1748,27 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       const double w = std::clamp(e.width, o.min_door_m, o.max_door_m);
       // The nearest wall line whose extent (grown by a door width) passes the exit.
       const Vec2 r(o.door_search_m + o.max_door_m, o.door_search_m + o.max_door_m);
-      int best = -1;
-      double best_d = o.door_search_m;
+      // The wall lines that pass the exit (their extent grown by a door
+      // width), nearest first.
+      std::vector<std::pair<double, int>> lines;
       for (int si : seg_hash.Query(c - r, c + r)) {
         const Seg& s = segs[si];
         const Vec2 u = (s.b - s.a).normalized();
         const double t = u.dot(c - s.a), len = (s.b - s.a).norm();
         if (t < -o.max_door_m || t > len + o.max_door_m) continue;
         const double dist = std::abs(Perp(u).dot(c - s.a));
-        if (dist < best_d) best_d = dist, best = si;
+        if (dist < o.door_search_m) lines.push_back({dist, si});
       }
-      if (best >= 0) {
-        const Seg& s = segs[best];
+      std::sort(lines.begin(), lines.end());
+      // The faces along the line of segment si, within reach of the exit:
+      // their covered spans on it, from the exit's foot p.
+      auto faces_along = [&](int si, Vec2* foot, Vec2* dir) {
+        const Seg& s = segs[si];
         const Vec2 u = (s.b - s.a).normalized();
         const Vec2 p = s.a + u.dot(c - s.a) * u;
-        // The faces along the door line: their covered spans on it.
         std::vector<std::pair<double, double>> cov;
-        for (int si : seg_hash.Query(p - r, p + r)) {
-          const Seg& t = segs[si];
+        for (int ti : seg_hash.Query(p - r, p + r)) {
+          const Seg& t = segs[ti];
           const Vec2 v = (t.b - t.a).normalized();
           if (std::abs(v.dot(u)) < std::cos(Deg(o.face_angle_deg))) continue;
           if (std::abs(Perp(u).dot(0.5 * (t.a + t.b) - p)) > o.wall_thickness_m &&
@@ -1771,6 +1777,30 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
           const double ta = u.dot(t.a - p), tb = u.dot(t.b - p);
           cov.push_back({std::min(ta, tb), std::max(ta, tb)});
         }
+        *foot = p, *dir = u;
+        return cov;
+      };
+      // A door is a gap in a wall: the line holding it must hold at least as
+      // much wall, within reach of the exit, as the door is wide, and each
+      // end of the door must meet a wall (its jambs: the faces along the line,
+      // or a wall across it at a corner). Less is an object beside the
+      // robot's way (one 0.5 m face of a box in cluttered_lab took two exits
+      // between it and the lab's walls for doors along its own line and cut
+      // the lab into three rooms), or a wall's end with open floor beyond the
+      // gap; the next line out is tried, and with none the exit is in no wall.
+      auto near_wall = [&](const Vec2& q) {
+        const Vec2 m(o.wall_thickness_m, o.wall_thickness_m);
+        for (int ti : seg_hash.Query(q - m, q + m))
+          if (PointSegmentDistance(q, segs[ti].a, segs[ti].b) <= o.wall_thickness_m) return true;
+        return false;
+      };
+      bool found = false;
+      for (const auto& [dist, si] : lines) {
+        Vec2 p(0, 0), u(1, 0);
+        const std::vector<std::pair<double, double>> cov = faces_along(si, &p, &u);
+        double walled = 0.0;
+        for (const auto& [a, b] : JoinSpans(cov, 0.0)) walled += std::max(0.0, std::min(b, r.x()) - std::max(a, -r.x()));
+        if (walled < w) continue;
         double lo = -std::numeric_limits<double>::infinity(), hi = -lo;
         bool covered = false;
         for (const auto& [a, b] : cov) {
@@ -1778,16 +1808,19 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
           if (b <= 0) lo = std::max(lo, b);
           if (a >= 0) hi = std::min(hi, a);
         }
-        if (!covered && hi - lo >= o.min_door_m && hi - lo <= o.max_door_m) {
-          d.lo = lo, d.hi = hi;
-          d.jambs = true;
-        } else {
-          d.lo = -0.5 * w, d.hi = 0.5 * w;
-        }
+        const bool jambs = !covered && hi - lo >= o.min_door_m && hi - lo <= o.max_door_m;
+        if (!jambs) lo = -0.5 * w, hi = 0.5 * w;
+        const Vec2 da = p + lo * u, db = p + hi * u;
+        if (!jambs && !(near_wall(da) && near_wall(db))) continue;
+        d.lo = lo, d.hi = hi;
+        d.jambs = jambs;
         d.in_wall = true;
         d.line_c = p, d.line_u = u;
-        d.a = p + d.lo * u, d.b = p + d.hi * u;
-      } else {
+        d.a = da, d.b = db;
+        found = true;
+        break;
+      }
+      if (!found) {
         // No wall: an opening across the robot's way (a corridor cut). The
         // door line is across the heading at the path point nearest the exit.
         Vec2 dir(1, 0);
@@ -1901,7 +1934,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       return false;
     };
     for (auto& d : door_cands)
-      if (d.unmeasured && (through_door(d.from_asr) || through_door(d.to_asr))) d.unmeasured = false;
+      if (d.unmeasured && (through_door(d.from_asr) || through_door(d.to_asr))) d.unmeasured = false, d.crossed_door = true;
   }
 
   // Graph rooms (store ids), slivers absorbed into their neighbour.
@@ -2003,11 +2036,12 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     for (int r = 0; r < n_rooms; ++r)
       if ((*seeds)[r].empty()) (*seeds)[r] = all_path[r];
   };
-  // 'first': pass 1, where unmeasured exits do not block.
+  // 'first': pass 1, where unmeasured exits and exits in no wall do not
+  // block: either may lie inside one space (the rules after pass 1 decide).
   auto door_mask = [&](const std::vector<int>& room_of_unit, bool first = false) {
     DoorMask m(wall_mask, g.w, g.h);
     for (const auto& d : door_cands) {
-      if (first && d.unmeasured) continue;
+      if (first && (d.unmeasured || (!d.in_wall && !d.crossed_door))) continue;
       auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
       if (a != index_of.end() && b != index_of.end() &&
           room_of_unit[unit_root(unit_of[a->second])] == room_of_unit[unit_root(unit_of[b->second])])
@@ -2270,6 +2304,39 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       for (const auto& l : walls[i]) pts.insert(pts.end(), l.begin(), l.end());
     }
     if (PolygonWidth(ConvexHull(std::move(pts))) > o.corridor_max_width_m) in_corridor[ru] = in_corridor[rv] = 0;
+  }
+  // An exit in no wall, between two rooms (neither in a corridor nor a lone
+  // corridor piece): a room's border is walls and doors, and a door is a gap
+  // in a wall, so the robot was cut where its way narrowed inside one space
+  // (between clutter and a wall, or two pieces of furniture). The two are one
+  // room of the plan; the room graph keeps both. A corridor cut into pieces
+  // is the corridors' rules', above. A lone piece counts as a corridor's
+  // only if the robot fitted in it (at least its diameter wide) and its grids
+  // saw no floor wider than a corridor: the short way between two pieces of
+  // clutter is narrow and elongated too, but its grids saw the room around
+  // it (cluttered_lab: 0.5-0.8 m wide pieces between the lab's two halves).
+  {
+    auto corridor_piece = [&](int r) {
+      return narrow[r] && elongated[r] && shapes[r].width_m >= 2.0 * o.robot_radius_m &&
+             PolygonWidth(ConvexHull(floor_pts[r])) <= o.corridor_max_width_m;
+    };
+    // A group is a corridor's when the corridors' rules made it, or when it
+    // is one lone corridor piece; a piece the open-plan rule joined to a room
+    // is part of that room.
+    std::vector<int> group_size(n1, 0);
+    for (int r = 0; r < n1; ++r) ++group_size[corr.Find(r)];
+    std::vector<char> corridor_group(n1, 0);
+    for (int r = 0; r < n1; ++r)
+      if (in_corridor[r] || (group_size[corr.Find(r)] == 1 && corridor_piece(r))) corridor_group[corr.Find(r)] = 1;
+    for (const DoorCand& d : door_cands) {
+      if (d.in_wall || d.unmeasured || d.crossed_door) continue;
+      auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
+      if (a == index_of.end() || b == index_of.end()) continue;
+      const int ru = unit_room[unit_root(unit_of[a->second])], rv = unit_room[unit_root(unit_of[b->second])];
+      if (ru < 0 || rv < 0 || corr.Find(ru) == corr.Find(rv)) continue;
+      if (corridor_group[corr.Find(ru)] || corridor_group[corr.Find(rv)]) continue;
+      corr.Unite(ru, rv);
+    }
   }
   // Plan rooms: one per corridor group or remaining unit, ordered by first ASR.
   std::vector<int> plan_of_r1(n1, -1);

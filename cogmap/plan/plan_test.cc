@@ -523,10 +523,18 @@ TEST(BuildPlan, DoorGapAlreadyOpenIsKeptAtItsJambs) {
 
 TEST(BuildPlan, OverlappingFootprintsAreSplitAtTheDoorLine) {
   // Neither room saw the other's end: both outlines reach into the other room.
-  // The robot crossed from A to B at x = 4.5 (an opening with no wall).
+  // The robot crossed from A to B at x = 4.5, where an exit 1 m wide was
+  // measured. With no wall there, the exit is no door: one 9 x 4 m room.
   asr::Asr a = MakeAsr(0, {{{6, 0}, {0, 0}, {0, 4}, {6, 4}}}, Line({1, 2}, {4.5, 2}));
   asr::Asr b = MakeAsr(1, {{{3, 0}, {9, 0}, {9, 4}, {3, 4}}}, Line({4.5, 2}, {8, 2}), 10.0);
   a.exits.push_back({{4.5, 2.0}, 1.0, 0, 1});
+  const Plan open = BuildPlan({a, b}, {});
+  ASSERT_EQ(open.rooms.size(), 1u);
+  EXPECT_NEAR(open.rooms[0].area_m2, 36.0, 1.5);
+  // The jambs of a 1 m door at x = 4.5, seen by A only (B's view ends
+  // behind them): two rooms, split at the door line without overlapping.
+  a.walls_local.push_back({{4.5, 0}, {4.5, 1.5}});
+  a.walls_local.push_back({{4.5, 2.5}, {4.5, 4}});
   const Plan plan = BuildPlan({a, b}, {});
   ASSERT_EQ(plan.rooms.size(), 2u);
   const BPoly pa = Poly(plan.rooms[0].polygon), pb = Poly(plan.rooms[1].polygon);
@@ -548,7 +556,7 @@ TEST(BuildPlan, OverlappingFootprintsAreSplitAtTheDoorLine) {
   for (size_t i = 0; i < r.size(); ++i) area += r[i].x() * r[(i + 1) % r.size()].y() - r[(i + 1) % r.size()].x() * r[i].y();
   EXPECT_GT(area, 0.0);
   ASSERT_EQ(plan.doors.size(), 1u);
-  EXPECT_NEAR(plan.doors[0].width_m(), 4.0, 0.25);  // the opening spans the room
+  EXPECT_NEAR(plan.doors[0].width_m(), 1.0, 0.05);  // between the jambs
 }
 
 TEST(BuildPlan, RoomsOfACorridorBuildingPlacedWithSmallErrorsDoNotOverlap) {
@@ -1071,6 +1079,42 @@ TEST(BuildPlan, OpenFloorBetweenTwoAsrsOfOneRoomIsOneRoom) {
   EXPECT_EQ(walled.rooms.size(), 2u);
 }
 
+TEST(BuildPlan, AnExitBesideABoxIsNoDoorAndTheLabStaysOneRoom) {
+  // A 10 x 4 m lab with a 0.5 m box (4.75..5.25 x 2.75..3.25) in it. The
+  // robot drove along y = 2 under the box, and the map cut it into two ASRs
+  // where the box narrowed its way (exit at x = 5, measured 1 m wide). The
+  // box's faces are the only walls within reach of the exit: its sides
+  // x = 4.75 and 5.25 pass 0.25 m from it. A door is a gap in a wall, and a
+  // 0.5 m face holds less wall than the door is wide: the exit is in no wall,
+  // the way narrowed inside one space, and the lab is one room (the open
+  // floor above the box and beside the exit is only 2.25 m, no wider than a
+  // doorway, so the open-plan rule alone would keep two).
+  const Polyline box = Box(4.75, 2.75, 5.25, 3.25);
+  asr::Asr a = MakeAsr(0, {{{5, 0}, {0, 0}, {0, 4}, {5, 4}}, box}, Line({0.8, 2.0}, {5.0, 2.0}));
+  asr::Asr b = MakeAsr(1, {{{5, 0}, {10, 0}, {10, 4}, {5, 4}}, box}, Line({5.0, 2.0}, {9.2, 2.0}), 10.0);
+  for (asr::Asr* x : {&a, &b}) x->exits.push_back({{5.0, 2.0}, 1.0, 0, 1});
+  const Plan plan = BuildPlan({a, b}, {});
+  ASSERT_EQ(plan.rooms.size(), 1u);
+  EXPECT_EQ(plan.rooms[0].asr_ids, (std::vector<int>{0, 1}));
+  EXPECT_EQ(plan.rooms[0].graph_rooms.size(), 2u);  // the room graph keeps both
+  EXPECT_NEAR(plan.rooms[0].area_m2, 40.0, 3.0);
+  EXPECT_TRUE(plan.doors.empty());
+
+  // A real wall across the lab at x = 5, from the far walls to 1.5 m and to
+  // the box: the exit is the gap between its jambs (1.5 m and the box's
+  // bottom, 2.75 m), a door between two rooms.
+  for (asr::Asr* x : {&a, &b}) {
+    x->walls_local.push_back({{5, 0}, {5, 1.5}});
+    x->walls_local.push_back({{5, 3.25}, {5, 4}});
+  }
+  const Plan walled = BuildPlan({a, b}, {});
+  EXPECT_EQ(walled.rooms.size(), 2u);
+  ASSERT_EQ(walled.doors.size(), 1u);
+  EXPECT_NEAR(walled.doors[0].width_m(), 1.25, 0.05);
+  EXPECT_NEAR(walled.doors[0].center().x(), 5.0, 0.05);
+  EXPECT_NEAR(walled.doors[0].center().y(), 2.125, 0.05);
+}
+
 TEST(BuildPlan, RoomsEnteredEachFromTheCorridorStayTwoAcrossAMissedWall) {
   // Two 4 x 4 m offices off a 2 m corridor; the wall between them (x = 4)
   // was not seen, so their floors meet along 4 m of open floor. The robot
@@ -1104,9 +1148,13 @@ TEST(BuildPlan, HallCutByDistanceIsOneRoom) {
   EXPECT_NEAR(plan.rooms[0].area_m2, 72.0, 5.0);
   EXPECT_TRUE(plan.doors.empty());
 
-  // The same exit measured as a doorway (1 m between jambs) is a door: two rooms.
+  // The same exit measured 1 m wide is no door either while no wall holds
+  // it: the robot's way narrowed inside the hall (the door held by a wall:
+  // ExitCutsADoorInTheWall, AnExitBesideABoxIsNoDoorAndTheLabStaysOneRoom).
   for (asr::Asr* x : {&a, &b}) x->exits.back().width_m = 1.0;
-  EXPECT_EQ(BuildPlan({a, b}, {}).rooms.size(), 2u);
+  const Plan measured = BuildPlan({a, b}, {});
+  ASSERT_EQ(measured.rooms.size(), 1u);
+  EXPECT_NEAR(measured.rooms[0].area_m2, 72.0, 5.0);
 }
 
 TEST(BuildPlan, RoomsCutByDistanceAcrossAMissedDoorStayTwo) {
