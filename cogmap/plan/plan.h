@@ -144,9 +144,10 @@ struct PlanOptions {
   double min_room_area_m2 = 0.25;      // smaller rooms are dropped
   // Walls: two faces that face away from each other and cross (an X) are
   // one wall seen tilted from both sides when they differ in direction by
-  // no more than the sensors' beam (`cogmap map` sets the widest beam of
-  // the robot, asr::kMetaSensorBeam: 30 degrees for a Polaroid sonar, a
-  // fraction of a degree for a laser). 0: never.
+  // no more than each can lean, atan(reach_m sin(beam / 2) / its length),
+  // both together (without reach_m: the beam itself). `cogmap map` sets
+  // the widest beam of the robot, asr::kMetaSensorBeam: 30 degrees for a
+  // Polaroid sonar, a fraction of a degree for a laser. 0: never.
   double beam_width_rad = 0.0;
 };
 

@@ -397,6 +397,44 @@ TEST(BuildPlan, OneWallSeenLeaningFromBothSidesIsOneWall) {
   }
 }
 
+TEST(BuildPlan, ViewsOfAStubLeaningMoreThanHalfTheBeamAreOneWall) {
+  // The wall x = 5 between two rooms, from their corner (y = 0) to a doorway
+  // at y = 1.6. Each room's sonar view of the stub is about right at the
+  // corner and pulled 0.5-0.55 m into its own room at the jamb (the echo
+  // from the jamb's corner placed across the cone): two 1.7-1.8 m faces
+  // leaning 20 degrees each way, 40 degrees apart, crossing near the corner
+  // (at 0.22 of one and 0.04 of the other, as the demo's views of such
+  // stubs do). With a 30-degree sonar that reaches 3 m, a face of 1.7 m
+  // leans by up to atan(3 sin 15 / 1.7) = 25 degrees: one wall, at x = 5.
+  const std::vector<asr::Asr> asrs = {
+      MakeAsr(0, {{{0, 0}, {4.8, 0}}, {{5.12, -0.2}, {4.5, 1.5}}}, Line({1, 1.5}, {4, 1.5})),
+      MakeAsr(1, {{{5.2, 0}, {10, 0}}, {{4.96, 0.1}, {5.55, 1.7}}}, Line({6, 1.5}, {9, 1.5}), 10.0),
+  };
+  auto stubs = [](const Plan& plan) {
+    std::vector<const Wall*> out;
+    for (const Wall& w : plan.walls)
+      if (std::abs(w.points.front().y() - w.points.back().y()) > 0.8) out.push_back(&w);
+    return out;
+  };
+  PlanOptions sonar;
+  sonar.beam_width_rad = DegToRad(30.0);
+  sonar.reach_m = 3.0;
+  const Plan merged = BuildPlan(asrs, {}, sonar);
+  const auto one = stubs(merged);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_TRUE(one[0]->two_sided);
+  for (const Vec2& q : one[0]->points) EXPECT_NEAR(q.x(), 5.0, 0.05) << q.transpose();
+  // A laser's beam (half a degree) leans a 1.7 m face by half a degree at
+  // most: the same two faces stay two walls. So does a sonar whose reach is
+  // not known (the beam alone, 30 degrees, bounds the difference).
+  PlanOptions laser = sonar;
+  laser.beam_width_rad = DegToRad(0.5);
+  EXPECT_EQ(stubs(BuildPlan(asrs, {}, laser)).size(), 2u);
+  PlanOptions no_reach = sonar;
+  no_reach.reach_m = 0.0;
+  EXPECT_EQ(stubs(BuildPlan(asrs, {}, no_reach)).size(), 2u);
+}
+
 TEST(BuildPlan, ExitCutsADoorInTheWall) {
   // Room A below y = 4, room B above; the wall y = 4 seen whole by both (thin),
   // the robot went through at x = 3 (exit 0.9 m wide).
