@@ -127,6 +127,14 @@ bool OnLine(const Wall& w, bool vertical, double c, double tol) {
   return true;
 }
 
+// The plan's walls whose ends lie more than 'min_dy' apart in y.
+std::vector<const Wall*> WallsAlongY(const Plan& plan, double min_dy) {
+  std::vector<const Wall*> out;
+  for (const Wall& w : plan.walls)
+    if (std::abs(w.points.front().y() - w.points.back().y()) > min_dy) out.push_back(&w);
+  return out;
+}
+
 TEST(BuildPlan, RoomFarAwayIsTracedAsWhenNear) {
   // The room grid stores only the tiles that rooms and walls reach. A second
   // room 16 m east of the first, or 256 m east and 128 m north (a grid of
@@ -372,12 +380,7 @@ TEST(BuildPlan, OneWallSeenLeaningFromBothSidesIsOneWall) {
       MakeAsr(0, {{{0, 0}, {4.8, 0}}, {{0, 3}, {4.8, 3}}, {{4.8, 0.5}, {5.2, 2.5}}}, Line({1, 1.5}, {4, 1.5})),
       MakeAsr(1, {{{5.2, 0}, {10, 0}}, {{5.2, 3}, {10, 3}}, {{5.2, 0.5}, {4.8, 2.5}}}, Line({6, 1.5}, {9, 1.5}), 10.0),
   };
-  auto crossing_walls = [](const Plan& plan) {
-    std::vector<const Wall*> out;
-    for (const Wall& w : plan.walls)
-      if (std::abs(w.points.front().y() - w.points.back().y()) > 1.0) out.push_back(&w);
-    return out;
-  };
+  auto crossing_walls = [](const Plan& plan) { return WallsAlongY(plan, 1.0); };
   PlanOptions sonar;
   sonar.beam_width_rad = DegToRad(30.0);
   const Plan merged = BuildPlan(asrs, {}, sonar);
@@ -410,12 +413,7 @@ TEST(BuildPlan, ViewsOfAStubLeaningMoreThanHalfTheBeamAreOneWall) {
       MakeAsr(0, {{{0, 0}, {4.8, 0}}, {{5.12, -0.2}, {4.5, 1.5}}}, Line({1, 1.5}, {4, 1.5})),
       MakeAsr(1, {{{5.2, 0}, {10, 0}}, {{4.96, 0.1}, {5.55, 1.7}}}, Line({6, 1.5}, {9, 1.5}), 10.0),
   };
-  auto stubs = [](const Plan& plan) {
-    std::vector<const Wall*> out;
-    for (const Wall& w : plan.walls)
-      if (std::abs(w.points.front().y() - w.points.back().y()) > 0.8) out.push_back(&w);
-    return out;
-  };
+  auto stubs = [](const Plan& plan) { return WallsAlongY(plan, 0.8); };
   PlanOptions sonar;
   sonar.beam_width_rad = DegToRad(30.0);
   sonar.reach_m = 3.0;
