@@ -1469,23 +1469,25 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   }
 
   // ---------------------------------------------------------------- one wall seen tilted from both sides
-  // Two faces that face away from each other and cross (an X), one well
-  // inside the other, cannot both be walls: each would put its free side
-  // inside the other's wall. A sonar draws the wall between two rooms so
-  // beside a doorway: each room's view of it leans, the echo at the jamb
-  // coming from off the transducer's axis, anywhere across the cone, so its
-  // end is pulled aside by up to the cone's half width at the range,
+  // Two faces that face away from each other and cross (an X or a narrow
+  // V) cannot both be walls: each would put its free side inside the
+  // other's wall. A sonar draws the wall between two rooms so beside a
+  // doorway: each room's view of it leans, the echo at the jamb coming from
+  // off the transducer's axis, anywhere across the cone, so its end is
+  // pulled aside by up to the cone's half width at the range,
   // reach x sin(beam / 2), and a face of length L leans by up to
   // atan(reach sin(beam / 2) / L) (a 1.5 m stub seen by a 30-degree sonar
   // within 3 m: 27 degrees; the views cross near the wall's far end, where
   // both are right). Such a pair is one wall seen from both sides, fitted to
   // the evidence of both (the leans cancel) and squared by the faces' test.
   // Only faces whose directions differ by no more than their two leans
-  // allow (PlanOptions::beam_width_rad and reach_m; a laser's beam is a
-  // fraction of a degree, so its crossing walls stay two) and that cross
-  // between a fifth and four fifths of one of them (not two walls meeting at
-  // their ends). Without a reach, the beam itself bounds the difference.
+  // allow, and never more than kMaxLeans (PlanOptions::beam_width_rad and
+  // reach_m; a laser's beam is a fraction of a degree, so its crossing
+  // walls stay two; walls meeting at a corner or a T are 90 degrees apart).
+  // Without a reach the beam itself bounds the difference, and the two must
+  // cross between a fifth and four fifths of each other.
   if (o.beam_width_rad > 0.0) {
+    constexpr double kMaxLeans = kPi / 3;
     const double cos_opposite = std::cos(std::min(o.beam_width_rad, kPi / 4));
     std::vector<bool> gone(pieces.size(), false);
     std::vector<Piece> merged;
@@ -1511,22 +1513,23 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         if (A.two_sided || B.two_sided) continue;
         Vec2 b0, b1;
         ends(B, &b0, &b1);
+        if (!SegmentsCross(a0, a1, b0, b1)) continue;
         if (o.reach_m > 0.0) {
           // Each view leans by at most the angle under which the cone's half
           // width at the sensor's reach shows across the face's length.
           const double side = o.reach_m * std::sin(0.5 * o.beam_width_rad);
           const double allowed = std::atan(side / (a1 - a0).norm()) + std::atan(side / (b1 - b0).norm());
-          if (std::acos(std::clamp(-A.n.dot(B.n), -1.0, 1.0)) > std::min(allowed, kPi / 2)) continue;
-        } else if (A.n.dot(B.n) > -cos_opposite) {
-          continue;
+          if (std::acos(std::clamp(-A.n.dot(B.n), -1.0, 1.0)) > std::min(allowed, kMaxLeans)) continue;
+        } else {
+          // The beam alone, and an X well inside both (where they cross, as
+          // fractions along each).
+          if (A.n.dot(B.n) > -cos_opposite) continue;
+          const Vec2 da = a1 - a0, db = b1 - b0;
+          const double den = Cross(da, db);
+          if (std::abs(den) < 1e-12) continue;
+          const double ta = Cross(b0 - a0, db) / den, tb = Cross(b0 - a0, da) / den;
+          if (ta < 0.2 || ta > 0.8 || tb < 0.2 || tb > 0.8) continue;
         }
-        if (!SegmentsCross(a0, a1, b0, b1)) continue;
-        // Where they cross, as fractions along each.
-        const Vec2 da = a1 - a0, db = b1 - b0;
-        const double den = Cross(da, db);
-        if (std::abs(den) < 1e-12) continue;
-        const double ta = Cross(b0 - a0, db) / den, tb = Cross(b0 - a0, da) / den;
-        if ((ta < 0.2 || ta > 0.8) && (tb < 0.2 || tb > 0.8)) continue;
         Piece f = fit_both(A, B);
         double t0 = std::numeric_limits<double>::infinity(), t1 = -t0;
         for (const Vec2& q : {a0, a1, b0, b1}) t0 = std::min(t0, f.u.dot(q - f.c)), t1 = std::max(t1, f.u.dot(q - f.c));

@@ -431,6 +431,18 @@ TEST(BuildPlan, ViewsOfAStubLeaningMoreThanHalfTheBeamAreOneWall) {
   PlanOptions no_reach = sonar;
   no_reach.reach_m = 0.0;
   EXPECT_EQ(stubs(BuildPlan(asrs, {}, no_reach)).size(), 2u);
+
+  // Both views right at the corner: a narrow V, crossing at a tenth of
+  // each (the old test of an X, between a fifth and four fifths of both,
+  // left it). One wall.
+  const std::vector<asr::Asr> v = {
+      MakeAsr(0, {{{0, 0}, {4.8, 0}}, {{5.06, -0.05}, {4.5, 1.55}}}, Line({1, 1.5}, {4, 1.5})),
+      MakeAsr(1, {{{5.2, 0}, {10, 0}}, {{4.95, -0.05}, {5.52, 1.6}}}, Line({6, 1.5}, {9, 1.5}), 10.0),
+  };
+  const Plan v_plan = BuildPlan(v, {}, sonar);
+  const auto one_v = stubs(v_plan);
+  ASSERT_EQ(one_v.size(), 1u);
+  for (const Vec2& q : one_v[0]->points) EXPECT_NEAR(q.x(), 5.0, 0.05) << q.transpose();
 }
 
 TEST(BuildPlan, ExitCutsADoorInTheWall) {
