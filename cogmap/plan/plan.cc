@@ -1763,10 +1763,9 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       d.unmeasured = e.width <= 0.0;
       const Vec2 c = e.sum / e.n;
       const double w = std::clamp(e.width, o.min_door_m, o.max_door_m);
-      // The nearest wall line whose extent (grown by a door width) passes the exit.
-      const Vec2 r(o.door_search_m + o.max_door_m, o.door_search_m + o.max_door_m);
       // The wall lines that pass the exit (their extent grown by a door
       // width), nearest first.
+      const Vec2 r(o.door_search_m + o.max_door_m, o.door_search_m + o.max_door_m);
       std::vector<std::pair<double, int>> lines;
       for (int si : seg_hash.Query(c - r, c + r)) {
         const Seg& s = segs[si];
