@@ -2325,8 +2325,13 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // corridor piece): a room's border is walls and doors, and a door is a gap
   // in a wall, so the robot was cut where its way narrowed inside one space
   // (between clutter and a wall, or two pieces of furniture). The two are one
-  // room of the plan; the room graph keeps both. A corridor cut into pieces
-  // is the corridors' rules', above. A lone piece counts as a corridor's
+  // room of the plan; the room graph keeps both. So is a cut by distance
+  // (an unmeasured exit) through which no path went through a doorway the
+  // walls show (DoorCand::crossed_door, above): it parts nothing, wherever
+  // it fell and however short the border of open floor between the two
+  // pieces (a real Pioneer's corridor cut at its corner, the two arms
+  // meeting along 1.4 m of floor, was two rooms and a 6 m door). A
+  // corridor cut into pieces is the corridors' rules', above. A lone piece counts as a corridor's
   // only if the robot fitted in it (at least its diameter wide) and its grids
   // saw no floor wider than a corridor: the short way between two pieces of
   // clutter is narrow and elongated too, but its grids saw the room around
@@ -2345,7 +2350,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     for (int r = 0; r < n1; ++r)
       if (in_corridor[r] || (group_size[corr.Find(r)] == 1 && corridor_piece(r))) corridor_group[corr.Find(r)] = 1;
     for (const DoorCand& d : door_cands) {
-      if (d.in_wall || d.unmeasured || d.crossed_door) continue;
+      if (d.crossed_door || (d.in_wall && !d.unmeasured)) continue;
       auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
       if (a == index_of.end() || b == index_of.end()) continue;
       const int ru = unit_room[unit_root(unit_of[a->second])], rv = unit_room[unit_root(unit_of[b->second])];

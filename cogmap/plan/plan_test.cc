@@ -1205,6 +1205,44 @@ TEST(BuildPlan, HallCutByDistanceIsOneRoom) {
   EXPECT_NEAR(measured.rooms[0].area_m2, 72.0, 5.0);
 }
 
+TEST(BuildPlan, RoomCutByDistanceWhereItNarrowsIsOneRoom) {
+  // An 8 x 6 m room with a 1 m deep cabinet along x = 3.5..4.5 from the
+  // north wall down to y = 2: the two halves meet only through the 2 m
+  // passage south of it. The robot drove the west half and into the
+  // passage, where the map cut it by distance (an exit of no measured
+  // width), then on through it and the east half. The two pieces' floors meet along the
+  // passage alone, no wider than a doorway, so the open-plan rule keeps
+  // them apart; but no path went through a gap between two wall faces: the
+  // cut parts nothing, and with no door between them they are one room
+  // (the room graph keeps both).
+  const Polyline cabinet = Box(3.5, 2.0, 4.5, 6.0);
+  const Polyline outer = Box(0, 0, 8, 6);
+  std::vector<Vec2> pa = Line({1.0, 4.5}, {1.0, 1.0});
+  for (const Vec2& p : Line({1.0, 1.0}, {4.3, 1.0})) pa.push_back(p);
+  asr::Asr a = MakeAsr(0, {outer, cabinet}, pa);
+  std::vector<Vec2> pb = Line({4.3, 1.0}, {7.0, 1.0});
+  for (const Vec2& p : Line({7.0, 1.0}, {7.0, 4.5})) pb.push_back(p);
+  asr::Asr b = MakeAsr(1, {outer, cabinet}, pb, 10.0);
+  for (asr::Asr* x : {&a, &b}) x->exits.push_back({{4.3, 1.0}, 0.0, 0, 1});
+  const Plan plan = BuildPlan({a, b}, {});
+  ASSERT_EQ(plan.rooms.size(), 1u);
+  EXPECT_FALSE(plan.rooms[0].corridor);
+  EXPECT_EQ(plan.rooms[0].graph_rooms.size(), 2u);
+  EXPECT_NEAR(plan.rooms[0].area_m2, 48.0 - 4.0, 3.0);
+  EXPECT_TRUE(plan.doors.empty());
+  EXPECT_TRUE(plan.edges.empty());
+
+  // A wall across the passage with a 1 m door in it (x = 4, y = 0..0.5 and
+  // 1.5..2), which the path crosses: two rooms and the door between them.
+  for (asr::Asr* x : {&a, &b}) {
+    x->walls_local.push_back({{4, 0}, {4, 0.5}});
+    x->walls_local.push_back({{4, 1.5}, {4, 2}});
+  }
+  const Plan walled = BuildPlan({a, b}, {});
+  EXPECT_EQ(walled.rooms.size(), 2u);
+  EXPECT_EQ(walled.doors.size(), 1u);
+}
+
 TEST(BuildPlan, RoomsCutByDistanceAcrossAMissedDoorStayTwo) {
   // Two 4 x 4 m rooms side by side, a 1 m door in the wall between them
   // (x = 4) that the robot crossed off its middle without a cut; the cut
