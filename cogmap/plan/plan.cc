@@ -1976,12 +1976,14 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // Exit adjacency between units.
   std::vector<std::set<int>> unit_adj(n_units);
   std::set<std::pair<int, int>> unmeasured_adj;  // units joined by an unmeasured exit
+  std::set<std::pair<int, int>> unwalled_adj;    // ... by an exit that is no door between jambs
   for (const auto& d : door_cands) {
     auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
     if (a == index_of.end() || b == index_of.end()) continue;
     const int ua = unit_of[a->second], ub = unit_of[b->second];
     if (ua != ub) unit_adj[ua].insert(ub), unit_adj[ub].insert(ua);
     if (ua != ub && d.unmeasured) unmeasured_adj.insert({std::min(ua, ub), std::max(ua, ub)});
+    if (ua != ub && !(d.jambs && !d.unmeasured)) unwalled_adj.insert({std::min(ua, ub), std::max(ua, ub)});
   }
   UnionFind absorb(n_units);
   for (int u = 0; u < n_units; ++u) {
@@ -2281,6 +2283,13 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // meet across open floor (never across a wall or a door line) along more
   // than open_border_m are one space: a room's border is walls and doors,
   // and no doorway is that wide, so the exit was a narrowing, not a door.
+  // Unless every exit between them is a door between jambs (measured, the
+  // faces of its wall on both sides of it along one line: walls step 10):
+  // then the two are on either side of that wall, and the open border is
+  // the rest of it, which the sensor missed (16 sonars in a generated
+  // corridor building, gen20wide: an office and the corridor piece it was
+  // entered from were one room, and with the office across, 78 m2). A desk
+  // or a box beside the robot's way holds a door on one side only.
   // The robot cut one room where clutter narrowed its way (cluttered_lab:
   // one 12 x 6 m lab, two ASRs meeting along 7 m of open floor); the room
   // graph keeps both. Rooms the robot entered each from elsewhere (offices
@@ -2291,10 +2300,14 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // its first region (the hull of its own walls and path) is a strip; a
   // piece that is a corridor's meets a room's piece only through the
   // room's door, far shorter than open_border_m.
-  std::set<std::pair<int, int>> driven, driven_unmeasured;
+  std::set<std::pair<int, int>> driven, driven_unmeasured, driven_unwalled;
   for (const auto& [u, v] : unmeasured_adj) {
     const int a = unit_room[unit_root(u)], b = unit_room[unit_root(v)];
     if (a >= 0 && b >= 0 && a != b) driven_unmeasured.insert({std::min(a, b), std::max(a, b)});
+  }
+  for (const auto& [u, v] : unwalled_adj) {
+    const int a = unit_room[unit_root(u)], b = unit_room[unit_root(v)];
+    if (a >= 0 && b >= 0 && a != b) driven_unwalled.insert({std::min(a, b), std::max(a, b)});
   }
   for (int u = 0; u < n_units; ++u)
     if (unit_room[unit_root(u)] >= 0)
@@ -2306,6 +2319,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     const auto [ru, rv] = pair;
     auto corridor_like = [&](int r) { return in_corridor[r] || (narrow[r] && elongated[r]); };
     if (!driven.count(pair)) continue;
+    if (!driven_unwalled.count(pair)) continue;  // only through doors in walls: apart
     const bool unmeasured = driven_unmeasured.count(pair) > 0;
     if (!unmeasured && (corridor_like(ru) || corridor_like(rv))) continue;
     if (g.cell * std::hypot(xy.first, xy.second) <= o.open_border_m) continue;

@@ -1178,6 +1178,30 @@ TEST(BuildPlan, RoomsEnteredEachFromTheCorridorStayTwoAcrossAMissedWall) {
   for (const Room& r : plan.rooms) EXPECT_EQ(r.asr_ids.size(), 1u);
 }
 
+TEST(BuildPlan, AnOfficeEnteredThroughADoorInAWallStaysApartAcrossAMissedWall) {
+  // An 8 x 3.5 m lobby and an 8 x 4 m office north of it, entered through a
+  // 0.9 m door at x = 2 in the wall between them (y = 3.5), whose jambs the
+  // sensor saw (1 m of wall each side); the rest of that wall (x = 3.45 to
+  // 8) it missed. Their floors meet along 4.5 m of open floor, longer than
+  // any doorway, but the exit is a door a wall holds: the open border is
+  // that wall, missed, and the office stays a room of its own with its door.
+  const Polyline jamb_w = {{0.55, 3.5}, {1.55, 3.5}}, jamb_e = {{2.45, 3.5}, {3.45, 3.5}};
+  asr::Asr lobby = MakeAsr(0, {{{0, 3.5}, {0, 0}, {8, 0}, {8, 3.5}}, jamb_w, jamb_e}, Line({0.8, 1.75}, {7.2, 1.75}));
+  std::vector<Vec2> po = Line({2, 1.75}, {2, 6.5});
+  for (const Vec2& p : Line({2, 6.5}, {7, 6.5})) po.push_back(p);
+  asr::Asr office = MakeAsr(1, {{{0, 3.5}, {0, 7.5}, {8, 7.5}, {8, 3.5}}, jamb_w, jamb_e}, po, 10.0);
+  for (asr::Asr* x : {&lobby, &office}) x->exits.push_back({{2.0, 3.5}, 0.9, 0, 1});
+  const Plan plan = BuildPlan({lobby, office}, {});
+  ASSERT_EQ(plan.rooms.size(), 2u);
+  EXPECT_EQ(plan.doors.size(), 1u);
+  for (const Room& r : plan.rooms) EXPECT_EQ(r.asr_ids.size(), 1u);
+
+  // Without the jambs no wall holds the exit: the robot's way between the
+  // two was not through a door, and they are one space.
+  for (asr::Asr* x : {&lobby, &office}) x->walls_local.resize(1);
+  EXPECT_EQ(BuildPlan({lobby, office}, {}).rooms.size(), 1u);
+}
+
 TEST(BuildPlan, HallCutByDistanceIsOneRoom) {
   // A 12 x 6 m hall the robot drove round: cut by distance (an exit of no
   // measured width, BoundaryOptions::max_asr_m) after the south half of
