@@ -2300,26 +2300,23 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // its first region (the hull of its own walls and path) is a strip; a
   // piece that is a corridor's meets a room's piece only through the
   // room's door, far shorter than open_border_m.
-  std::set<std::pair<int, int>> driven, driven_unmeasured, driven_unwalled;
-  for (const auto& [u, v] : unmeasured_adj) {
-    const int a = unit_room[unit_root(u)], b = unit_room[unit_root(v)];
-    if (a >= 0 && b >= 0 && a != b) driven_unmeasured.insert({std::min(a, b), std::max(a, b)});
-  }
-  for (const auto& [u, v] : unwalled_adj) {
-    const int a = unit_room[unit_root(u)], b = unit_room[unit_root(v)];
-    if (a >= 0 && b >= 0 && a != b) driven_unwalled.insert({std::min(a, b), std::max(a, b)});
-  }
-  for (int u = 0; u < n_units; ++u)
-    if (unit_room[unit_root(u)] >= 0)
-      for (int v : unit_adj[u]) {
-        const int a = unit_room[unit_root(u)], b = unit_room[unit_root(v)];
-        if (a != b) driven.insert({std::min(a, b), std::max(a, b)});
-      }
+  // The rooms' pairs of the units' pairs.
+  auto room_pairs = [&](const std::set<std::pair<int, int>>& unit_pairs) {
+    std::set<std::pair<int, int>> out;
+    for (const auto& [u, v] : unit_pairs) {
+      const int a = unit_room[unit_root(u)], b = unit_room[unit_root(v)];
+      if (a >= 0 && b >= 0 && a != b) out.insert({std::min(a, b), std::max(a, b)});
+    }
+    return out;
+  };
+  // Driven between through an exit that is no door between jambs (those
+  // driven between only through such doors stay apart).
+  const std::set<std::pair<int, int>> driven = room_pairs(unwalled_adj);
+  const std::set<std::pair<int, int>> driven_unmeasured = room_pairs(unmeasured_adj);
   for (const auto& [pair, xy] : touching_xy) {
     const auto [ru, rv] = pair;
     auto corridor_like = [&](int r) { return in_corridor[r] || (narrow[r] && elongated[r]); };
     if (!driven.count(pair)) continue;
-    if (!driven_unwalled.count(pair)) continue;  // only through doors in walls: apart
     const bool unmeasured = driven_unmeasured.count(pair) > 0;
     if (!unmeasured && (corridor_like(ru) || corridor_like(rv))) continue;
     if (g.cell * std::hypot(xy.first, xy.second) <= o.open_border_m) continue;
@@ -2345,11 +2342,12 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // it fell and however short the border of open floor between the two
   // pieces (a real Pioneer's corridor cut at its corner, the two arms
   // meeting along 1.4 m of floor, was two rooms and a 6 m door). A
-  // corridor cut into pieces is the corridors' rules', above. A lone piece counts as a corridor's
-  // only if the robot fitted in it (at least its diameter wide) and its grids
-  // saw no floor wider than a corridor: the short way between two pieces of
-  // clutter is narrow and elongated too, but its grids saw the room around
-  // it (cluttered_lab: 0.5-0.8 m wide pieces between the lab's two halves).
+  // corridor cut into pieces is the corridors' rules', above. A lone piece
+  // counts as a corridor's only if the robot fitted in it (at least its
+  // diameter wide) and its grids saw no floor wider than a corridor: the
+  // short way between two pieces of clutter is narrow and elongated too,
+  // but its grids saw the room around it (cluttered_lab: 0.5-0.8 m wide
+  // pieces between the lab's two halves).
   {
     auto corridor_piece = [&](int r) {
       return narrow[r] && elongated[r] && shapes[r].width_m >= 2.0 * o.robot_radius_m &&
