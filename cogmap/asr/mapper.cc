@@ -182,7 +182,8 @@ CognitiveMapper::CognitiveMapper(const sensors::RobotDescription& robot, const M
 
 // The threads of MapperOptions::close_in_background: a closed ASR goes through
 // two stages, each on a thread of its own, one ASR at a time and in order:
-// its walls (the grid vectorised and freed, the floor it saw), then the walls
+// its walls (the grid vectorised and freed, the floor it saw) and the part
+// of its placing that reads it alone (SetPlacer's preparer), then the walls
 // it keeps (a sonar's cone grid vectorised), its placement and store entry.
 // While one room is placed the next can be vectorised and the one after it
 // mapped. At most one ASR waits before each stage, so at most four closed
@@ -196,6 +197,7 @@ class CognitiveMapper::Worker {
     Pose2 last_raw_pose;
     int next_id = 0;
     Asr out;
+    std::unique_ptr<PlacementWork> prepared;
   };
   using Stage = std::function<void(Job&)>;
   Worker(Stage walls, Stage place) : work_{std::move(walls), std::move(place)} {
@@ -412,16 +414,20 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
   a.end_time_s = std::max(a.start_time_s, end_time_s);
   if (options_.close_in_background && !odometry_filter_) {
     if (!worker_)
-      worker_ = std::make_unique<Worker>([this](Worker::Job& job) { BuildWalls(*job.closing); },
-                                         [this](Worker::Job& job) {
-                                           job.out = Place(std::move(job.closing), job.last_raw_pose, job.next_id);
-                                         });
+      worker_ = std::make_unique<Worker>(
+          [this](Worker::Job& job) {
+            BuildWalls(*job.closing);
+            job.prepared = Prepare(*job.closing);
+          },
+          [this](Worker::Job& job) {
+            job.out = Place(std::move(job.closing), job.last_raw_pose, job.next_id, std::move(job.prepared));
+          });
     worker_->Submit({std::move(current_), last_raw_pose_, next_id_, {}});
     DeliverFinished(false);
     return;
   }
   BuildWalls(*current_);
-  const Asr out = Place(std::move(current_), last_raw_pose_, next_id_);
+  const Asr out = Place(std::move(current_), last_raw_pose_, next_id_, nullptr);
   Deliver(out);
 }
 
@@ -467,7 +473,14 @@ void CognitiveMapper::BuildWalls(Current& c) {
   c.grid.reset();  // the room's grid is gone from here on
 }
 
-Asr CognitiveMapper::Place(std::unique_ptr<Current> closing, const Pose2& last_raw_pose, int next_id) {
+std::unique_ptr<PlacementWork> CognitiveMapper::Prepare(const Current& closing) const {
+  // A corrector changes the ASR before the placer sees it.
+  if (!preparer_ || corrector_) return nullptr;
+  return preparer_(closing.asr);
+}
+
+Asr CognitiveMapper::Place(std::unique_ptr<Current> closing, const Pose2& last_raw_pose, int next_id,
+                           std::unique_ptr<PlacementWork> prepared) {
   Current& c = *closing;
   Asr& a = c.asr;
   // The walls kept from the cone grid (on this stage's thread: the walls
@@ -487,7 +500,7 @@ Asr CognitiveMapper::Place(std::unique_ptr<Current> closing, const Pose2& last_r
   Asr out = corrector_ ? corrector_(std::move(a)) : std::move(a);
   // The placer sees the ASR in the frame its walls were built in (the
   // pre-corrected one when the odometry is filtered).
-  if (placer_) out = placer_(std::move(out));
+  if (placer_) out = placer_(std::move(out), std::move(prepared));
   if (out.has_output_walls) {
     out.matched_walls_local = std::move(out.walls_local);
     out.has_matched_walls = true;

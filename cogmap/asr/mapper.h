@@ -7,6 +7,7 @@
 
 #include "cogmap/asr/asr.h"
 #include "cogmap/asr/boundary_detector.h"
+#include "cogmap/asr/placement.h"
 #include "cogmap/asr/store.h"
 #include "cogmap/grid/range_fusion.h"
 #include "cogmap/sensors/reading.h"
@@ -164,7 +165,22 @@ class CognitiveMapper {
   // sets world_from_local_corrected. Runs after the corrector, before the raw
   // fields are re-expressed in the raw odometry frame: it sees the ASR in the
   // frame its walls were built in (pre-corrected when filtered).
-  void SetPlacer(Corrector placer) { placer_ = std::move(placer); }
+  void SetPlacer(Corrector placer) {
+    placer_ = [placer = std::move(placer)](Asr a, std::unique_ptr<PlacementWork>) { return placer(std::move(a)); };
+    preparer_ = {};
+  }
+  // The same in two parts: 'prepare' reads the closed ASR alone (its
+  // walls, path and grid orientation as vectorised) and may run on another
+  // thread while the ASR before it is placed: with close_in_background, on
+  // the walls stage's thread, which has less to do than the placing stage
+  // when the pose graph places. 'place' gets its result (null when it was
+  // not made ahead: with a corrector, which changes the ASR in between).
+  using Preparer = std::function<std::unique_ptr<PlacementWork>(const Asr&)>;
+  using Placer = std::function<Asr(Asr, std::unique_ptr<PlacementWork>)>;
+  void SetPlacer(Preparer prepare, Placer place) {
+    preparer_ = std::move(prepare);
+    placer_ = std::move(place);
+  }
   // Drift removed while each room is mapped (default mode with the pose
   // graph; not with an odometry filter): when ASR k starts, the mapper waits
   // until ASR k - lag is placed and stored, then builds k's grids on the
@@ -240,7 +256,10 @@ class CognitiveMapper {
   // (MapperOptions::close_in_background: each on a thread of the Worker),
   // then its hand-over to the callback (on the caller's thread).
   void BuildWalls(Current& closing);
-  Asr Place(std::unique_ptr<Current> closing, const Pose2& last_raw_pose, int next_id);
+  // The placer's part made from the closed ASR alone, ahead (null: none).
+  std::unique_ptr<PlacementWork> Prepare(const Current& closing) const;
+  Asr Place(std::unique_ptr<Current> closing, const Pose2& last_raw_pose, int next_id,
+            std::unique_ptr<PlacementWork> prepared);
   void Deliver(const Asr& out);
   // Hands over the ASRs the worker has finished; with 'all', waits for every one.
   void DeliverFinished(bool all);
@@ -252,7 +271,8 @@ class CognitiveMapper {
   AsrStore* store_;
   Callback on_close_;
   Corrector corrector_;
-  Corrector placer_;
+  Preparer preparer_;
+  Placer placer_;
   OdometryFilter odometry_filter_;
   PreBend pre_bend_;
   int pre_bend_lag_ = 2;

@@ -150,6 +150,14 @@ MapOptimizer::MapOptimizer(const MapOptimizerOptions& options)
   graph_.SetRatesHeldAtOffsets(options_.drift_known);
 }
 
+void MapOptimizer::SetOutputWalls(Node* n, const asr::Asr& a) {
+  n->output_walls.reset();
+  n->output_walls_seen_s.clear();
+  if (a.has_output_walls) n->output_walls = a.output_walls_local;
+  else if (a.has_matched_walls) n->output_walls = a.walls_local;
+  if (!a.has_matched_walls && a.has_output_walls) n->output_walls_seen_s = a.output_walls_seen_s;
+}
+
 MapOptimizer::Node MapOptimizer::MakeNode(const asr::Asr& a) const {
   Node n;
   n.asr_id = a.id;
@@ -178,16 +186,12 @@ MapOptimizer::Node MapOptimizer::MakeNode(const asr::Asr& a) const {
   // matched ones are. A fresh ASR holds them as walls_local and
   // output_walls_local; a stored one as matched_walls_local and walls_local.
   n.walls = a.has_matched_walls ? a.matched_walls_local : a.walls_local;
-  if (a.has_output_walls) n.output_walls = a.output_walls_local;
-  else if (a.has_matched_walls) n.output_walls = a.walls_local;
+  SetOutputWalls(&n, a);
   for (const asr::Exit& e : a.exits)
     n.exits_local.emplace_back(a.world_from_local_raw.inverse() * e.center_m, 0.5 * e.width_m);
   // Where each vertex was seen from: known for the ASRs of this run as
   // mapped (walls_local, output_walls_local), not for stored ones.
-  if (!a.has_matched_walls) {
-    n.walls_seen_s = a.walls_seen_s;
-    if (a.has_output_walls) n.output_walls_seen_s = a.output_walls_seen_s;
-  }
+  if (!a.has_matched_walls) n.walls_seen_s = a.walls_seen_s;
   n.faces = FaceWalls(n.walls, n.path_local);
   // The samples and the face index are made again when a loop closure needs
   // them (TryLoopClosures, a few candidates per ASR) rather than kept for
@@ -221,19 +225,46 @@ void MapOptimizer::AddStored(const asr::Asr& stored, int room_id) {
   nodes_.push_back(std::move(n));
 }
 
-asr::Asr MapOptimizer::Place(asr::Asr a) {
+class MapOptimizer::Prepared : public asr::PlacementWork {
+ public:
+  Node node;
+  localize::DirectionEstimate estimate;
+  std::vector<SplitDirection> split;
+  double seconds = 0.0;
+};
+
+std::unique_ptr<asr::PlacementWork> MapOptimizer::Prepare(const asr::Asr& a) const {
   const auto t0 = std::chrono::steady_clock::now();
-  Node node = MakeNode(a);
+  auto p = std::make_unique<Prepared>();
+  Node& node = p->node;
+  node = MakeNode(a);
   node.room_id = a.id;
-  const int idx = static_cast<int>(nodes_.size());
   // Wall direction (raw world frame) -> local frame.
-  last_estimate_ = estimator_.Estimate(a);
-  const localize::DirectionEstimate& est = last_estimate_;
+  p->estimate = estimator_.Estimate(a);
+  const localize::DirectionEstimate& est = p->estimate;
   if (est.accepted && std::isfinite(est.uncertainty_rad)) {
     node.direction = true;
     node.direction_local = est.direction_rad - a.world_from_local_raw.theta;
     node.direction_sigma_measured = options_.direction_sigma_scale * est.uncertainty_rad;
+    p->split = SplitDirections(node, a);
   }
+  p->seconds = Seconds(t0);
+  return p;
+}
+
+asr::Asr MapOptimizer::Place(asr::Asr a, std::unique_ptr<asr::PlacementWork> work) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::unique_ptr<Prepared> prepared(dynamic_cast<Prepared*>(work.get()));
+  if (prepared) work.release();
+  else prepared.reset(static_cast<Prepared*>(Prepare(a).release()));
+  solve_seconds_ += prepared->seconds;
+  Node node = std::move(prepared->node);
+  // The walls the ASR keeps, as it is now (a sonar's cone grid is
+  // vectorised after Prepare).
+  SetOutputWalls(&node, a);
+  const int idx = static_cast<int>(nodes_.size());
+  last_estimate_ = std::move(prepared->estimate);
+  const localize::DirectionEstimate& est = last_estimate_;
   if (idx == 0) {
     graph_.AddNode(a.world_from_local_raw, /*fixed=*/true, node.pre_rate);
   } else {
@@ -306,7 +337,7 @@ asr::Asr MapOptimizer::Place(asr::Asr a) {
     }
   }
   if (node.direction) {
-    const std::vector<SplitDirection> split = SplitDirections(node, a);
+    const std::vector<SplitDirection>& split = prepared->split;
     // The walls were seen along the whole path: on average half-way.
     double len = 0.0;
     for (size_t k = 1; k < node.path_raw.size(); ++k)

@@ -2,11 +2,13 @@
 #include <Eigen/Core>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "cogmap/asr/asr.h"
+#include "cogmap/asr/placement.h"
 #include "cogmap/graph/pose_graph.h"
 #include "cogmap/graph/registration.h"
 #include "cogmap/localize/heading_corrector.h"
@@ -271,7 +273,16 @@ class MapOptimizer {
   // may overlap, solves locally (fully after a loop closure), and returns it
   // with world_from_local_corrected, heading_correction_rad and
   // heading_uncertainty_rad set.
-  asr::Asr Place(asr::Asr a);
+  asr::Asr Place(asr::Asr a) { return Place(std::move(a), nullptr); }
+  // The part of Place that reads the ASR alone (its node: the local path,
+  // faces and extent; its wall direction; its walls' directions grouped
+  // along the path), made ahead: const, safe on another thread while Place
+  // runs (CognitiveMapper's walls stage makes it while the ASR before is
+  // placed). The walls a sonar's ASR keeps (output_walls_local, vectorised
+  // after it) Place takes from the ASR it is given.
+  std::unique_ptr<asr::PlacementWork> Prepare(const asr::Asr& a) const;
+  // 'prepared': Prepare(a) (a with other output walls at most), or null.
+  asr::Asr Place(asr::Asr a, std::unique_ptr<asr::PlacementWork> prepared);
   // The odometry's noise model for the ASRs placed from now on (the
   // pipeline's laser odometry, once it has decided to match).
   void SetOdometryNoise(const OdometryNoiseOptions& noise) { options_.odometry = noise; }
@@ -345,6 +356,9 @@ class MapOptimizer {
   // real buildings are).
   double DirectionSigma(double measured) const { return std::max(options_.direction_sigma_floor_rad, measured); }
   std::vector<SplitDirection> SplitDirections(const Node& n, const asr::Asr& a) const;
+  class Prepared;
+  // The walls the ASR keeps (Node::output_walls) and where they were seen.
+  static void SetOutputWalls(Node* n, const asr::Asr& a);
   struct Split {
     int whole;                // the whole-ASR direction factor (disabled while split)
     std::vector<int> groups;  // the groups' factors

@@ -10,6 +10,7 @@
 #include <future>
 #include <iomanip>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -23,9 +24,11 @@
 #include "cogmap/draw/world_picture.h"
 #include "cogmap/draw/plots.h"
 #include "cogmap/io/atomic_file.h"
+#include "cogmap/io/log_lines.h"
 #include "cogmap/io/map_files.h"
 #include "cogmap/io/output_folder.h"
 #include "cogmap/io/polyline_io.h"
+#include "cogmap/io/read_ahead.h"
 #include "cogmap/io/world_io.h"
 #include "cogmap/localize/heading_corrector.h"
 #include "cogmap/localize/heading_error.h"
@@ -181,11 +184,16 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
     pipeline = std::make_unique<MappingPipeline>(robot, mapping, store.get());
     if (job.resume) pipeline->Resume();
     sensors::LogRecord rec;
+    // With threads to spare the log is read on one of its own, ahead of the
+    // grids (not standard input: a live robot's stream may pause for long).
+    std::optional<io::ReadAhead> ahead;
+    if (mapping.threads >= 2 && from.path() != "-" && from.path() != io::kStdinName) ahead.emplace(from);
+    io::LogReader& src = ahead ? static_cast<io::LogReader&>(*ahead) : from;
     try {
       long n = 0;
-      while (from.Next(&rec)) {
+      while (src.Next(&rec)) {
         pipeline->Push(rec);
-        if (++n % 256 == 0 && job.progress) job.progress(from.progress(), pipeline->asrs_closed());
+        if (++n % 256 == 0 && job.progress) job.progress(src.progress(), pipeline->asrs_closed());
       }
       pipeline->Finish();
     } catch (...) {

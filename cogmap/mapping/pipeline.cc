@@ -205,11 +205,12 @@ MappingPipeline::MappingPipeline(sensors::RobotDescription robot, MappingOptions
       optimizer_ = std::make_unique<graph::MapOptimizer>(GraphOptionsFor(heading_options_, options_));
       if (result_.scan_match_active)  // --scan-match on
         optimizer_->SetOdometryNoise(ScanOdometryNoise());
-      mapper_->SetPlacer([this](asr::Asr x) {
-        asr::Asr out = KeepEstimate(optimizer_->Place(std::move(x)));
-        NotePreBend(out.id);
-        return out;
-      });
+      mapper_->SetPlacer([this](const asr::Asr& x) { return optimizer_->Prepare(x); },
+                         [this](asr::Asr x, std::unique_ptr<asr::PlacementWork> prepared) {
+                           asr::Asr out = KeepEstimate(optimizer_->Place(std::move(x), std::move(prepared)));
+                           NotePreBend(out.id);
+                           return out;
+                         });
       // The rate of two rooms back: the room just closed is still being
       // vectorised and placed on the mapper's threads while the next is
       // mapped, the one before it is placed by then.
