@@ -46,6 +46,29 @@ int DeviceOf(std::string_view message) {
   return -1;
 }
 
+// Whether the reading written as 't' may be larger than 'max', the largest
+// so far: a plain decimal ("2.31", "81") with fewer digits before its point
+// than max has is smaller than it (below 10^digits <= max), and is not
+// parsed. Anything else is parsed (a malformed reading fails as it would).
+bool MayExceed(std::string_view t, double max) {
+  if (!(max >= 1.0)) return true;
+  int digits = 0, all_digits = 0, max_digits = 0;
+  bool point = false;
+  for (char c : t) {
+    if (c == '.' && !point) {
+      point = true;
+    } else if (c >= '0' && c <= '9') {
+      ++all_digits;
+      if (!point) ++digits;
+    } else {
+      return true;
+    }
+  }
+  if (all_digits == 0) return true;
+  for (double m = max; m >= 1.0; m /= 10.0) ++max_digits;
+  return digits >= max_digits;
+}
+
 double MaxRange(const Device& l) {
   if (l.param_max_m > 0) return l.param_max_m;
   if (l.max_seen_m >= kMinNoReturnCodeM) return l.max_seen_m;
@@ -309,7 +332,7 @@ class CarmenReader : public LogReader {
             l.beams = static_cast<int>(n);
           }
           for (long i = 0; i < n && 2 + static_cast<size_t>(i) < f.size(); ++i)
-            l.max_seen_m = std::max(l.max_seen_m, num(2 + i));
+            if (MayExceed(f[2 + i], l.max_seen_m)) l.max_seen_m = std::max(l.max_seen_m, num(2 + i));
         } else if (id >= kRobotLaser1 && id <= kRaw4 && f.size() >= 10 && !dev_[id].present) {
           const long n = ParseCount(f[8], path, 0, "n");
           if (n > kMaxCount || f.size() < 10 + static_cast<size_t>(n)) continue;
@@ -327,7 +350,8 @@ class CarmenReader : public LogReader {
             const Pose2 robot_pose{num(k + 3), num(k + 4), num(k + 5)};
             l.robot_from_laser = robot_pose.inverse() * laser;
           }
-          for (long i = 0; i < n; ++i) l.max_seen_m = std::max(l.max_seen_m, num(9 + i));
+          for (long i = 0; i < n; ++i)
+            if (MayExceed(f[9 + i], l.max_seen_m)) l.max_seen_m = std::max(l.max_seen_m, num(9 + i));
           l.beams = static_cast<int>(n);
           l.present = true;
         } else if (id == kSonar && f.size() >= 3) {
@@ -341,7 +365,8 @@ class CarmenReader : public LogReader {
             d.beams = static_cast<int>(n);
             d.present = true;
           }
-          for (long i = 0; i < n; ++i) d.max_seen_m = std::max(d.max_seen_m, num(3 + i));
+          for (long i = 0; i < n; ++i)
+            if (MayExceed(f[3 + i], d.max_seen_m)) d.max_seen_m = std::max(d.max_seen_m, num(3 + i));
         }
       } catch (const std::exception&) {
         // Reported with its line number when Next() reaches it.

@@ -82,6 +82,28 @@ TEST(CarmenLog, MaxRangeDefaultsToSickCodeWhenReadingsAreShort) {
   EXPECT_EQ(r->robot_hint()->sensors[0].max_range_m, 81.9);
 }
 
+// The largest reading, however it is written: the opening pass parses
+// only the readings that may exceed the largest so far (a plain decimal with
+// fewer digits before its point cannot).
+TEST(CarmenLog, MaxRangeIsTheLargestReadingHoweverWritten) {
+  const std::pair<const char*, double> cases[] = {
+      {"FLASER 4 25.5 3 9.99 26 0 0 0 0 0 0 1 h 1\n", 26.0},
+      {"FLASER 4 25.5 3 0030.25 26 0 0 0 0 0 0 1 h 1\n", 30.25},
+      {"FLASER 4 25.5 3 .5 25.75 0 0 0 0 0 0 1 h 1\n", 25.75},
+      {"FLASER 4 25.5 3 1e2 26 0 0 0 0 0 0 1 h 1\n", 100.0},
+      {"FLASER 2 9.5 81.25 0 0 0 0 0 0 1 h 1\nFLASER 2 99.5 7 0 0 0 0 0 0 2 h 2\n", 99.5},
+      {"FLASER 2 30 1 0 0 0 0 0 0 1 h 1\nFLASER 2 100 2 0 0 0 0 0 0 2 h 2\n", 100.0},
+  };
+  for (const auto& [text, want] : cases) {
+    auto r = OpenLog(WriteTemp("largest.clf", text), "carmen");
+    EXPECT_EQ(r->robot_hint()->sensors[0].max_range_m, want) << text;
+  }
+  // A malformed reading ends the opening pass's look at its line, as before:
+  // the readings after it on that line are not taken (Next() reports it).
+  auto r = OpenLog(WriteTemp("largest_bad.clf", "FLASER 3 22 x. 50 0 0 0 0 0 0 1 h 1\n"), "carmen");
+  EXPECT_EQ(r->robot_hint()->sensors[0].max_range_m, 22.0);
+}
+
 TEST(CarmenLog, MaxRangeFromParam) {
   auto r = OpenLog(WriteTemp("param.clf", "PARAM robot_front_laser_max 30 h 0\n"
                                          "FLASER 2 1.5 50 0 0 0 0 0 0 1 h 1\n"),

@@ -391,8 +391,9 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   // floor (walls.json and report.json take their counts, sizes and times):
   // the plan releases them as soon as it has read them, before it floods its
   // rooms; the exits go after it.
-  const plan::Plan floor_plan =
-      plan::BuildPlanReleasing(&all, room_of, PlanOptionsOfStore(*store), &placed_paths);
+  plan::PlanOptions plan_options = PlanOptionsOfStore(*store);
+  plan_options.threads = job.mapping.threads;
+  const plan::Plan floor_plan = plan::BuildPlanReleasing(&all, room_of, plan_options, &placed_paths);
   if (octx.store_read) octx.store_read();  // the store is not read below
   for (auto& x : all) std::vector<asr::Exit>().swap(x.exits);
   io::WriteFileAtomically((fs::path(staging) / "plan.json").string(),

@@ -2,15 +2,19 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <deque>
+#include <exception>
 #include <functional>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <numeric>
 #include <optional>
 #include <set>
+#include <thread>
 #include <unordered_map>
 
 #include <Eigen/Eigenvalues>
@@ -2597,8 +2601,11 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         kept[r] = std::move(reg);
       }
     }
-    for (int r = 0; r < n_plan; ++r) {
-      if (boxes[r].x1 < 0) continue;
+    // The labels are final from here on: each room's outline reads them
+    // alone, and with PlanOptions::threads >= 2 the rooms are shared out
+    // over two threads (the same outlines, each written to its own room).
+    auto trace = [&](int r) {
+      if (boxes[r].x1 < 0) return;
       int x0, y0, x1, y1;
       half_box(r, &x0, &y0, &x1, &y1);
       const Region reg = !touched[r] && !kept[r].filled.empty()
@@ -2620,11 +2627,28 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         return distinct >= 3;
       };
       std::vector<Vec2> ring = TraceRegion(reg, g.lo, 0.5 * g.cell, &in_frame, junction);
-      if (ring.size() < 3) continue;
+      if (ring.size() < 3) return;
       for (auto& v : ring) v = g.FromFrame(v);
       polys[r] = ToBoost(ring);
       inner[r] = g.FromFrame(in_frame);
-    }
+    };
+    std::atomic<int> next{0};
+    std::exception_ptr failed;
+    std::mutex failed_mutex;
+    auto work = [&] {
+      try {
+        for (int r; (r = next++) < n_plan;) trace(r);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(failed_mutex);
+        if (!failed) failed = std::current_exception();
+        next = n_plan;
+      }
+    };
+    std::thread helper;
+    if (o.threads >= 2 && n_plan >= 2) helper = std::thread(work);
+    work();
+    if (helper.joinable()) helper.join();
+    if (failed) std::rethrow_exception(failed);
   }
 
   // ---------------------------------------------------------------- assemble rooms

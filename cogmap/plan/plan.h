@@ -149,6 +149,10 @@ struct PlanOptions {
   // the widest beam of the robot, asr::kMetaSensorBeam: 30 degrees for a
   // Polaroid sonar, a fraction of a degree for a laser. 0: never.
   double beam_width_rad = 0.0;
+  // The rooms' outlines are traced on this many threads (at most 2; the
+  // same outlines: each reads the finished labels alone). `cogmap map`
+  // sets its --threads.
+  int threads = 1;
 };
 
 // The floor plan of placed ASRs (world_from_local_corrected, walls_local).
