@@ -23,17 +23,31 @@ ReadAhead::~ReadAhead() {
 
 void ReadAhead::Read() {
   for (;;) {
+    // A batch handed back by the caller when there is one: its records'
+    // readings keep their storage, so reading allocates nothing once the
+    // first batches have been through.
     Batch b;
-    b.records.reserve(batch_);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!free_.empty()) {
+        b = std::move(free_.back());
+        free_.pop_back();
+      }
+    }
+    b.count = 0;
+    b.end = false;
+    b.error = nullptr;
     try {
-      while (b.records.size() < batch_) {
+      while (b.count < batch_) {
         // One record object read into again and again, as a caller of the
         // wrapped reader would (what a reader leaves unset stays as it was).
         if (!inner_.Next(&record_)) {
           b.end = true;
           break;
         }
-        b.records.push_back(record_);
+        if (b.count < b.records.size()) b.records[b.count] = record_;
+        else b.records.push_back(record_);
+        ++b.count;
       }
     } catch (...) {
       b.error = std::current_exception();
@@ -53,13 +67,14 @@ void ReadAhead::Read() {
 }
 
 bool ReadAhead::Next(sensors::LogRecord* record) {
-  while (pos_ == current_.records.size()) {
+  while (pos_ == current_.count) {
     if (current_.end) {
       if (current_.error) std::rethrow_exception(current_.error);
       return false;
     }
     {
       std::unique_lock<std::mutex> lock(mutex_);
+      if (!current_.records.empty()) free_.push_back(std::move(current_));
       ready_.wait(lock, [this] { return !queue_.empty(); });
       current_ = std::move(queue_.front());
       queue_.pop_front();
@@ -68,7 +83,9 @@ bool ReadAhead::Next(sensors::LogRecord* record) {
     pos_ = 0;
     progress_ = current_.progress;
   }
-  *record = std::move(current_.records[pos_++]);
+  // Copied, not moved: the caller's record and the batch's both keep their
+  // readings' storage for the next ones.
+  *record = current_.records[pos_++];
   return true;
 }
 

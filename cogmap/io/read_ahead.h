@@ -37,7 +37,8 @@ class ReadAhead : public LogReader {
 
  private:
   struct Batch {
-    std::vector<sensors::LogRecord> records;
+    std::vector<sensors::LogRecord> records;  // the first 'count' hold records
+    size_t count = 0;
     double progress = 0.0;      // the wrapped reader's after the batch's last record
     bool end = false;           // the log ends (or fails) after this batch
     std::exception_ptr error;   // why it failed, when it did
@@ -51,6 +52,7 @@ class ReadAhead : public LogReader {
   std::mutex mutex_;
   std::condition_variable ready_, space_;
   std::deque<Batch> queue_;
+  std::vector<Batch> free_;  // batches handed back by the caller, to be read into again
   bool stop_ = false;
   // The caller's side.
   Batch current_;
