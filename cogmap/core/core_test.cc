@@ -1,14 +1,48 @@
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "cogmap/core/angles.h"
 #include "cogmap/core/bresenham.h"
 #include "cogmap/core/error.h"
 #include "cogmap/core/geometry.h"
+#include "cogmap/core/parallel.h"
 
 namespace cogmap {
 namespace {
+
+TEST(ForEachShared, CallsEachIndexOnceOnOneOrTwoThreads) {
+  for (int threads : {1, 2}) {
+    std::vector<std::atomic<int>> calls(1000);
+    std::vector<std::thread::id> who(calls.size());
+    ForEachShared(calls.size(), threads, [&](size_t i) {
+      ++calls[i];
+      who[i] = std::this_thread::get_id();
+    });
+    for (const auto& c : calls) EXPECT_EQ(c.load(), 1);
+    if (threads == 1) {
+      for (const auto& id : who) EXPECT_EQ(id, std::this_thread::get_id());
+    }
+  }
+  ForEachShared(0, 2, [](size_t) { FAIL() << "no index to call"; });
+}
+
+TEST(ForEachShared, RaisesTheFirstErrorOnceBothHaveStopped) {
+  for (int threads : {1, 2}) {
+    std::atomic<int> after{0};
+    EXPECT_THROW(ForEachShared(10000, threads,
+                               [&](size_t i) {
+                                 if (i == 3) throw std::runtime_error("index 3");
+                                 if (i > 3) ++after;
+                               }),
+                 std::runtime_error);
+    // The other thread stops taking indices: far fewer than all the rest ran.
+    EXPECT_LT(after.load(), 9000);
+  }
+}
 
 TEST(Angles, NormalizeWrapsIntoHalfOpenRange) {
   EXPECT_NEAR(NormalizeAngle(3 * kPi), kPi, 1e-12);

@@ -2,15 +2,12 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <limits>
-#include <mutex>
 #include <numeric>
-#include <thread>
 
+#include "cogmap/core/parallel.h"
 #include "cogmap/localize/wall_directions.h"
 
 namespace cogmap::graph {
@@ -150,6 +147,10 @@ MapOptimizer::MapOptimizer(const MapOptimizerOptions& options)
   graph_.SetRatesHeldAtOffsets(options_.drift_known);
 }
 
+// The walls the ASR keeps when they differ from those matched (the cone
+// grid's: asr::MapperOptions::cone_output_walls), bent with the drift found as
+// the matched ones are. A fresh ASR holds them as walls_local and
+// output_walls_local; a stored one as matched_walls_local and walls_local.
 void MapOptimizer::SetOutputWalls(Node* n, const asr::Asr& a) {
   n->output_walls.reset();
   n->output_walls_seen_s.clear();
@@ -180,13 +181,9 @@ MapOptimizer::Node MapOptimizer::MakeNode(const asr::Asr& a) const {
   }
   if (!mapped.empty() && n.path_local.back() != local_from_world * mapped.back().translation())
     n.path_local.push_back(local_from_world * mapped.back().translation());
-  // The walls matched (registration, loop closure, consistency) and, when
-  // they differ, the walls the ASR keeps (the cone grid's:
-  // asr::MapperOptions::cone_output_walls), bent with the drift found as the
-  // matched ones are. A fresh ASR holds them as walls_local and
-  // output_walls_local; a stored one as matched_walls_local and walls_local.
+  // The walls matched (registration, loop closure, consistency); the walls
+  // the ASR keeps, when they differ, are its callers' (SetOutputWalls).
   n.walls = a.has_matched_walls ? a.matched_walls_local : a.walls_local;
-  SetOutputWalls(&n, a);
   for (const asr::Exit& e : a.exits)
     n.exits_local.emplace_back(a.world_from_local_raw.inverse() * e.center_m, 0.5 * e.width_m);
   // Where each vertex was seen from: known for the ASRs of this run as
@@ -218,6 +215,7 @@ MapOptimizer::Node MapOptimizer::MakeNode(const asr::Asr& a) const {
 
 void MapOptimizer::AddStored(const asr::Asr& stored, int room_id) {
   Node n = MakeNode(stored);
+  SetOutputWalls(&n, stored);
   n.stored = true;
   n.room_id = room_id >= 0 ? room_id : stored.id;
   graph_.AddNode(stored.world_from_local_corrected, /*fixed=*/true, n.pre_rate);
@@ -254,9 +252,8 @@ std::unique_ptr<asr::PlacementWork> MapOptimizer::Prepare(const asr::Asr& a) con
 
 asr::Asr MapOptimizer::Place(asr::Asr a, std::unique_ptr<asr::PlacementWork> work) {
   const auto t0 = std::chrono::steady_clock::now();
-  std::unique_ptr<Prepared> prepared(dynamic_cast<Prepared*>(work.get()));
-  if (prepared) work.release();
-  else prepared.reset(static_cast<Prepared*>(Prepare(a).release()));
+  if (!dynamic_cast<Prepared*>(work.get())) work = Prepare(a);
+  Prepared* prepared = static_cast<Prepared*>(work.get());
   solve_seconds_ += prepared->seconds;
   Node node = std::move(prepared->node);
   // The walls the ASR keeps, as it is now (a sonar's cone grid is
@@ -653,25 +650,8 @@ void MapOptimizer::TryLoopClosures(int n) {
   // two threads the candidates are shared out (the same results, decided in
   // the same order below).
   std::vector<CandidateEval> evals(cands.size());
-  {
-    std::atomic<size_t> next{0};
-    std::exception_ptr failed;
-    std::mutex failed_mutex;
-    auto work = [&] {
-      try {
-        for (size_t i; (i = next++) < cands.size();) evals[i] = EvaluateCandidate(n, cands[i].k, cur_samples);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(failed_mutex);
-        if (!failed) failed = std::current_exception();
-        next = cands.size();
-      }
-    };
-    std::thread helper;
-    if (options_.threads >= 2 && cands.size() >= 2) helper = std::thread(work);
-    work();
-    if (helper.joinable()) helper.join();
-    if (failed) std::rethrow_exception(failed);
-  }
+  ForEachShared(cands.size(), options_.threads,
+                [&](size_t i) { evals[i] = EvaluateCandidate(n, cands[i].k, cur_samples); });
   for (size_t ci = 0; ci < cands.size(); ++ci) {
     const int k = cands[ci].k;
     const CandidateEval& ev = evals[ci];

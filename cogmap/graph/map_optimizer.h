@@ -357,7 +357,8 @@ class MapOptimizer {
   double DirectionSigma(double measured) const { return std::max(options_.direction_sigma_floor_rad, measured); }
   std::vector<SplitDirection> SplitDirections(const Node& n, const asr::Asr& a) const;
   class Prepared;
-  // The walls the ASR keeps (Node::output_walls) and where they were seen.
+  // The walls the ASR keeps (Node::output_walls) and where they were seen:
+  // not MakeNode's, which Prepare calls before a sonar's are vectorised.
   static void SetOutputWalls(Node* n, const asr::Asr& a);
   struct Split {
     int whole;                // the whole-ASR direction factor (disabled while split)

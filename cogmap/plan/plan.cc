@@ -2,19 +2,15 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <deque>
-#include <exception>
 #include <functional>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <numeric>
 #include <optional>
 #include <set>
-#include <thread>
 #include <unordered_map>
 
 #include <Eigen/Eigenvalues>
@@ -23,6 +19,7 @@
 #include <boost/geometry/geometries/polygon.hpp>
 
 #include "cogmap/core/angles.h"
+#include "cogmap/core/parallel.h"
 #include "cogmap/graph/registration.h"
 
 namespace cogmap::plan {
@@ -2632,23 +2629,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       polys[r] = ToBoost(ring);
       inner[r] = g.FromFrame(in_frame);
     };
-    std::atomic<int> next{0};
-    std::exception_ptr failed;
-    std::mutex failed_mutex;
-    auto work = [&] {
-      try {
-        for (int r; (r = next++) < n_plan;) trace(r);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(failed_mutex);
-        if (!failed) failed = std::current_exception();
-        next = n_plan;
-      }
-    };
-    std::thread helper;
-    if (o.threads >= 2 && n_plan >= 2) helper = std::thread(work);
-    work();
-    if (helper.joinable()) helper.join();
-    if (failed) std::rethrow_exception(failed);
+    ForEachShared(static_cast<size_t>(n_plan), o.threads, [&](size_t r) { trace(static_cast<int>(r)); });
   }
 
   // ---------------------------------------------------------------- assemble rooms
