@@ -1,5 +1,7 @@
 #include "cogmap/graph/pose_graph.h"
 
+#include "cogmap/graph/pose_costs.h"
+
 #include <ceres/ceres.h>
 
 #include <Eigen/Dense>
@@ -16,21 +18,7 @@
 namespace cogmap::graph {
 namespace {
 
-constexpr double kQuarter = kPi / 2.0;
-
-inline double Value(double x) { return x; }
-template <typename T, int N>
-double Value(const ceres::Jet<T, N>& x) {
-  return x.a;
-}
-
-// Angle difference wrapped into [-pi, pi) by the value (the wrap is a constant
-// offset for the derivatives).
-template <typename T>
-T Wrap(const T& a) {
-  const double k = std::round(Value(a) / (2.0 * kPi));
-  return a - T(k * 2.0 * kPi);
-}
+using costs::kQuarter;
 
 Eigen::Matrix3d SqrtInformation(const Eigen::Matrix3d& covariance) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(0.5 * (covariance + covariance.transpose()));
@@ -38,100 +26,6 @@ Eigen::Matrix3d SqrtInformation(const Eigen::Matrix3d& covariance) {
   for (int i = 0; i < 3; ++i) inv_sqrt(i) = 1.0 / std::sqrt(std::max(es.eigenvalues()(i), 1e-12));
   return inv_sqrt.asDiagonal() * es.eigenvectors().transpose();
 }
-
-// Residual of node j in node i's frame against a measured (mx, my, mth): the
-// error expressed in the measured pose's frame, whitened.
-template <typename T>
-void RelativeResidual(const T* pi, const T* pj, const T& mx, const T& my, const T& mth, const Eigen::Matrix3d& W,
-                      T* r) {
-  using std::cos;
-  using std::sin;
-  const T c = cos(pi[2]), s = sin(pi[2]);
-  const T dx = pj[0] - pi[0], dy = pj[1] - pi[1];
-  const T px = c * dx + s * dy, py = -s * dx + c * dy;
-  const T ex = px - mx, ey = py - my;
-  const T cm = cos(mth), sm = sin(mth);
-  const T e[3] = {cm * ex + sm * ey, -sm * ex + cm * ey, Wrap(pj[2] - pi[2] - mth)};
-  for (int a = 0; a < 3; ++a) r[a] = T(W(a, 0)) * e[0] + T(W(a, 1)) * e[1] + T(W(a, 2)) * e[2];
-}
-
-// Node i's path end under drift rate 'rate' (m's steps re-integrated).
-template <typename T>
-void BentEnd(const OdometryMeasurement& m, const T& rate, T* out) {
-  using std::cos;
-  using std::sin;
-  T bx(0.0), by(0.0);
-  for (const Eigen::Vector3d& st : m.steps) {
-    const T a = -rate * T(st.z());
-    bx += cos(a) * T(st.x()) - sin(a) * T(st.y());
-    by += sin(a) * T(st.x()) + cos(a) * T(st.y());
-  }
-  out[0] = bx;
-  out[1] = by;
-  out[2] = T(m.delta.theta) - rate * T(m.distance_m);
-}
-
-// The doubles of a scalar that the solver evaluates: a double, or a Jet's
-// value and then its derivatives.
-template <typename T>
-struct Scalars;
-template <>
-struct Scalars<double> {
-  static constexpr int n = 1;
-  static double Get(const double& x, int) { return x; }
-  static void Set(double& x, int, double v) { x = v; }
-};
-template <int N>
-struct Scalars<ceres::Jet<double, N>> {
-  static constexpr int n = 1 + N;
-  static double Get(const ceres::Jet<double, N>& x, int k) { return k == 0 ? x.a : x.v[k - 1]; }
-  static void Set(ceres::Jet<double, N>& x, int k, double v) {
-    if (k == 0) x.a = v;
-    else x.v[k - 1] = v;
-  }
-};
-
-// One measurement's last BentEnd, per scalar type. A factor's drift rate
-// often stays as it was from one evaluation to the next (rates held at zero,
-// the rates outside a local solve's window, the variance-component rounds'
-// solves that start where the last one ended), and BentEnd costs a sine and
-// a cosine per step of the path. Given the same rate to the bit it hands back
-// what BentEnd gave for it, so the solves' numbers are the same. Not for
-// evaluations on several threads at once (the graph's solves use one).
-class BentEndCache {
- public:
-  template <typename T>
-  void operator()(const OdometryMeasurement& m, const T& rate, T* out) const {
-    using S = Scalars<T>;
-    static_assert(S::n <= kMaxScalars);
-    Slot& c = S::n == 1 ? plain_ : jet_;
-    if (c.n == S::n) {
-      bool same = true;
-      for (int k = 0; k < S::n && same; ++k) {
-        const double x = S::Get(rate, k);
-        same = std::memcmp(&x, &c.v[k], sizeof x) == 0;
-      }
-      if (same) {
-        for (int o = 0; o < 3; ++o)
-          for (int k = 0; k < S::n; ++k) S::Set(out[o], k, c.v[S::n * (1 + o) + k]);
-        return;
-      }
-    }
-    BentEnd(m, rate, out);
-    c.n = S::n;
-    for (int k = 0; k < S::n; ++k) c.v[k] = S::Get(rate, k);
-    for (int o = 0; o < 3; ++o)
-      for (int k = 0; k < S::n; ++k) c.v[S::n * (1 + o) + k] = S::Get(out[o], k);
-  }
-
- private:
-  static constexpr int kMaxScalars = 9;  // a Jet of the widest factor: 3 + 3 + 1 + 1 parameters
-  struct Slot {
-    int n = 0;  // doubles per scalar held (0: none yet)
-    std::array<double, 4 * kMaxScalars> v;  // the rate, then the three outputs
-  };
-  mutable Slot plain_, jet_;
-};
 
 // The odometry's whitening, heading first: row 2 is the heading error over
 // its marginal sigma; rows 0 and 1 whiten the translation error less what the
@@ -153,133 +47,6 @@ Eigen::Matrix3d HeadingFirstSqrtInformation(const Eigen::Matrix3d& covariance) {
   W(2, 2) = 1.0 / std::sqrt(var_h);
   return W;
 }
-
-struct OdometryCost {
-  OdometryMeasurement m;
-  Eigen::Matrix3d W;    // HeadingFirstSqrtInformation
-  double offset = 0.0;  // the drift already removed from m (node i's rate offset)
-  double scale = 1.0;   // 1 / the translation component's sigma factor (rows 0, 1)
-  double scale_heading = 1.0;  // 1 / the heading component's sigma factor (row 2)
-  BentEndCache bent{};
-  template <typename T>
-  bool operator()(const T* pi, const T* pj, const T* rate, T* r) const {
-    T end[3];
-    bent(m, rate[0] - T(offset), end);
-    RelativeResidual(pi, pj, end[0], end[1], end[2], W, r);
-    r[0] *= T(scale);
-    r[1] *= T(scale);
-    r[2] *= T(scale_heading);
-    return true;
-  }
-};
-
-struct RelativeCost {
-  Pose2 z;
-  Eigen::Matrix3d W;
-  double scale = 1.0;
-  template <typename T>
-  bool operator()(const T* pi, const T* pj, T* r) const {
-    RelativeResidual(pi, pj, T(z.x), T(z.y), T(z.theta), W, r);
-    for (int a = 0; a < 3; ++a) r[a] *= T(scale);
-    return true;
-  }
-};
-
-template <typename T>
-void ComposeT(const T* a, const T* b, T* out) {
-  using std::cos;
-  using std::sin;
-  const T c = cos(a[2]), s = sin(a[2]);
-  const T x = a[0] + c * b[0] - s * b[1];
-  const T y = a[1] + s * b[0] + c * b[1];
-  out[0] = x;
-  out[1] = y;
-  out[2] = a[2] + b[2];
-}
-
-template <typename T>
-void InverseT(const T* a, T* out) {
-  using std::cos;
-  using std::sin;
-  const T c = cos(a[2]), s = sin(a[2]);
-  const T x = -(c * a[0] + s * a[1]);
-  const T y = -(-s * a[0] + c * a[1]);
-  out[0] = x;
-  out[1] = y;
-  out[2] = -a[2];
-}
-
-// A registration of raw walls: node j's against node i's, where they overlap
-// at a distance driven s_i into node i and s_j into node j. Walls seen there
-// were placed with the heading drifted by rate x s more than at the node's
-// origin, so the measured raw pose z is bent at both ends as the odometry is:
-// the prediction of node j in node i is B_i z B_j^-1, with B = (the path to s
-// re-integrated under the node's rate) x (the raw path to s)^-1. Across an
-// exit s_i is node i's whole path and s_j = 0 (B_j the identity).
-struct BentRelativeCost {
-  OdometryMeasurement mi, mj;  // each node's path (as mapped) to where the walls overlap
-  Pose2 middle;                // mi.delta^-1 z mj.delta
-  Eigen::Matrix3d W;
-  double offset_i = 0.0, offset_j = 0.0;  // the nodes' rate offsets
-  double scale = 1.0;
-  BentEndCache bent_i{}, bent_j{};
-  template <typename T>
-  bool operator()(const T* pi, const T* pj, const T* rate_i, const T* rate_j, T* r) const {
-    T bi[3], bj[3], bj_inv[3], t[3], m[3];
-    bent_i(mi, rate_i[0] - T(offset_i), bi);
-    bent_j(mj, rate_j[0] - T(offset_j), bj);
-    InverseT(bj, bj_inv);
-    const T mid[3] = {T(middle.x), T(middle.y), T(middle.theta)};
-    ComposeT(bi, mid, t);
-    ComposeT(t, bj_inv, m);
-    RelativeResidual(pi, pj, m[0], m[1], m[2], W, r);
-    for (int a = 0; a < 3; ++a) r[a] *= T(scale);
-    return true;
-  }
-};
-
-struct DirectionCost {
-  double d = 0.0, sigma = 1.0, s_mean = 0.0, floor = 0.0;
-  double offset = 0.0;  // the node's rate offset (drift removed while it was mapped)
-  double scale = 1.0;   // 1 / the variance components' factor on sigma
-  double s_spread = 0.0;  // 1-sigma spread of where along the path the walls were seen
-  double bend = 0.0;      // s_spread x |the rate left| at the last update (SetDirectionBend)
-  // The factor's 1-sigma: the measurement's (scaled by the variance
-  // components) with the bend error, at least the floor.
-  double Sigma() const {
-    const double m = sigma / scale;
-    return std::max({floor, std::sqrt(m * m + bend * bend), 1e-9});
-  }
-  template <typename T>
-  bool operator()(const T* pi, const T* phi, const T* rate, T* r) const {
-    // Walls seen after driving s from the ASR's origin were placed with a
-    // heading that had drifted by rate x s more: they lean by +rate x s in the
-    // ASR's frame (less what was removed while mapping). The measured
-    // direction is corrected by the mean.
-    const T v = pi[2] + T(d) - (rate[0] - T(offset)) * T(s_mean) - phi[0];
-    const double k = std::round(Value(v) / kQuarter);  // nearest of the four branches
-    r[0] = (v - T(k * kQuarter)) / T(Sigma());
-    return true;
-  }
-};
-
-struct RateWalkCost {
-  double inv_sigma = 1.0;
-  template <typename T>
-  bool operator()(const T* ri, const T* rj, T* r) const {
-    r[0] = (rj[0] - ri[0]) * T(inv_sigma);
-    return true;
-  }
-};
-
-struct RatePriorCost {
-  double inv_sigma = 1.0;
-  template <typename T>
-  bool operator()(const T* ri, T* r) const {
-    r[0] = ri[0] * T(inv_sigma);
-    return true;
-  }
-};
 
 }  // namespace
 
@@ -393,7 +160,7 @@ struct PoseGraph::Impl {
     FactorKind part_kind = FactorKind::kOdometry;
     double* part_scale = nullptr;
     const OdometryMeasurement* odometry = nullptr;  // kOdometry: the measurement
-    DirectionCost* direction = nullptr;             // kDirection: the functor
+    costs::DirectionCost* direction = nullptr;            // kDirection: the functor
     // Relative factors (AddRelative), for DirectionProfile: the measured
     // heading (of the middle, between the bends), the marginal variance of
     // its heading, and each bent end's path length and rate offset (0: not bent).
@@ -461,7 +228,7 @@ int PoseGraph::AddNode(const Pose2& initial, bool fixed, double rate_offset) {
 int PoseGraph::size() const { return static_cast<int>(impl_->nodes.size()); }
 
 void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const OdometryNoiseOptions& noise) {
-  auto* c = new OdometryCost{m, HeadingFirstSqrtInformation(m.covariance), impl_->offsets[i]};
+  auto* c = new costs::OdometryCost{m, HeadingFirstSqrtInformation(m.covariance), impl_->offsets[i]};
   Impl::Factor f;
   f.scale = &c->scale;
   f.part_kind = FactorKind::kOdometryHeading;
@@ -471,7 +238,7 @@ void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const Od
   f.i = i;
   f.j = j;
   f.dof = 3;
-  f.cost.reset(new ceres::AutoDiffCostFunction<OdometryCost, 3, 3, 3, 1>(c));
+  f.cost.reset(new costs::Analytic<costs::OdometryCost, 3, 3, 3, 1>(c));
   f.params = {impl_->nodes[i].data(), impl_->nodes[j].data(), &impl_->rates[i]};
   impl_->factors.push_back(std::move(f));
   // The drift rate: a random walk from node i to node j, and a prior on the
@@ -482,7 +249,7 @@ void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const Od
   w.i = i;
   w.j = j;
   w.dof = 1;
-  w.cost.reset(new ceres::AutoDiffCostFunction<RateWalkCost, 1, 1, 1>(new RateWalkCost{1.0 / walk}));
+  w.cost.reset(new costs::Analytic<costs::RateWalkCost, 1, 1, 1>(new costs::RateWalkCost{1.0 / walk}));
   w.params = {&impl_->rates[i], &impl_->rates[j]};
   impl_->factors.push_back(std::move(w));
   if (!impl_->has_rate_prior) {
@@ -491,8 +258,8 @@ void PoseGraph::AddOdometry(int i, int j, const OdometryMeasurement& m, const Od
     p.kind = FactorKind::kRatePrior;
     p.i = i;
     p.dof = 1;
-    p.cost.reset(new ceres::AutoDiffCostFunction<RatePriorCost, 1, 1>(
-        new RatePriorCost{1.0 / noise.rate_prior_sigma_rad_per_m}));
+    p.cost.reset(new costs::Analytic<costs::RatePriorCost, 1, 1>(
+        new costs::RatePriorCost{1.0 / noise.rate_prior_sigma_rad_per_m}));
     p.params = {&impl_->rates[i]};
     impl_->factors.push_back(std::move(p));
   }
@@ -511,11 +278,11 @@ int PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, doub
   f.kind = FactorKind::kDirection;
   f.i = i;
   f.dof = 1;
-  auto* c = new DirectionCost{d, sigma, s_mean_m, floor_rad, impl_->offsets[i]};
+  auto* c = new costs::DirectionCost{d, sigma, s_mean_m, floor_rad, impl_->offsets[i]};
   c->s_spread = s_spread_m;
   f.scale = &c->scale;
   f.direction = c;
-  f.cost.reset(new ceres::AutoDiffCostFunction<DirectionCost, 1, 3, 1, 1>(c));
+  f.cost.reset(new costs::Analytic<costs::DirectionCost, 1, 3, 1, 1>(c));
   f.loss.reset(new ceres::CauchyLoss(cauchy_scale));
   f.cauchy_scale = cauchy_scale;
   f.params = {impl_->nodes[i].data(), &impl_->phi, &impl_->rates[i]};
@@ -537,7 +304,7 @@ int PoseGraph::AddRelative(int i, int j, const Pose2& z, const Eigen::Matrix3d& 
     const OdometryMeasurement none;
     const OdometryMeasurement& mi = bend_i ? *bend_i : none;
     const OdometryMeasurement& mj = bend_j ? *bend_j : none;
-    auto* c = new BentRelativeCost{mi, mj, mi.delta.inverse() * z * mj.delta, SqrtInformation(cov),
+    auto* c = new costs::BentRelativeCost{mi, mj, mi.delta.inverse() * z * mj.delta, SqrtInformation(cov),
                                    bend_i ? impl_->offsets[i] : 0.0, bend_j ? impl_->offsets[j] : 0.0};
     f.rel_theta = c->middle.theta;
     f.bend_s_i = mi.distance_m;
@@ -545,12 +312,12 @@ int PoseGraph::AddRelative(int i, int j, const Pose2& z, const Eigen::Matrix3d& 
     f.bend_off_i = c->offset_i;
     f.bend_off_j = c->offset_j;
     f.scale = &c->scale;
-    f.cost.reset(new ceres::AutoDiffCostFunction<BentRelativeCost, 3, 3, 3, 1, 1>(c));
+    f.cost.reset(new costs::Analytic<costs::BentRelativeCost, 3, 3, 3, 1, 1>(c));
     f.params = {impl_->nodes[i].data(), impl_->nodes[j].data(), &impl_->rates[i], &impl_->rates[j]};
   } else {
-    auto* c = new RelativeCost{z, SqrtInformation(cov)};
+    auto* c = new costs::RelativeCost{z, SqrtInformation(cov)};
     f.scale = &c->scale;
-    f.cost.reset(new ceres::AutoDiffCostFunction<RelativeCost, 3, 3, 3>(c));
+    f.cost.reset(new costs::Analytic<costs::RelativeCost, 3, 3, 3>(c));
     f.params = {impl_->nodes[i].data(), impl_->nodes[j].data()};
   }
   if (cauchy_scale > 0) {
@@ -659,7 +426,7 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
   std::vector<Term> terms;
   for (const auto& f : m.factors) {
     if (!f.enabled || f.kind != FactorKind::kDirection || !f.direction) continue;
-    const DirectionCost& d = *f.direction;
+    const costs::DirectionCost& d = *f.direction;
     const double rate = m.rates[f.i] - d.offset;
     const double v0 = m.nodes[f.i][2] + d.d - rate * d.s_mean - m.phi;
     const double sigma = d.Sigma();
