@@ -1,6 +1,7 @@
 #include "cogmap/grid/range_fusion.h"
 
 #include "cogmap/core/bresenham.h"
+#include "cogmap/grid/cone_row.h"
 
 #include <algorithm>
 #include <cmath>
@@ -303,25 +304,9 @@ void HimmFusion::InsertRay(const CellIndex& r0, double sx, double sy, double cos
         if (p_lo > p_hi + cell) continue;
         const int xa = std::max(x_lo, static_cast<int>(std::floor((sx + p_lo - ox) * inv - 0.5)) - 1);
         const int xb = std::min(x_hi, static_cast<int>(std::ceil((sx + p_hi - ox) * inv - 0.5)) + 1);
-        // Per cell one division and one square root (the cone is most of a
-        // sonar run's grid time): the row's terms hoisted, constant divisors
-        // as products.
-        const double py2 = py * py, along_y = py * sin_h, cross_y = py * cos_h;
-        float* row = cells + static_cast<long>(y) * w;
-        for (int x = xa; x <= xb; ++x) {
-          const double px = ox + (x + 0.5) * cell - sx;
-          const double rr = px * px + py2;
-          const double along = px * cos_h + along_y;
-          if (rr >= reach2 || along <= 0.0 || along * along < cos2 * rr) continue;
-          // The angle off the axis from its sine (within a cone of at most
-          // 90 degrees; asin's series to the cube is within 1e-4 rad at 15).
-          const double cross = px * sin_h - cross_y;
-          const double sn2 = cross * cross / rr;
-          const double sn = std::sqrt(sn2);
-          const double angle = std::min(half, sn * (1.0 + sn2 * (1.0 / 6.0)));
-          float& v = row[x];
-          if (v != path) v = std::max(v - static_cast<float>(dec * (1.0 - angle * inv_half)), lo);
-        }
+        // The row's cells (cone_row.h: two at a time where the CPU can).
+        ConeRow row{ox, cell, sx, py, cos_h, sin_h, reach2, cos2, half, inv_half, dec, path, lo};
+        row.Decrement(cells + static_cast<long>(y) * w, xa, xb);
       }
     }
     // The arc at d, one cell apart, from the axis outwards (0, +1, -1, +2, -2, ...).

@@ -1,9 +1,13 @@
 #include "cogmap/grid/range_fusion.h"
 
+#include "cogmap/grid/cone_row.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
+#include <vector>
 
 #include "cogmap/core/angles.h"
 #include "cogmap/core/bresenham.h"
@@ -482,6 +486,48 @@ TEST(ConeRules, RobotPathAndNoEcho) {
     EXPECT_EQ(g.Classify(72, 40), CellClass::kUnknown);
     EXPECT_EQ(g.stats().misses, 1);
   }
+}
+
+}  // namespace
+}  // namespace cogmap::grid
+
+namespace cogmap::grid {
+namespace {
+
+// The cone's rows two cells at a time (SSE2) against one at a time: the same
+// floats, to the bit, over rows of every kind (cells on the robot's path,
+// cells at the floor, rows through the apex, both ends of odd and even
+// lengths, cones of 5 to 60 degrees pointing every way).
+TEST(ConeRow, PackedCellsMatchOneAtATime) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int rows_changed = 0, cells_changed = 0;
+  const int trials = 2000;
+  for (int trial = 0; trial < trials; ++trial) {
+    const double heading = 2.0 * kPi * u(rng), half = DegToRad(2.5 + 27.5 * u(rng));
+    const double reach = 0.5 + 4.0 * u(rng), cell = trial % 2 ? 0.1 : 0.055;
+    // The sensor over the row's cells, the row on the side the cone points
+    // to, within its reach.
+    const int n = 40 + trial % 80;
+    const double py = (std::sin(heading) < 0.0 ? -0.8 : 0.8) * reach * u(rng);
+    const ConeRow c{0.0,  cell, n * cell * u(rng), py, std::cos(heading), std::sin(heading),
+                    reach * reach, std::cos(half) * std::cos(half), half, 1.0 / half, 0.5 + u(rng), -4.0f, -3.0f};
+    std::vector<float> a(n);
+    for (auto& v : a) v = u(rng) < 0.1 ? c.path : u(rng) < 0.1 ? c.lo : static_cast<float>(-3.0 + 18.0 * u(rng));
+    const std::vector<float> before = a;
+    std::vector<float> b = a;
+    const int xa = trial % 7, xb = n - 1 - trial % 5;
+    c.Decrement(a.data(), xa, xb, /*packed=*/true);
+    c.Decrement(b.data(), xa, xb, /*packed=*/false);
+    ASSERT_EQ(0, std::memcmp(a.data(), b.data(), n * sizeof(float))) << "trial " << trial;
+    int here = 0;
+    for (int x = 0; x < n; ++x) here += a[x] != before[x] ? 1 : 0;
+    rows_changed += here > 0 ? 1 : 0;
+    cells_changed += here;
+  }
+  // The trials reach into the cone (else they compare nothing).
+  EXPECT_GT(rows_changed, trials / 2);
+  EXPECT_GT(cells_changed, 4 * trials);
 }
 
 }  // namespace
