@@ -629,6 +629,14 @@ std::unique_ptr<SqliteAsrStore> SqliteAsrStore::Open(const std::string& path, Op
   }
   sqlite3_busy_timeout(db, 5000);
   std::unique_ptr<SqliteAsrStore> store(new SqliteAsrStore(path, db));
+  // The switch to WAL rewrites the file's header in a transaction of the
+  // rollback journal, synced twice at SQLite's default (synchronous=FULL):
+  // 1-6 ms of a run's start. A store created here holds nothing a crash
+  // could lose (cogmap map's is a staging copy until the output folder's
+  // commit syncs it, io::OutputFolder), so its switch is not synced; one
+  // with rows in it is.
+  const bool fresh = !exists || empty || mode == OpenMode::kReplace;
+  if (fresh) store->Exec("PRAGMA synchronous=OFF");
   store->Exec("PRAGMA journal_mode=WAL");
   // Under WAL, NORMAL keeps the store consistent through a crash of the
   // application or of the machine; a power cut may lose the last commits
