@@ -692,14 +692,23 @@ double CauchyConsistency(int dof, double a) {
 PoseGraph::Linearized PoseGraph::Linearize(bool rates_free) const {
   const auto& factors = impl_->factors;
   Linearized lin;
-  // The free parameter blocks: nodes not held, rates unless held at zero, phi.
-  std::unordered_map<const double*, bool> is_free;
+  // The free parameter blocks: nodes not held, rates unless held at zero, phi
+  // (by address, sorted: one allocation, not one per block).
+  std::vector<std::pair<const double*, bool>> is_free;
+  is_free.reserve(2 * impl_->nodes.size() + 1);
   for (size_t n = 0; n < impl_->nodes.size(); ++n) {
-    is_free[impl_->nodes[n].data()] = !impl_->fixed[n];
-    is_free[&impl_->rates[n]] = rates_free;
+    is_free.emplace_back(impl_->nodes[n].data(), !impl_->fixed[n]);
+    is_free.emplace_back(&impl_->rates[n], rates_free);
   }
-  is_free[&impl_->phi] = true;
+  is_free.emplace_back(&impl_->phi, true);
+  std::sort(is_free.begin(), is_free.end());
+  auto free_block = [&](const double* p) {
+    auto it = std::lower_bound(is_free.begin(), is_free.end(), p,
+                               [](const std::pair<const double*, bool>& e, const double* q) { return e.first < q; });
+    return it != is_free.end() && it->first == p && it->second;
+  };
   auto& first_col = lin.first_col;
+  first_col.reserve(is_free.size());
   int& cols = lin.cols;
   auto& rows = lin.rows;
   rows.resize(factors.size());
@@ -713,15 +722,25 @@ PoseGraph::Linearized PoseGraph::Linearize(bool rates_free) const {
     most_triplets += n * n;
   }
   triplets.reserve(most_triplets);
+  // Per factor, reused: its Jacobian's blocks (one buffer), their addresses,
+  // its free columns' (block, offset), its J^T J.
+  std::vector<double> jac;
+  std::vector<double*> jp;
+  std::vector<size_t> at;  // each block's offset in jac
+  std::vector<std::pair<size_t, int>> entries;
+  Eigen::MatrixXd H;
   for (size_t k = 0; k < factors.size(); ++k) {
     const auto& f = factors[k];
     if (!f.enabled) continue;
     const std::vector<int32_t>& sizes = f.cost->parameter_block_sizes();
-    std::vector<std::vector<double>> jac(sizes.size());
-    std::vector<double*> jp(sizes.size());
-    for (size_t b = 0; b < sizes.size(); ++b) {
-      jac[b].assign(static_cast<size_t>(f.dof) * sizes[b], 0.0);
-      jp[b] = jac[b].data();
+    size_t total = 0;
+    for (int32_t b : sizes) total += static_cast<size_t>(b);
+    jac.assign(static_cast<size_t>(f.dof) * total, 0.0);
+    jp.resize(sizes.size());
+    at.resize(sizes.size());
+    for (size_t b = 0, offset = 0; b < sizes.size(); offset += static_cast<size_t>(f.dof) * sizes[b], ++b) {
+      jp[b] = jac.data() + offset;
+      at[b] = offset;
     }
     double r[3] = {0, 0, 0};
     if (!f.cost->Evaluate(f.params.data(), r, jp.data())) continue;
@@ -735,11 +754,11 @@ PoseGraph::Linearized PoseGraph::Linearize(bool rates_free) const {
     }
     lin.weight[k] = w;
     Linearized::Rows& R = rows[k];
-    std::vector<std::pair<size_t, int>> entries;  // (block, offset) of each free column
+    R.col.reserve(total);
+    entries.clear();
     for (size_t b = 0; b < sizes.size(); ++b) {
       const double* p = f.params[b];
-      auto it = is_free.find(p);
-      if (it == is_free.end() || !it->second) continue;
+      if (!free_block(p)) continue;
       auto [c, added] = first_col.emplace(p, cols);
       if (added) cols += sizes[b];
       for (int o = 0; o < sizes[b]; ++o) {
@@ -751,8 +770,8 @@ PoseGraph::Linearized PoseGraph::Linearize(bool rates_free) const {
     const double sw = std::sqrt(w);
     for (int a = 0; a < f.dof; ++a)
       for (size_t e = 0; e < entries.size(); ++e)
-        R.J(a, static_cast<int>(e)) = sw * jac[entries[e].first][a * sizes[entries[e].first] + entries[e].second];
-    const Eigen::MatrixXd H = R.J.transpose() * R.J;
+        R.J(a, static_cast<int>(e)) = sw * jac[at[entries[e].first] + a * sizes[entries[e].first] + entries[e].second];
+    H.noalias() = R.J.transpose() * R.J;
     for (size_t a = 0; a < R.col.size(); ++a)
       for (size_t b = 0; b < R.col.size(); ++b) triplets.emplace_back(R.col[a], R.col[b], H(a, b));
   }
@@ -859,15 +878,20 @@ std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
   SelectedInverse S;
   if (!Invert(lin, -1.0, &S)) return {};
   const auto& rows = lin.rows;
+  Eigen::MatrixXd Sf, JS, JSJ;  // reused from factor to factor
   for (size_t k = 0; k < factors.size(); ++k) {
     if (!factors[k].enabled) continue;
     const Linearized::Rows& R = rows[k];
     const int m = static_cast<int>(R.col.size());
-    Eigen::MatrixXd Sf(m, m);
-    for (int a = 0; a < m; ++a)
-      for (int b = 0; b < m; ++b) Sf(a, b) = S(R.col[a], R.col[b]);
-    const Eigen::MatrixXd JSJ = m == 0 ? Eigen::MatrixXd::Zero(factors[k].dof, factors[k].dof)
-                                      : Eigen::MatrixXd(R.J * Sf * R.J.transpose());
+    if (m == 0) {
+      JSJ.setZero(factors[k].dof, factors[k].dof);
+    } else {
+      Sf.resize(m, m);
+      for (int a = 0; a < m; ++a)
+        for (int b = 0; b < m; ++b) Sf(a, b) = S(R.col[a], R.col[b]);
+      JS.noalias() = R.J * Sf;
+      JSJ.noalias() = JS * R.J.transpose();
+    }
     out[k].redundancy = std::clamp(factors[k].dof - JSJ.trace(), 0.0, static_cast<double>(factors[k].dof));
     if (factors[k].part_scale) out[k].redundancy_heading = std::clamp(1.0 - JSJ(2, 2), 0.0, 1.0);
   }
