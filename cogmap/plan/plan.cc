@@ -2575,12 +2575,55 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     std::vector<Region> kept(n_plan);
     std::vector<char> touched(n_plan, 0);
     size_t kept_sites = 0;
-    for (int r = 0; r < n_plan; ++r) {
-      if (boxes[r].x1 < 0) continue;
+    auto fill = [&](int r) {
       int x0, y0, x1, y1;
       half_box(r, &x0, &y0, &x1, &y1);
-      Region reg = FillRegionMasked(
+      return FillRegionMasked(
           x0, y0, x1, y1, [&](std::vector<uint8_t>* mask, int W) { half.MaskOf(r, x0, y0, x1, y1, mask, W); });
+    };
+    auto box_sites = [&](int r) {
+      int x0, y0, x1, y1;
+      half_box(r, &x0, &y0, &x1, &y1);
+      return static_cast<size_t>(x1 - x0 + 3) * static_cast<size_t>(y1 - y0 + 3);
+    };
+    // With PlanOptions::threads >= 2 the rooms' fills are made ahead, a batch
+    // at a time on two threads, from the labels as they stand before the
+    // batch: a room's fill reads only the sites labelled with it, which a
+    // room before it in the batch changes only by taking some (flagged in
+    // 'taken': that room's fill is made again, in turn). So the same fills as
+    // one after the other. A batch holds at most kBatchSites sites of fills
+    // made ahead, and a room whose box is larger than kAheadSites is filled
+    // in turn alone (the scratch of two large fills at once is what a large
+    // building's plan cannot spare).
+    constexpr size_t kBatchSites = size_t{1} << 20, kAheadSites = size_t{1} << 19;
+    std::vector<Region> ahead(n_plan);
+    std::vector<char> taken(n_plan, 0);
+    int batch_end = 0;  // rooms before it were considered for filling ahead
+    for (int r = 0; r < n_plan; ++r) {
+      if (boxes[r].x1 < 0) continue;
+      if (o.threads >= 2 && r >= batch_end) {
+        std::vector<int> batch;
+        size_t sites = 0;
+        for (batch_end = r; batch_end < n_plan; ++batch_end) {
+          if (boxes[batch_end].x1 < 0) continue;
+          const size_t n = box_sites(batch_end);
+          if (n > kAheadSites) {
+            if (batch.empty()) continue;  // filled in turn below
+            break;
+          }
+          if (sites + n > kBatchSites && !batch.empty()) break;
+          sites += n;
+          batch.push_back(batch_end);
+        }
+        if (batch.size() >= 2) {
+          for (int q : batch) taken[q] = 0;  // (what was taken before is in the labels they read)
+          ForEachShared(batch.size(), o.threads, [&](size_t k) { ahead[batch[k]] = fill(batch[k]); });
+        }
+      }
+      int x0, y0, x1, y1;
+      half_box(r, &x0, &y0, &x1, &y1);
+      Region reg = !ahead[r].filled.empty() && !taken[r] ? std::move(ahead[r]) : fill(r);
+      std::vector<uint8_t>().swap(ahead[r].filled);
       const bool keep = reg.count * site_m2 >= o.min_room_area_m2;
       for (int y = 1; y < reg.H - 1; ++y)
         for (int x = 1; x < reg.W - 1; ++x) {
@@ -2588,7 +2631,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
           const int cur = half.Get(i, j);
           const bool mine = keep && reg.at(x, y);
           if (mine && cur != r) {
-            if (cur >= 0) touched[cur] = 1;
+            if (cur >= 0) touched[cur] = 1, taken[cur] = 1;
             half.Set(i, j, r);
           }
           if (!mine && cur == r) half.Set(i, j, -1);
@@ -2598,6 +2641,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         kept[r] = std::move(reg);
       }
     }
+    std::vector<Region>().swap(ahead);
     // The labels are final from here on: each room's outline reads them
     // alone, and with PlanOptions::threads >= 2 the rooms are shared out
     // over two threads (the same outlines, each written to its own room).

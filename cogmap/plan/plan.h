@@ -149,9 +149,9 @@ struct PlanOptions {
   // the widest beam of the robot, asr::kMetaSensorBeam: 30 degrees for a
   // Polaroid sonar, a fraction of a degree for a laser. 0: never.
   double beam_width_rad = 0.0;
-  // The rooms' outlines are traced on this many threads (at most 2; the
-  // same outlines: each reads the finished labels alone). `cogmap map`
-  // sets its --threads.
+  // The rooms' outlines are filled and traced on this many threads (at most
+  // 2; the same outlines: each fill reads the labels its room has, each
+  // trace the finished labels alone). `cogmap map` sets its --threads.
   int threads = 1;
 };
 

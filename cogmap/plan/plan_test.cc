@@ -1,11 +1,14 @@
 #include "cogmap/plan/plan.h"
 
+#include "cogmap/plan/plan_json.h"
+
 #include <gtest/gtest.h>
 
 #include <boost/geometry.hpp>
 #include <boost/geometry/geometries/point_xy.hpp>
 #include <boost/geometry/geometries/polygon.hpp>
 #include <cmath>
+#include <sstream>
 
 namespace cogmap::plan {
 namespace {
@@ -183,6 +186,35 @@ TEST(BuildPlan, RoomWhollyInsideALaterRoomIsTakenByIt) {
   EXPECT_TRUE(Inside({5, 5}, plan.rooms[0].polygon));  // the box is the room's
   EXPECT_NEAR(plan.rooms[0].area_m2, 100.0, 5.0);
   EXPECT_EQ(SampledOverlap(plan, 0.1), 0.0);
+}
+
+// The fills made ahead on two threads (PlanOptions::threads) give the
+// plan of one thread, to the byte, where a room's fill must be made again: a
+// hall mapped first encloses a box mapped after it, whose fill made ahead
+// (before the hall took its floor) no longer holds; and where an earlier
+// room is taken by a later one.
+TEST(BuildPlan, TwoThreadsGiveTheSamePlan) {
+  std::vector<Vec2> round;
+  for (const auto& [a, b] : std::vector<std::pair<Vec2, Vec2>>{
+           {{2, 2}, {8, 2}}, {{8, 2}, {8, 8}}, {{8, 8}, {2, 8}}, {{2, 8}, {2, 2.1}}})
+    for (const Vec2& p : Line(a, b)) round.push_back(p);
+  const std::vector<std::vector<asr::Asr>> cases = {
+      {MakeAsr(0, {Box(0, 0, 10, 10)}, round), MakeAsr(1, {Box(4, 4, 6, 6)}, Line({4.6, 5}, {5.4, 5}), 10.0),
+       MakeAsr(2, {Box(10, 0, 14, 4)}, Line({11, 2}, {13, 2}), 20.0)},
+      {MakeAsr(0, {Box(4, 4, 6, 6)}, Line({4.6, 5}, {5.4, 5})), MakeAsr(1, {Box(0, 0, 10, 10)}, round, 10.0),
+       MakeAsr(2, {Box(10, 0, 14, 4)}, Line({11, 2}, {13, 2}), 20.0)}};
+  for (size_t c = 0; c < cases.size(); ++c) {
+    PlanOptions one, two;
+    two.threads = 2;
+    std::ostringstream a, b;
+    const Plan p1 = BuildPlan(cases[c], {{0, 0}, {1, 1}, {2, 2}}, one);
+    WritePlanJson(a, p1);
+    WritePlanJson(b, BuildPlan(cases[c], {{0, 0}, {1, 1}, {2, 2}}, two));
+    EXPECT_EQ(a.str(), b.str()) << "case " << c;
+    // The hall holds the box's floor either way; the third room stays.
+    ASSERT_EQ(p1.rooms.size(), 2u) << "case " << c;
+    EXPECT_EQ(SampledOverlap(p1, 0.1), 0.0);
+  }
 }
 
 TEST(BuildPlan, WallsAtAShallowAngleAreNotExtendedToMeetFarOff) {
