@@ -139,7 +139,7 @@ std::function<int()> SetupMap(CLI::App& sub) {
                  "2: the log is read on a thread of its own (not standard input), and each room that ends is "
                  "vectorised (and what its placing needs of it alone made) on one more thread and placed and stored "
                  "on another while the next one is mapped (its loop-closure candidates searched on two), the floor "
-                 "plan's room outlines traced on two, and at the end the floor "
+                 "plan's room outlines filled and traced on two, and at the end the floor "
                  "plan's picture is drawn and the store closed beside the plan's files (the same map, sooner); 1: "
                  "all on one thread (the font library's own "
                  "helpers aside). With --no-graph the drift filter needs each room placed before the next one is "
