@@ -280,10 +280,11 @@ class TiledLattice {
     }
   }
   // f(x, y) for every cell of a tile that is allocated or touches one (8
-  // neighbours): every cell within kSide cells of a written one (any order).
+  // neighbours): every cell within kSide cells of a written one, tile by
+  // tile (rows of tiles ty0 to ty1 - 1; by default all).
   template <class F>
-  void ForEachNearStored(F&& f) const {
-    for (int ty = 0; ty < th_; ++ty)
+  void ForEachNearStored(F&& f, int ty0 = 0, int ty1 = std::numeric_limits<int>::max()) const {
+    for (int ty = std::max(0, ty0); ty < std::min(th_, ty1); ++ty)
       for (int tx = 0; tx < tw_; ++tx) {
         bool near = false;
         for (int dy = -1; dy <= 1 && !near; ++dy)
@@ -304,6 +305,9 @@ class TiledLattice {
   int w_, h_, tw_, th_;
   T fill_;
   std::vector<std::unique_ptr<T[]>> tiles_;
+
+ public:
+  int tile_rows() const { return th_; }
 };
 // A w x h lattice of 2-bit values (0-3) in tiles of 16 x 16 cells, one
 // 32-bit word per tile row, allocated on the first non-zero write; unwritten
@@ -375,10 +379,12 @@ class Labels {
     else narrow_cells_->ForEachStored([&](int x, int y, int16_t v) { f(x, y, static_cast<int>(v)); });
   }
   template <class F>
-  void ForEachNearStored(F&& f) const {
-    if (wide_) wide_cells_->ForEachNearStored(f);
-    else narrow_cells_->ForEachNearStored(f);
+  void ForEachNearStored(F&& f, int ty0 = 0, int ty1 = std::numeric_limits<int>::max()) const {
+    if (wide_) wide_cells_->ForEachNearStored(f, ty0, ty1);
+    else narrow_cells_->ForEachNearStored(f, ty0, ty1);
   }
+  // Rows of 16-cell tiles (ForEachNearStored's ranges; QuarterTable's tiles are the same).
+  int tile_rows() const { return wide_ ? wide_cells_->tile_rows() : narrow_cells_->tile_rows(); }
 
  private:
   bool wide_;
@@ -696,21 +702,30 @@ class QuarterTable {
 // site sets are disjoint by construction.
 class HalfCells {
  public:
-  HalfCells(const RoomGrid& g, Labels* label)
+  // With threads >= 2 the tiles' rows are shared out in two halves: each
+  // cell writes its own tile's quarters only, and the corners found are set
+  // in the order one thread would (the same lattice).
+  HalfCells(const RoomGrid& g, Labels* label, int threads = 1)
       : g_(g), label_(*label), w_(2 * g.w), h_(2 * g.h), quarters_(g.w, g.h, label->wide()) {
     auto cell = [&](int x, int y) { return x < 0 || y < 0 || x >= g.w || y >= g.h ? -1 : label_.Get(x, y); };
+    const int rows = label_.tile_rows(), mid = threads >= 2 ? rows / 2 : rows;
+    auto half_rows = [&](size_t part, auto&& f) {
+      label_.ForEachNearStored(f, part == 0 ? 0 : mid, part == 0 ? mid : rows);
+    };
     // Only cells within a tile of a labelled one can border a room.
-    label_.ForEachNearStored([&](int cx, int cy) {
-      if (label_.Get(cx, cy) >= 0) return;
-      std::array<int, 4> q{-1, -1, -1, -1};
-      bool any = false;
-      for (int k = 0; k < 4; ++k) {
-        const int dx = (k & 1) ? 1 : -1, dy = (k & 2) ? 1 : -1;
-        const int h = cell(cx + dx, cy), v = cell(cx, cy + dy);
-        q[k] = h >= 0 && v >= 0 ? std::min(h, v) : h >= 0 ? h : v;
-        any = any || q[k] >= 0;
-      }
-      if (any) quarters_.Set(cx, cy, q);
+    ForEachShared(2, threads, [&](size_t part) {
+      half_rows(part, [&](int cx, int cy) {
+        if (label_.Get(cx, cy) >= 0) return;
+        std::array<int, 4> q{-1, -1, -1, -1};
+        bool any = false;
+        for (int k = 0; k < 4; ++k) {
+          const int dx = (k & 1) ? 1 : -1, dy = (k & 2) ? 1 : -1;
+          const int h = cell(cx + dx, cy), v = cell(cx, cy + dy);
+          q[k] = h >= 0 && v >= 0 ? std::min(h, v) : h >= 0 ? h : v;
+          any = any || q[k] >= 0;
+        }
+        if (any) quarters_.Set(cx, cy, q);
+      });
     });
     // A quarter at a room's outer corner: both its outer neighbours took the
     // same room (so the room grows by a square, as a mitred buffer would).
@@ -718,18 +733,21 @@ class HalfCells {
     struct Corner {
       int cx, cy, k, r;
     };
-    std::vector<Corner> corner;
-    label_.ForEachNearStored([&](int cx, int cy) {
-      if (label_.Get(cx, cy) >= 0) return;
-      for (int k = 0; k < 4; ++k) {
-        if (Quarter(cx, cy, k) >= 0) continue;
-        const int dx = (k & 1) ? 1 : -1, dy = (k & 2) ? 1 : -1;
-        const int h = Quarter(cx + dx, cy, (k & 2) | (dx > 0 ? 0 : 1));
-        const int v = Quarter(cx, cy + dy, (k & 1) | (dy > 0 ? 0 : 2));
-        if (h >= 0 && h == v) corner.push_back({cx, cy, k, h});
-      }
+    std::vector<Corner> corners[2];
+    ForEachShared(2, threads, [&](size_t part) {
+      half_rows(part, [&](int cx, int cy) {
+        if (label_.Get(cx, cy) >= 0) return;
+        for (int k = 0; k < 4; ++k) {
+          if (Quarter(cx, cy, k) >= 0) continue;
+          const int dx = (k & 1) ? 1 : -1, dy = (k & 2) ? 1 : -1;
+          const int h = Quarter(cx + dx, cy, (k & 2) | (dx > 0 ? 0 : 1));
+          const int v = Quarter(cx, cy + dy, (k & 1) | (dy > 0 ? 0 : 2));
+          if (h >= 0 && h == v) corners[part].push_back({cx, cy, k, h});
+        }
+      });
     });
-    for (const Corner& c : corner) quarters_.SetQuarter(c.cx, c.cy, c.k, c.r);
+    for (const auto& part : corners)
+      for (const Corner& c : part) quarters_.SetQuarter(c.cx, c.cy, c.k, c.r);
     quarters_.ShrinkToFit();
   }
   int w() const { return w_; }
@@ -2559,7 +2577,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
           inner.push_back(Vec2(0, 0));
         }
     }
-    HalfCells half(g, &label);
+    HalfCells half(g, &label, o.threads);
     auto half_box = [&](int r, int* x0, int* y0, int* x1, int* y1) {
       *x0 = std::max(0, 2 * boxes[r].x0 - 1), *y0 = std::max(0, 2 * boxes[r].y0 - 1);
       *x1 = std::min(half.w() - 1, 2 * boxes[r].x1 + 2), *y1 = std::min(half.h() - 1, 2 * boxes[r].y1 + 2);
