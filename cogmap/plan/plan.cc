@@ -2604,16 +2604,16 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       half_box(r, &x0, &y0, &x1, &y1);
       return static_cast<size_t>(x1 - x0 + 3) * static_cast<size_t>(y1 - y0 + 3);
     };
-    // With PlanOptions::threads >= 2 the rooms' fills are made ahead, a batch
-    // at a time on two threads, from the labels as they stand before the
-    // batch: a room's fill reads only the sites labelled with it, which a
-    // room before it in the batch changes only by taking some (flagged in
-    // 'taken': that room's fill is made again, in turn). So the same fills as
-    // one after the other. A batch holds at most kBatchSites sites of fills
-    // made ahead, and a room whose box is larger than kAheadSites is filled
-    // in turn alone (the scratch of two large fills at once is what a large
-    // building's plan cannot spare).
-    constexpr size_t kBatchSites = size_t{1} << 20, kAheadSites = size_t{1} << 19;
+    // With PlanOptions::threads >= 2 the rooms' fills are made ahead, two at
+    // a time on two threads, from the labels as they stand before the pair:
+    // a room's fill reads only the sites labelled with it, which a room
+    // filled in turn meanwhile changes only by taking some (flagged in
+    // 'taken': that fill is made again, in turn). So the same fills as one
+    // after the other,
+    // with one fill more held at a time. A room whose box is larger than
+    // kAheadSites is filled in turn alone (the scratch of two large fills at
+    // once is what a large building's plan cannot spare).
+    constexpr size_t kAheadSites = size_t{1} << 19;
     std::vector<Region> ahead(n_plan);
     std::vector<char> taken(n_plan, 0);
     int batch_end = 0;  // rooms before it were considered for filling ahead
@@ -2621,16 +2621,12 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       if (boxes[r].x1 < 0) continue;
       if (o.threads >= 2 && r >= batch_end) {
         std::vector<int> batch;
-        size_t sites = 0;
-        for (batch_end = r; batch_end < n_plan; ++batch_end) {
+        for (batch_end = r; batch_end < n_plan && batch.size() < 2; ++batch_end) {
           if (boxes[batch_end].x1 < 0) continue;
-          const size_t n = box_sites(batch_end);
-          if (n > kAheadSites) {
+          if (box_sites(batch_end) > kAheadSites) {
             if (batch.empty()) continue;  // filled in turn below
             break;
           }
-          if (sites + n > kBatchSites && !batch.empty()) break;
-          sites += n;
           batch.push_back(batch_end);
         }
         if (batch.size() >= 2) {
