@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <mutex>
+#include <set>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -14,8 +16,8 @@
 namespace cogmap {
 namespace {
 
-TEST(ForEachShared, CallsEachIndexOnceOnOneOrTwoThreads) {
-  for (int threads : {1, 2}) {
+TEST(ForEachShared, CallsEachIndexOnceOnOneOrMoreThreads) {
+  for (int threads : {1, 2, 8}) {
     std::vector<std::atomic<int>> calls(1000);
     std::vector<std::thread::id> who(calls.size());
     ForEachShared(calls.size(), threads, [&](size_t i) {
@@ -28,10 +30,21 @@ TEST(ForEachShared, CallsEachIndexOnceOnOneOrTwoThreads) {
     }
   }
   ForEachShared(0, 2, [](size_t) { FAIL() << "no index to call"; });
+  // No more threads than indices: three indices on at most three threads.
+  std::mutex m;
+  std::set<std::thread::id> ids;
+  std::vector<std::atomic<int>> three(3);
+  ForEachShared(three.size(), 8, [&](size_t i) {
+    ++three[i];
+    std::lock_guard<std::mutex> lock(m);
+    ids.insert(std::this_thread::get_id());
+  });
+  for (const auto& c : three) EXPECT_EQ(c.load(), 1);
+  EXPECT_LE(ids.size(), 3u);
 }
 
-TEST(ForEachShared, RaisesTheFirstErrorOnceBothHaveStopped) {
-  for (int threads : {1, 2}) {
+TEST(ForEachShared, RaisesTheFirstErrorOnceAllHaveStopped) {
+  for (int threads : {1, 2, 8}) {
     std::atomic<int> after{0};
     EXPECT_THROW(ForEachShared(10000, threads,
                                [&](size_t i) {
@@ -39,7 +52,7 @@ TEST(ForEachShared, RaisesTheFirstErrorOnceBothHaveStopped) {
                                  if (i > 3) ++after;
                                }),
                  std::runtime_error);
-    // The other thread stops taking indices: far fewer than all the rest ran.
+    // The other threads stop taking indices: far fewer than all the rest ran.
     EXPECT_LT(after.load(), 9000);
   }
 }

@@ -6,7 +6,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -18,10 +17,9 @@
 #include <optional>
 #include <set>
 #include <sstream>
-#include <system_error>
-#include <thread>
 
 #include "cogmap/core/error.h"
+#include "cogmap/core/parallel.h"
 
 namespace cogmap::io {
 namespace {
@@ -302,21 +300,8 @@ void OutputFolder::Commit(const std::string& last) {
   // core): the file system commits them together, where one after the other
   // each waits for a journal commit of its own (nine_rooms' nine files: 2.0
   // -> 1.1 ms).
-  {
-    std::atomic<size_t> next{0};
-    auto sync = [&] {
-      for (size_t k; (k = next++) < l.files.size();) SyncPath(Staged(l.files[k]), false);
-    };
-    std::vector<std::thread> helpers;
-    constexpr size_t kMostAtOnce = 8;
-    try {
-      while (helpers.size() + 1 < std::min(kMostAtOnce, l.files.size())) helpers.emplace_back(sync);
-    } catch (const std::system_error&) {
-      // No thread to be had: fewer at once (this one syncs what is left).
-    }
-    sync();
-    for (auto& t : helpers) t.join();
-  }
+  constexpr int kMostAtOnce = 8;
+  ForEachShared(l.files.size(), kMostAtOnce, [&](size_t k) { SyncPath(Staged(l.files[k]), false); });
   SyncPath(staging_, true);
   // The journal's temporary in the staging folder: a kill while it is
   // written leaves the output folder as it was (the next run sets the
