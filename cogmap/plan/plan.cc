@@ -1662,38 +1662,136 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     };
     std::vector<Cand> cands;
     const double min_sin = std::sin(Deg(o.corner_min_angle_deg));
-    // Chamfers: a short diagonal wall (30-60 degrees off the building's
-    // direction) between the ends of two walls that meet at a corner is how a
-    // sonar sees that corner; it goes, and the corner below closes.
+    // Chamfers: a short diagonal wall between the ends of two walls that
+    // meet at a corner is how a sonar sees that corner; it goes, and the
+    // corner closes. Two tests, either suffices: the fixed one (at most
+    // chamfer_max_m long, 30-60 degrees off the building's direction, the
+    // walls' crossing within corner_m of their ends), and the beam's: a
+    // cone of half-width b seen from d metres away smears a wall's end by
+    // blur = 2 cells + tan(b) d (the walls' corner radius, docs/walls.md),
+    // so a concave corner seen from d comes out cut by a diagonal up to
+    // 2 blur long whose ends lie up to 1.5 blur from the crossing (its
+    // rounding radius, and the chain's vertex on the arc) and within pi/4
+    // blur (the rest of the arc) of the walls' ends, or of the interior of
+    // a wall that goes on past the corner, on the far side of the diagonal
+    // from where the robot was. A diagonal that the beam explains so (15
+    // degrees or more off both walls) is that corner. For a laser (half a
+    // degree) the blur is its 2-cell floor: the fixed test alone.
     std::vector<char> drop(segs.size(), 0);
+    struct Join {
+      int e1, e2;  // the two walls' ends (2 * seg + end), before the drop; -1: a wall going on past the corner
+      Vec2 x;
+    };
+    std::vector<Join> joins;  // the corners the beam's test found, closed below
+    // Without a reach (a store from before it was kept), a sonar's own
+    // range: 10 m for the Polaroid ranger.
+    constexpr double kUnboundedReachM = 10.0;
+    const double tan_half = o.beam_width_rad > 0.0 ? std::tan(0.5 * std::min(o.beam_width_rad, kPi / 2)) : 0.0;
+    // Distance from q to the nearest path point of the ASRs behind piece p
+    // (that point returned too); infinity when none has a path.
+    auto nearest_path = [&](const Piece& p, const Vec2& q, Vec2* at) {
+      double best = std::numeric_limits<double>::infinity();
+      for (int ai : p.asrs)
+        for (const Vec2& v : path[static_cast<size_t>(ai)]) {
+          const double d2 = (v - q).squaredNorm();
+          if (d2 < best) best = d2, *at = v;
+        }
+      return std::sqrt(best);
+    };
+    // The walls by their boxes, for a diagonal's end on another wall's
+    // interior (a T: the wall goes on past the corner).
+    CellHash seg_boxes(2.0);
+    if (tan_half > 0.0)
+      for (size_t i = 0; i < segs.size(); ++i)
+        seg_boxes.Add(segs[i].a.cwiseMin(segs[i].b), segs[i].a.cwiseMax(segs[i].b), static_cast<int>(i));
+    struct Partner {
+      size_t seg;
+      int end;  // 2 * seg + end when the diagonal meets its end; -1: its interior
+      Vec2 p;   // that end, or the foot on the wall
+    };
     for (size_t i = 0; i < segs.size(); ++i) {
       const Vec2 d = segs[i].b - segs[i].a;
-      if (d.norm() > o.chamfer_max_m || pieces[segs[i].piece].two_sided) continue;
+      const double len = d.norm();
+      if (pieces[segs[i].piece].two_sided) continue;
       const double off = std::abs(QuarterOffset(std::atan2(d.y(), d.x()) - plan.dominant_direction_rad));
-      if (off < Deg(30.0)) continue;
-      const Vec2 e(o.chamfer_end_m, o.chamfer_end_m);
+      const bool fixed_ok = len <= o.chamfer_max_m && off >= Deg(30.0);
+      // The most the beam can blur (seen from its reach), for the search;
+      // each corner's own blur below.
+      const double blur_max =
+          tan_half > 0.0 ? 2.0 * o.cell_m + tan_half * (o.reach_m > 0.0 ? o.reach_m : kUnboundedReachM) : 0.0;
+      const bool beam_ok = blur_max > 0.0 && len <= 2.0 * blur_max && off >= Deg(15.0);
+      if (!fixed_ok && !beam_ok) continue;
+      const double end_tol = std::max(o.chamfer_end_m, beam_ok ? kPi / 4 * blur_max : 0.0);
+      const Vec2 ud = d / std::max(len, 1e-9);
+      // The walls each end of the diagonal meets: their ends within end_tol,
+      // and (beam's test) their interiors.
+      auto partners = [&](const Vec2& q) {
+        std::vector<Partner> out;
+        const Vec2 e(end_tol, end_tol);
+        for (int ea : ends.Query(q - e, q + e)) {
+          const size_t j = static_cast<size_t>(ea / 2);
+          const Vec2 pj = (ea % 2) ? segs[j].b : segs[j].a;
+          if (j != i && !drop[j] && (pj - q).norm() <= end_tol) out.push_back({j, ea, pj});
+        }
+        if (!beam_ok) return out;
+        for (int si : seg_boxes.Query(q - e, q + e)) {
+          const size_t j = static_cast<size_t>(si);
+          if (j == i || drop[j]) continue;
+          const Vec2 w = segs[j].b - segs[j].a;
+          const double t = w.dot(q - segs[j].a) / std::max(w.squaredNorm(), 1e-12);
+          const Vec2 foot = segs[j].a + t * w;
+          // Within the wall and clear of its ends (those are met above).
+          if (t <= 0.0 || t >= 1.0 || (foot - q).norm() > end_tol) continue;
+          if (std::min(t, 1.0 - t) * std::sqrt(w.squaredNorm()) <= end_tol) continue;
+          out.push_back({j, -1, foot});
+        }
+        return out;
+      };
+      const std::vector<Partner> at_a = partners(segs[i].a), at_b = partners(segs[i].b);
       bool found = false;
-      for (int ea : ends.Query(segs[i].a - e, segs[i].a + e)) {
-        const size_t ja = static_cast<size_t>(ea / 2);
-        const Vec2 pa = (ea % 2) ? segs[ja].b : segs[ja].a;
-        if (ja == i || drop[ja] || (pa - segs[i].a).norm() > o.chamfer_end_m) continue;
-        for (int eb : ends.Query(segs[i].b - e, segs[i].b + e)) {
-          const size_t jb = static_cast<size_t>(eb / 2);
-          const Vec2 pb = (eb % 2) ? segs[jb].b : segs[jb].a;
-          if (jb == i || jb == ja || drop[jb] || (pb - segs[i].b).norm() > o.chamfer_end_m) continue;
-          const Vec2 du = (segs[ja].b - segs[ja].a).normalized(), dv = (segs[jb].b - segs[jb].a).normalized();
+      Join best{-1, -1, Vec2(0, 0)};
+      double best_cost = std::numeric_limits<double>::infinity();
+      const double sin15 = std::sin(Deg(15.0));
+      for (const Partner& A : at_a)
+        for (const Partner& B : at_b) {
+          if (A.seg == B.seg || (A.end < 0 && B.end < 0)) continue;
+          const Vec2 du = (segs[A.seg].b - segs[A.seg].a).normalized(), dv = (segs[B.seg].b - segs[B.seg].a).normalized();
           const double den = Cross(du, dv);
           if (std::abs(den) < std::sin(Deg(60.0))) continue;
-          const Vec2 x = segs[ja].a + (Cross(segs[jb].a - segs[ja].a, dv) / den) * du;
-          if ((x - pa).norm() <= o.corner_m && (x - pb).norm() <= o.corner_m) found = true;
+          const Vec2 x = segs[A.seg].a + (Cross(segs[B.seg].a - segs[A.seg].a, dv) / den) * du;
+          const double da = (x - A.p).norm(), db = (x - B.p).norm();
+          if (fixed_ok && A.end >= 0 && B.end >= 0 && (A.p - segs[i].a).norm() <= o.chamfer_end_m &&
+              (B.p - segs[i].b).norm() <= o.chamfer_end_m && da <= o.corner_m && db <= o.corner_m)
+            found = true;
+          // 15 degrees or more off both walls (a diagonal), and the beam's
+          // blur of the corner: the corner was seen from no nearer than the
+          // path comes to it.
+          if (!beam_ok || std::abs(Cross(ud, du)) < sin15 || std::abs(Cross(ud, dv)) < sin15) continue;
+          Vec2 seen_from(0, 0);
+          double dist = nearest_path(pieces[segs[i].piece], x, &seen_from);
+          if (o.reach_m > 0.0) dist = std::min(dist, o.reach_m);
+          if (!std::isfinite(dist)) continue;
+          const double blur = 2.0 * o.cell_m + tan_half * dist;
+          const double tol = std::max(o.chamfer_end_m, kPi / 4 * blur);
+          if (len > 2.0 * blur || da > 1.5 * blur || db > 1.5 * blur) continue;
+          if ((A.p - segs[i].a).norm() > tol || (B.p - segs[i].b).norm() > tol) continue;
+          // The corner beyond the diagonal as seen from the path (a concave
+          // corner).
+          const Vec2 nd = Perp(ud);
+          if (nd.dot(x - segs[i].a) * nd.dot(seen_from - segs[i].a) >= 0.0) continue;
+          if (da + db < best_cost) best_cost = da + db, best = {A.end, B.end, x};
         }
+      if (best.e1 >= 0 || best.e2 >= 0) {
+        found = true;
+        joins.push_back(best);
       }
       if (found) drop[i] = 1;
     }
     {
       std::vector<Seg> kept;
+      std::vector<int> new_index(segs.size(), -1);
       for (size_t i = 0; i < segs.size(); ++i)
-        if (!drop[i]) kept.push_back(segs[i]);
+        if (!drop[i]) new_index[i] = static_cast<int>(kept.size()), kept.push_back(segs[i]);
       if (kept.size() != segs.size()) {
         segs = std::move(kept);
         ends = CellHash(std::max(o.corner_m, 0.2));
@@ -1701,6 +1799,19 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
           ends.Add(segs[i].a, segs[i].a, static_cast<int>(2 * i));
           ends.Add(segs[i].b, segs[i].b, static_cast<int>(2 * i + 1));
         }
+        // The beam's corners, in the kept walls' numbering (a wall another
+        // chamfer's test dropped joins nothing).
+        auto renumber = [&](int e) {  // -1 stays -1 (a wall's interior); -2: its wall was dropped
+          if (e < 0) return -1;
+          const int k = new_index[static_cast<size_t>(e / 2)];
+          return k < 0 ? -2 : 2 * k + e % 2;
+        };
+        std::vector<Join> renumbered;
+        for (const Join& j : joins) {
+          const int e1 = renumber(j.e1), e2 = renumber(j.e2);
+          if (e1 != -2 && e2 != -2) renumbered.push_back({e1, e2, j.x});
+        }
+        joins = std::move(renumbered);
       }
     }
     const Vec2 r(o.corner_m, o.corner_m);
@@ -1735,6 +1846,13 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       }
     std::sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) { return a.cost < b.cost; });
     std::vector<char> used(2 * segs.size(), 0);
+    // The beam's corners first: their ends lie farther from the crossing
+    // than corner_m, and the diagonal between them is gone.
+    for (const Join& j : joins) {
+      if ((j.e1 >= 0 && used[j.e1]) || (j.e2 >= 0 && used[j.e2])) continue;
+      for (int e : {j.e1, j.e2})
+        if (e >= 0) used[e] = 1, (e % 2 ? segs[e / 2].b : segs[e / 2].a) = j.x;
+    }
     for (const Cand& c : cands) {
       if (used[c.e1] || used[c.e2]) continue;
       used[c.e1] = used[c.e2] = 1;

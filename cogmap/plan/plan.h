@@ -88,6 +88,7 @@ struct PlanOptions {
   double corner_min_angle_deg = 30.0;  // ... when the walls differ in direction by at least this
   double chamfer_max_m = 0.9;          // a diagonal wall this short between two walls' ends is a chamfer ...
   double chamfer_end_m = 0.35;         // ... when its ends lie this close to theirs: removed, the corner closed
+                                       // (longer ones when the beam explains them: beam_width_rad)
   // Doors: each exit (asr::Exit) is a gap in the walls near it.
   double door_search_m = 0.8;          // the exit's centre within this of a wall line
   double wall_thickness_m = 0.4;       // faces within this of the door line are cut
@@ -148,6 +149,9 @@ struct PlanOptions {
   // both together (without reach_m: the beam itself). `cogmap map` sets
   // the widest beam of the robot, asr::kMetaSensorBeam: 30 degrees for a
   // Polaroid sonar, a fraction of a degree for a laser. 0: never.
+  // The same beam rounds a concave corner seen from d metres with a radius
+  // up to 2 cells + tan(beam / 2) d: a diagonal that is that corner's chord
+  // is dropped and the corner closed (docs/floor-plan.md, walls step 9).
   double beam_width_rad = 0.0;
   // The rooms' outlines are filled and traced on this many threads (at most
   // 2; the same outlines: each fill reads the labels its room has, each

@@ -240,6 +240,84 @@ TEST(BuildPlan, WallsAtAShallowAngleAreNotExtendedToMeetFarOff) {
   EXPECT_EQ(full, 4);
 }
 
+// A w x h room whose four corners a wide beam cut: each corner replaced by a
+// diagonal from 'cut' metres along one wall to 'cut' along the other.
+Polyline CutCornerRoom(double w, double h, double cut) {
+  return {{cut, 0}, {w - cut, 0}, {w, cut}, {w, h - cut}, {w - cut, h}, {cut, h}, {0, h - cut}, {0, cut}, {cut, 0}};
+}
+
+// The diagonal walls of a plan: farther than 5 degrees from the building's
+// directions.
+int Diagonals(const Plan& plan) {
+  int n = 0;
+  for (const Wall& w : plan.walls)
+    for (size_t k = 0; k + 1 < w.points.size(); ++k) {
+      const Vec2 d = w.points[k + 1] - w.points[k];
+      const double off = std::remainder(std::atan2(d.y(), d.x()) - plan.dominant_direction_rad, 3.14159265358979 / 2);
+      if (std::abs(off) > 5.0 * 3.14159265358979 / 180.0) ++n;
+    }
+  return n;
+}
+
+TEST(BuildPlan, CornersASonarBeamCutAreClosedAndALasersStay) {
+  // An 8 x 6 m room seen from a path along its middle (y = 3, x 2..6): each
+  // corner is cut by a 1.13 m diagonal, 0.8 m along each wall; the path
+  // comes no nearer a corner than 2.5 m. A 30-degree sonar beam smears a
+  // wall's end seen from there by 0.2 + tan(15 deg) 2.5 = 0.87 m: the cuts
+  // are the beam's (longer than the fixed 0.9 m rule takes), and the four
+  // walls meet at the true corners. A laser's half-degree beam explains no
+  // such cut: the diagonals are walls, and stay.
+  const asr::Asr a = MakeAsr(0, {CutCornerRoom(8, 6, 0.8)}, Line({2, 3}, {6, 3}));
+  PlanOptions sonar;
+  sonar.beam_width_rad = DegToRad(30.0);
+  sonar.reach_m = 5.0;
+  const Plan closed = BuildPlan({a}, {}, sonar);
+  EXPECT_EQ(Diagonals(closed), 0);
+  int full = 0;
+  for (const Wall& w : closed.walls)
+    if (std::abs(PolylineLength(w.points) - 8.0) < 0.05 || std::abs(PolylineLength(w.points) - 6.0) < 0.05) ++full;
+  EXPECT_EQ(full, 4);
+  ASSERT_EQ(closed.rooms.size(), 1u);
+  EXPECT_NEAR(closed.rooms[0].area_m2, 48.0, 1.5);
+
+  PlanOptions laser = sonar;
+  laser.beam_width_rad = DegToRad(0.5);
+  EXPECT_EQ(Diagonals(BuildPlan({a}, {}, laser)), 4);
+  // Without a beam (a store from before it was kept): the fixed rule alone.
+  EXPECT_EQ(Diagonals(BuildPlan({a}, {})), 4);
+  // Seen from nearer (the path 1 m from the walls, x 1..7 at y = 1 and
+  // y = 5; 1.41 m from each corner): a blur of 0.2 + tan(15 deg) 1.41 =
+  // 0.58 m, and corners cut 1.2 m along each wall (1.7 m diagonals, longer
+  // than two blurs) are not the beam's.
+  const asr::Asr near = MakeAsr(0, {CutCornerRoom(8, 6, 1.2)}, [] {
+    std::vector<Vec2> p = Line({1, 1}, {7, 1});
+    for (const Vec2& q : Line({7, 5}, {1, 5})) p.push_back(q);
+    return p;
+  }());
+  EXPECT_EQ(Diagonals(BuildPlan({near}, {}, sonar)), 4);
+}
+
+TEST(BuildPlan, APillarsCutCornersAreNotTheBeams) {
+  // A 2.4 m square pillar in a 10 x 8 m room, its corners cut 0.7 m along
+  // each face (an octagon; diagonals 0.99 m, too long for the fixed rule),
+  // the robot driving round it 1.5 m off. Seen from outside, each cut's
+  // corner lies on the robot's side of it: a convex corner, which a wide
+  // beam does not cut (it rounds it outward). The pillar stays an octagon;
+  // the room's own corners are square.
+  const double c = 0.7;
+  const Polyline pillar = {{3.8 + c, 2.8}, {6.2 - c, 2.8}, {6.2, 2.8 + c}, {6.2, 5.2 - c}, {6.2 - c, 5.2},
+                           {3.8 + c, 5.2}, {3.8, 5.2 - c}, {3.8, 2.8 + c}, {3.8 + c, 2.8}};
+  std::vector<Vec2> path = Line({2.3, 1.3}, {7.7, 1.3});
+  for (const Vec2& q : Line({7.7, 1.3}, {7.7, 6.7})) path.push_back(q);
+  for (const Vec2& q : Line({7.7, 6.7}, {2.3, 6.7})) path.push_back(q);
+  for (const Vec2& q : Line({2.3, 6.7}, {2.3, 1.3})) path.push_back(q);
+  const asr::Asr a = MakeAsr(0, {Box(0, 0, 10, 8), pillar}, path);
+  PlanOptions sonar;
+  sonar.beam_width_rad = DegToRad(30.0);
+  sonar.reach_m = 5.0;
+  EXPECT_EQ(Diagonals(BuildPlan({a}, {}, sonar)), 4);
+}
+
 TEST(BuildPlan, SquareRoomSeenTwiceGivesFourWalls) {
   // Two ASRs of one room see the same 4 x 4 m walls, the second 4 cm off.
   std::vector<asr::Asr> asrs = {
