@@ -1688,11 +1688,12 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     constexpr double kUnboundedReachM = 10.0;
     const double tan_half = o.beam_width_rad > 0.0 ? std::tan(0.5 * std::min(o.beam_width_rad, kPi / 2)) : 0.0;
     // Distance from q to the nearest path point of the ASRs behind piece p
-    // (that point returned too); infinity when none has a path.
+    // (Piece::asrs holds their ids; that point returned too); infinity when
+    // none has a path.
     auto nearest_path = [&](const Piece& p, const Vec2& q, Vec2* at) {
       double best = std::numeric_limits<double>::infinity();
-      for (int ai : p.asrs)
-        for (const Vec2& v : path[static_cast<size_t>(ai)]) {
+      for (int id : p.asrs)
+        for (const Vec2& v : path[index_of.at(id)]) {
           const double d2 = (v - q).squaredNorm();
           if (d2 < best) best = d2, *at = v;
         }

@@ -267,7 +267,8 @@ TEST(BuildPlan, CornersASonarBeamCutAreClosedAndALasersStay) {
   // are the beam's (longer than the fixed 0.9 m rule takes), and the four
   // walls meet at the true corners. A laser's half-degree beam explains no
   // such cut: the diagonals are walls, and stay.
-  const asr::Asr a = MakeAsr(0, {CutCornerRoom(8, 6, 0.8)}, Line({2, 3}, {6, 3}));
+  // (Ids are not indices: a resumed store's ASRs start anywhere.)
+  const asr::Asr a = MakeAsr(7, {CutCornerRoom(8, 6, 0.8)}, Line({2, 3}, {6, 3}));
   PlanOptions sonar;
   sonar.beam_width_rad = DegToRad(30.0);
   sonar.reach_m = 5.0;
@@ -311,7 +312,7 @@ TEST(BuildPlan, APillarsCutCornersAreNotTheBeams) {
   for (const Vec2& q : Line({7.7, 1.3}, {7.7, 6.7})) path.push_back(q);
   for (const Vec2& q : Line({7.7, 6.7}, {2.3, 6.7})) path.push_back(q);
   for (const Vec2& q : Line({2.3, 6.7}, {2.3, 1.3})) path.push_back(q);
-  const asr::Asr a = MakeAsr(0, {Box(0, 0, 10, 8), pillar}, path);
+  const asr::Asr a = MakeAsr(3, {Box(0, 0, 10, 8), pillar}, path);
   PlanOptions sonar;
   sonar.beam_width_rad = DegToRad(30.0);
   sonar.reach_m = 5.0;
