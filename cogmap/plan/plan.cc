@@ -1648,6 +1648,25 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     for (const auto& s : pieces[i].spans)
       segs.push_back({pieces[i].c + s.first * pieces[i].u, pieces[i].c + s.second * pieces[i].u, pieces[i].n, i});
 
+  // The sensor's beam (the chamfers below, the jambs' diagonals after the
+  // doors). Without a reach (a store from before it was kept), a sonar's
+  // own range: 10 m for the Polaroid ranger.
+  constexpr double kUnboundedReachM = 10.0;
+  const double tan_half = o.beam_width_rad > 0.0 ? std::tan(0.5 * std::min(o.beam_width_rad, kPi / 2)) : 0.0;
+  // Distance from q to the nearest point of 'paths' (one per ASR index) of
+  // the ASRs behind piece p (Piece::asrs holds their ids; that point
+  // returned too); infinity when none has a path.
+  auto nearest_path = [&](const auto& paths, const Piece& p, const Vec2& q, Vec2* at) {
+    double best = std::numeric_limits<double>::infinity();
+    for (int id : p.asrs)
+      for (const auto& pv : paths[index_of.at(id)]) {
+        const Vec2 v(pv.x(), pv.y());
+        const double d2 = (v - q).squaredNorm();
+        if (d2 < best) best = d2, *at = v;
+      }
+    return std::sqrt(best);
+  };
+
   // ---------------------------------------------------------------- corners
   {
     CellHash ends(std::max(o.corner_m, 0.2));
@@ -1683,22 +1702,6 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       Vec2 x;
     };
     std::vector<Join> joins;  // the corners the beam's test found, closed below
-    // Without a reach (a store from before it was kept), a sonar's own
-    // range: 10 m for the Polaroid ranger.
-    constexpr double kUnboundedReachM = 10.0;
-    const double tan_half = o.beam_width_rad > 0.0 ? std::tan(0.5 * std::min(o.beam_width_rad, kPi / 2)) : 0.0;
-    // Distance from q to the nearest path point of the ASRs behind piece p
-    // (Piece::asrs holds their ids; that point returned too); infinity when
-    // none has a path.
-    auto nearest_path = [&](const Piece& p, const Vec2& q, Vec2* at) {
-      double best = std::numeric_limits<double>::infinity();
-      for (int id : p.asrs)
-        for (const Vec2& v : path[index_of.at(id)]) {
-          const double d2 = (v - q).squaredNorm();
-          if (d2 < best) best = d2, *at = v;
-        }
-      return std::sqrt(best);
-    };
     // The walls by their boxes, for a diagonal's end on another wall's
     // interior (a T: the wall goes on past the corner).
     CellHash seg_boxes(2.0);
@@ -1769,7 +1772,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
           // path comes to it.
           if (!beam_ok || std::abs(Cross(ud, du)) < sin15 || std::abs(Cross(ud, dv)) < sin15) continue;
           Vec2 seen_from(0, 0);
-          double dist = nearest_path(pieces[segs[i].piece], x, &seen_from);
+          double dist = nearest_path(path, pieces[segs[i].piece], x, &seen_from);
           if (o.reach_m > 0.0) dist = std::min(dist, o.reach_m);
           if (!std::isfinite(dist)) continue;
           const double blur = 2.0 * o.cell_m + tan_half * dist;
@@ -2598,6 +2601,29 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   }
   // The paths and walls have served (the seeds and hulls carry what the flood
   // needs), then the seeds and hulls: freed before the polygons are traced.
+  // (The walls beside doors, after the rooms, ask how near the robot came
+  // to a corner: of the paths of the ASRs behind a diagonal wall (not
+  // squared, 15 degrees or more off the building's direction), the only
+  // ones those ask about in a squared building, a point every 2 cells is
+  // kept, in single precision. A diagonal whose ASRs' paths are not kept is
+  // left as it is.)
+  std::vector<std::vector<Eigen::Vector2f>> sparse_path(tan_half > 0.0 ? path.size() : 0);
+  if (!sparse_path.empty())
+    for (const Seg& sg : segs) {
+      const Piece& pc = pieces[sg.piece];
+      const Vec2 d = sg.b - sg.a;
+      if (pc.squared || pc.two_sided ||
+          std::abs(QuarterOffset(std::atan2(d.y(), d.x()) - plan.dominant_direction_rad)) < Deg(15.0))
+        continue;
+      for (int id : pc.asrs) {
+        const size_t i = index_of.at(id);
+        if (!sparse_path[i].empty()) continue;
+        for (const Vec2& v : path[i])
+          if (sparse_path[i].empty() || (v.cast<float>() - sparse_path[i].back()).norm() >= 2.0 * o.cell_m)
+            sparse_path[i].push_back(v.cast<float>());
+        sparse_path[i].shrink_to_fit();
+      }
+    }
   std::vector<std::vector<Vec2>>().swap(path);
   std::vector<std::vector<Polyline>>().swap(walls);
   std::vector<std::vector<Vec2>>().swap(free_hull);
@@ -3063,6 +3089,98 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         if ((k1 - k0) * len >= 0.05) out.push_back({s.a + k0 * v, s.a + k1 * v, s.n, s.piece});
     }
     segs = std::move(out);
+  }
+
+  // ---------------------------------------------------------------- the walls beside doors
+  // A door is a gap in a wall, and the wall goes on along the door's line to
+  // the next wall across it. A sonar in the rooms sees that stretch edge-on
+  // (specular: no echo) between two strong reflectors, the jamb and the
+  // corner, and the chain walk joins the two by a diagonal: from the jamb to
+  // the corner rounded by the beam's blur (the chamfers above). A diagonal,
+  // 15 degrees or more off the door's line and off the wall it meets, with
+  // one end within chamfer_end_m of a jamb and the other, ahead of the jamb
+  // away from the gap, within 1.5 blurs of where the door's line meets a
+  // wall across it (60 degrees or more), is that stretch: it goes, and the
+  // wall from the jamb to the crossing is drawn, once per jamb. The plan's
+  // doors are final here (the rooms are cut): a door the rooms did not keep
+  // (an exit between two boxes in one lab) adds no wall. A laser's blur is
+  // its 2-cell floor: a diagonal that close to the door's line is no
+  // diagonal.
+  if (tan_half > 0.0 && !plan.doors.empty()) {
+    CellHash boxes(2.0);
+    for (size_t i = 0; i < segs.size(); ++i)
+      boxes.Add(segs[i].a.cwiseMin(segs[i].b), segs[i].a.cwiseMax(segs[i].b), static_cast<int>(i));
+    std::vector<char> gone(segs.size(), 0);
+    std::vector<Seg> added;
+    const double sin15 = std::sin(Deg(15.0)), sin60 = std::sin(Deg(60.0));
+    const double blur_max = 2.0 * o.cell_m + tan_half * (o.reach_m > 0.0 ? o.reach_m : kUnboundedReachM);
+    for (const Door& door : plan.doors) {
+      if (door.width_m() < 1e-9) continue;
+      for (int side : {-1, 1}) {
+        const Vec2 jamb = side < 0 ? door.a : door.b;
+        const Vec2 w = side < 0 ? Vec2((door.a - door.b).normalized()) : Vec2((door.b - door.a).normalized());  // away from the gap
+        const Vec2 e(o.chamfer_end_m, o.chamfer_end_m);
+        double best_s = std::numeric_limits<double>::infinity();
+        Vec2 best_x(0, 0), best_n(0, 0);
+        size_t best_piece = 0;
+        std::vector<size_t> diagonals;
+        for (int si : boxes.Query(jamb - e, jamb + e)) {
+          const size_t i = static_cast<size_t>(si);
+          if (gone[i] || pieces[segs[i].piece].two_sided || pieces[segs[i].piece].squared) continue;
+          const Vec2 dv = segs[i].b - segs[i].a;
+          const double len = dv.norm();
+          if (len < 1e-9 || std::abs(Cross(dv / len, w)) < sin15) continue;
+          // The end at the jamb, and the other one ahead of it.
+          const bool a_at = (segs[i].a - jamb).norm() <= o.chamfer_end_m;
+          const bool b_at = (segs[i].b - jamb).norm() <= o.chamfer_end_m;
+          if (a_at == b_at) continue;
+          const Vec2 far = a_at ? segs[i].b : segs[i].a;
+          if (w.dot(far - jamb) <= 0.0) continue;
+          // The wall across the line near the far end: where the line meets it.
+          const Vec2 r(1.5 * blur_max, 1.5 * blur_max);
+          bool found = false;
+          for (int sk : boxes.Query(far - r, far + r)) {
+            const size_t k = static_cast<size_t>(sk);
+            if (k == i || gone[k]) continue;
+            const Vec2 kv = segs[k].b - segs[k].a;
+            const double lk = kv.norm();
+            if (lk < 1e-9) continue;
+            const double den = Cross(w, kv / lk);
+            if (std::abs(den) < sin60 || std::abs(Cross(dv / len, kv / lk)) < sin15) continue;
+            const double sdist = Cross(segs[k].a - jamb, kv / lk) / den;  // jamb + sdist w on wall k's line
+            if (sdist <= 0.0 || len > sdist + blur_max) continue;
+            const Vec2 x = jamb + sdist * w;
+            Vec2 seen(0, 0);
+            double dist = nearest_path(sparse_path, pieces[segs[i].piece], x, &seen);
+            if (o.reach_m > 0.0) dist = std::min(dist, o.reach_m);
+            if (!std::isfinite(dist)) continue;
+            const double blur = 2.0 * o.cell_m + tan_half * dist;
+            // On wall k (or within the blur of its ends), the diagonal's far
+            // end on the rounded corner, and the diagonal no longer than the
+            // stretch it stands for.
+            const double t = (x - segs[k].a).dot(kv / lk);
+            if (t < -blur || t > lk + blur || (far - x).norm() > 1.5 * blur || len > sdist + blur) continue;
+            found = true;
+            if (sdist < best_s) {
+              best_s = sdist, best_x = x, best_piece = segs[i].piece;
+              best_n = Perp(w);
+              if (best_n.dot(segs[i].n) < 0.0) best_n = -best_n;
+            }
+          }
+          if (found) diagonals.push_back(i);
+        }
+        if (diagonals.empty()) continue;
+        for (size_t i : diagonals) gone[i] = 1;
+        added.push_back({jamb, best_x, best_n, best_piece});
+      }
+    }
+    if (!added.empty()) {
+      std::vector<Seg> kept;
+      for (size_t i = 0; i < segs.size(); ++i)
+        if (!gone[i]) kept.push_back(segs[i]);
+      for (auto& a : added) kept.push_back(a);
+      segs = std::move(kept);
+    }
   }
 
   // ---------------------------------------------------------------- walls out

@@ -319,6 +319,42 @@ TEST(BuildPlan, APillarsCutCornersAreNotTheBeams) {
   EXPECT_EQ(Diagonals(BuildPlan({a}, {}, sonar)), 4);
 }
 
+TEST(BuildPlan, TheWallBesideADoorThatASonarDrewAsADiagonalIsStraight) {
+  // Rooms A (x 0..5) and B (x 5..10), 4 m deep, the wall x = 5 between them
+  // with a door at y 1.5..2.5 that the robot drove through. Seen with a
+  // sonar from the middle of each room, the 1.5 m of wall above the door is
+  // edge-on between two strong echoes, the jamb and the corner: each room's
+  // walls join the jamb (5, 2.5) to its top wall's rounded end (4.4 and
+  // 5.6, 4) by a diagonal. The corner is 2 m from the path: a blur of
+  // 0.2 + tan(15 deg) 2 = 0.74 m explains the 0.6 m rounding. The diagonals
+  // go; the wall along the door's line from the jamb to the top wall is
+  // drawn. A laser's blur (0.21 m) explains no such diagonal: they stay.
+  const Polyline a_walls = {{4.4, 4}, {0, 4}, {0, 0}, {5, 0}, {5, 1.5}};
+  const Polyline b_walls = {{5.6, 4}, {10, 4}, {10, 0}, {5, 0}, {5, 1.5}};
+  asr::Asr a = MakeAsr(4, {a_walls, {{5, 2.5}, {4.4, 4}}}, Line({2.5, 2}, {4.8, 2}));
+  asr::Asr b = MakeAsr(5, {b_walls, {{5, 2.5}, {5.6, 4}}}, Line({5.2, 2}, {8, 2}), 10.0);
+  for (asr::Asr* x : {&a, &b}) x->exits.push_back({{5.0, 2.0}, 1.0, 4, 5});
+  PlanOptions sonar;
+  sonar.beam_width_rad = DegToRad(30.0);
+  sonar.reach_m = 5.0;
+  const Plan plan = BuildPlan({a, b}, {}, sonar);
+  ASSERT_EQ(plan.doors.size(), 1u);
+  EXPECT_EQ(plan.rooms.size(), 2u);
+  EXPECT_EQ(Diagonals(plan), 0);
+  int beside = 0;
+  for (const Wall& w : plan.walls)
+    if (OnLine(w, true, 5.0, 0.02) && std::min(w.points.front().y(), w.points.back().y()) > 2.3) {
+      ++beside;
+      EXPECT_NEAR(std::min(w.points.front().y(), w.points.back().y()), 2.5, 0.02);
+      EXPECT_NEAR(std::max(w.points.front().y(), w.points.back().y()), 4.0, 0.02);
+    }
+  EXPECT_EQ(beside, 1);
+
+  PlanOptions laser = sonar;
+  laser.beam_width_rad = DegToRad(0.5);
+  EXPECT_EQ(Diagonals(BuildPlan({a, b}, {}, laser)), 2);
+}
+
 TEST(BuildPlan, SquareRoomSeenTwiceGivesFourWalls) {
   // Two ASRs of one room see the same 4 x 4 m walls, the second 4 cm off.
   std::vector<asr::Asr> asrs = {
