@@ -1068,11 +1068,22 @@ OptimizerResult MapOptimizer::Finish() {
     const Consistency c_whole = MapConsistency(CurrentPoses(), CurrentRates());
     SetSplitsEnabled(true);
     graph_.SetRatesFixedAtZero(false);
-    FitVarianceComponents();
-    const DriftDecision split = TestDrift();
-    DropContradictedClosures();
-    const Consistency c_split = MapConsistency(CurrentPoses(), CurrentRates());
-    if (split.detected && !LessConsistent(c_split, c_whole)) {
+    // First the groups at the whole solution's sigmas: when they find no
+    // drift there, the trial ends (its variance components, a dozen solves,
+    // would re-weigh factors that show none).
+    const PoseGraph::State split_start = graph_.Save();
+    bool split_kept = false;
+    DriftDecision split;
+    if (TestDrift().detected) {
+      graph_.Restore(split_start);
+      graph_.SetRatesFixedAtZero(false);
+      FitVarianceComponents();
+      split = TestDrift();
+      DropContradictedClosures();
+      const Consistency c_split = MapConsistency(CurrentPoses(), CurrentRates());
+      split_kept = split.detected && !LessConsistent(c_split, c_whole);
+    }
+    if (split_kept) {
       drift = split;
       res.split_used = true;
     } else {
