@@ -1648,24 +1648,40 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     for (const auto& s : pieces[i].spans)
       segs.push_back({pieces[i].c + s.first * pieces[i].u, pieces[i].c + s.second * pieces[i].u, pieces[i].n, i});
 
+  // The walls by their boxes (the chamfers' T junctions, the doors, their
+  // cuts, the walls beside doors).
+  auto wall_boxes = [&] {
+    CellHash h(2.0);
+    for (size_t i = 0; i < segs.size(); ++i)
+      h.Add(segs[i].a.cwiseMin(segs[i].b), segs[i].a.cwiseMax(segs[i].b), static_cast<int>(i));
+    return h;
+  };
   // The sensor's beam (the chamfers below, the jambs' diagonals after the
-  // doors). Without a reach (a store from before it was kept), a sonar's
-  // own range: 10 m for the Polaroid ranger.
+  // doors): a cone of half-width b seen from d metres smears a wall's end by
+  // blur = 2 cells + tan(b) d, d at most the reach; blur_max from the reach.
+  // Without a reach (a store from before it was kept), a sonar's own range:
+  // 10 m for the Polaroid ranger. Laser or no beam known: tan_half 0.
   constexpr double kUnboundedReachM = 10.0;
   const double tan_half = o.beam_width_rad > 0.0 ? std::tan(0.5 * std::min(o.beam_width_rad, kPi / 2)) : 0.0;
-  // Distance from q to the nearest point of 'paths' (one per ASR index) of
-  // the ASRs behind piece p (Piece::asrs holds their ids; that point
-  // returned too); infinity when none has a path.
-  auto nearest_path = [&](const auto& paths, const Piece& p, const Vec2& q, Vec2* at) {
+  const double blur_max =
+      tan_half > 0.0 ? 2.0 * o.cell_m + tan_half * (o.reach_m > 0.0 ? o.reach_m : kUnboundedReachM) : 0.0;
+  // The blur at q as seen from the nearest point of 'paths' (one per ASR
+  // index) of the ASRs behind piece p (Piece::asrs holds their ids; that
+  // point returned in 'seen'); infinity when none has a path.
+  auto blur_seen = [&](const auto& paths, const Piece& p, const Vec2& q, Vec2* seen) {
     double best = std::numeric_limits<double>::infinity();
     for (int id : p.asrs)
       for (const auto& pv : paths[index_of.at(id)]) {
         const Vec2 v(pv.x(), pv.y());
         const double d2 = (v - q).squaredNorm();
-        if (d2 < best) best = d2, *at = v;
+        if (d2 < best) best = d2, *seen = v;
       }
-    return std::sqrt(best);
+    if (!std::isfinite(best)) return best;
+    double dist = std::sqrt(best);
+    if (o.reach_m > 0.0) dist = std::min(dist, o.reach_m);
+    return 2.0 * o.cell_m + tan_half * dist;
   };
+  const double sin15 = std::sin(Deg(15.0)), sin60 = std::sin(Deg(60.0));
 
   // ---------------------------------------------------------------- corners
   {
@@ -1704,10 +1720,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     std::vector<Join> joins;  // the corners the beam's test found, closed below
     // The walls by their boxes, for a diagonal's end on another wall's
     // interior (a T: the wall goes on past the corner).
-    CellHash seg_boxes(2.0);
-    if (tan_half > 0.0)
-      for (size_t i = 0; i < segs.size(); ++i)
-        seg_boxes.Add(segs[i].a.cwiseMin(segs[i].b), segs[i].a.cwiseMax(segs[i].b), static_cast<int>(i));
+    const CellHash seg_boxes = tan_half > 0.0 ? wall_boxes() : CellHash(2.0);
     struct Partner {
       size_t seg;
       int end;  // 2 * seg + end when the diagonal meets its end; -1: its interior
@@ -1719,10 +1732,8 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       if (pieces[segs[i].piece].two_sided) continue;
       const double off = std::abs(QuarterOffset(std::atan2(d.y(), d.x()) - plan.dominant_direction_rad));
       const bool fixed_ok = len <= o.chamfer_max_m && off >= Deg(30.0);
-      // The most the beam can blur (seen from its reach), for the search;
+      // The most the beam can blur (seen from its reach) bounds the search;
       // each corner's own blur below.
-      const double blur_max =
-          tan_half > 0.0 ? 2.0 * o.cell_m + tan_half * (o.reach_m > 0.0 ? o.reach_m : kUnboundedReachM) : 0.0;
       const bool beam_ok = blur_max > 0.0 && len <= 2.0 * blur_max && off >= Deg(15.0);
       if (!fixed_ok && !beam_ok) continue;
       const double end_tol = std::max(o.chamfer_end_m, beam_ok ? kPi / 4 * blur_max : 0.0);
@@ -1755,13 +1766,12 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       bool found = false;
       Join best{-1, -1, Vec2(0, 0)};
       double best_cost = std::numeric_limits<double>::infinity();
-      const double sin15 = std::sin(Deg(15.0));
       for (const Partner& A : at_a)
         for (const Partner& B : at_b) {
           if (A.seg == B.seg || (A.end < 0 && B.end < 0)) continue;
           const Vec2 du = (segs[A.seg].b - segs[A.seg].a).normalized(), dv = (segs[B.seg].b - segs[B.seg].a).normalized();
           const double den = Cross(du, dv);
-          if (std::abs(den) < std::sin(Deg(60.0))) continue;
+          if (std::abs(den) < sin60) continue;
           const Vec2 x = segs[A.seg].a + (Cross(segs[B.seg].a - segs[A.seg].a, dv) / den) * du;
           const double da = (x - A.p).norm(), db = (x - B.p).norm();
           if (fixed_ok && A.end >= 0 && B.end >= 0 && (A.p - segs[i].a).norm() <= o.chamfer_end_m &&
@@ -1772,10 +1782,8 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
           // path comes to it.
           if (!beam_ok || std::abs(Cross(ud, du)) < sin15 || std::abs(Cross(ud, dv)) < sin15) continue;
           Vec2 seen_from(0, 0);
-          double dist = nearest_path(path, pieces[segs[i].piece], x, &seen_from);
-          if (o.reach_m > 0.0) dist = std::min(dist, o.reach_m);
-          if (!std::isfinite(dist)) continue;
-          const double blur = 2.0 * o.cell_m + tan_half * dist;
+          const double blur = blur_seen(path, pieces[segs[i].piece], x, &seen_from);
+          if (!std::isfinite(blur)) continue;
           const double tol = std::max(o.chamfer_end_m, kPi / 4 * blur);
           if (len > 2.0 * blur || da > 1.5 * blur || db > 1.5 * blur) continue;
           if ((A.p - segs[i].a).norm() > tol || (B.p - segs[i].b).norm() > tol) continue;
@@ -1867,8 +1875,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // ---------------------------------------------------------------- doors from exits
   std::vector<DoorCand> door_cands;
   // The wall segments by their boxes (the doors below, the doorway gaps after them).
-  CellHash seg_hash(2.0);
-  for (size_t i = 0; i < segs.size(); ++i) seg_hash.Add(segs[i].a.cwiseMin(segs[i].b), segs[i].a.cwiseMax(segs[i].b), static_cast<int>(i));
+  const CellHash seg_hash = wall_boxes();
   {
     // One door per exit: an exit is listed by both of its ASRs; average its placed centres.
     struct ExitAcc {
@@ -2872,9 +2879,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     if (it == index_of.end()) return -1;
     return room_index[plan_of_unit[unit_of[it->second]]];
   };
-  CellHash cut_hash(2.0);
-  for (size_t i = 0; i < segs.size(); ++i)
-    cut_hash.Add(segs[i].a.cwiseMin(segs[i].b), segs[i].a.cwiseMax(segs[i].b), static_cast<int>(i));
+  const CellHash cut_hash = wall_boxes();
   std::map<int, std::vector<std::pair<double, double>>> cuts;  // segment -> cut spans (0..1)
   // A door away from where its two rooms meet (the boundary detector fires
   // a metre or so inside a room; a sonar's stray wall by the door took it)
@@ -3107,13 +3112,9 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // its 2-cell floor: a diagonal that close to the door's line is no
   // diagonal.
   if (tan_half > 0.0 && !plan.doors.empty()) {
-    CellHash boxes(2.0);
-    for (size_t i = 0; i < segs.size(); ++i)
-      boxes.Add(segs[i].a.cwiseMin(segs[i].b), segs[i].a.cwiseMax(segs[i].b), static_cast<int>(i));
+    const CellHash boxes = wall_boxes();
     std::vector<char> gone(segs.size(), 0);
     std::vector<Seg> added;
-    const double sin15 = std::sin(Deg(15.0)), sin60 = std::sin(Deg(60.0));
-    const double blur_max = 2.0 * o.cell_m + tan_half * (o.reach_m > 0.0 ? o.reach_m : kUnboundedReachM);
     for (const Door& door : plan.doors) {
       if (door.width_m() < 1e-9) continue;
       for (int side : {-1, 1}) {
@@ -3151,10 +3152,8 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
             if (sdist <= 0.0 || len > sdist + blur_max) continue;
             const Vec2 x = jamb + sdist * w;
             Vec2 seen(0, 0);
-            double dist = nearest_path(sparse_path, pieces[segs[i].piece], x, &seen);
-            if (o.reach_m > 0.0) dist = std::min(dist, o.reach_m);
-            if (!std::isfinite(dist)) continue;
-            const double blur = 2.0 * o.cell_m + tan_half * dist;
+            const double blur = blur_seen(sparse_path, pieces[segs[i].piece], x, &seen);
+            if (!std::isfinite(blur)) continue;
             // On wall k (or within the blur of its ends), the diagonal's far
             // end on the rounded corner, and the diagonal no longer than the
             // stretch it stands for.
