@@ -840,7 +840,7 @@ bool MapOptimizer::LessConsistent(const Consistency& a, const Consistency& b) {
   return a.crossings > expected + 3.0 * std::sqrt(expected);
 }
 
-MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
+MapOptimizer::DriftDecision MapOptimizer::TestDrift(bool likelihood_ratio_only) {
   DriftDecision out;
   const int N = static_cast<int>(nodes_.size());
   graph_.SetRatesFixedAtZero(false);
@@ -858,6 +858,7 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift() {
   out.chi2 = 2.0 * (no_drift.final_cost - with_drift.final_cost);
   const double quantile = ChiSquareQuantile(options_.drift_test_probability, 1);
   out.detected = out.chi2 > quantile;
+  if (likelihood_ratio_only) return out;
   if (!out.detected) {
     if (options_.drift_known) out.detected = true;  // held at the drift removed (SetRatesHeldAtOffsets)
     return out;
@@ -1068,13 +1069,14 @@ OptimizerResult MapOptimizer::Finish() {
     const Consistency c_whole = MapConsistency(CurrentPoses(), CurrentRates());
     SetSplitsEnabled(true);
     graph_.SetRatesFixedAtZero(false);
-    // First the groups at the whole solution's sigmas: when they find no
-    // drift there, the trial ends (its variance components, a dozen solves,
-    // would re-weigh factors that show none).
+    // First the groups at the whole solution's sigmas (the likelihood-ratio
+    // test alone, two solves): when they find no drift there, the trial
+    // ends (its variance components, a dozen solves, would re-weigh factors
+    // that show none).
     const PoseGraph::State split_start = graph_.Save();
     bool split_kept = false;
     DriftDecision split;
-    if (TestDrift().detected) {
+    if (TestDrift(true).detected) {
       graph_.Restore(split_start);
       graph_.SetRatesFixedAtZero(false);
       FitVarianceComponents();

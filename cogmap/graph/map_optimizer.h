@@ -374,7 +374,10 @@ class MapOptimizer {
     double alias_chi2 = std::numeric_limits<double>::infinity();  // the best distinct alias's chi2 above the drift's
     std::string warning;
   };
-  DriftDecision TestDrift();
+  // The drift test; with likelihood_ratio_only, the likelihood-ratio test
+  // alone (detected: the rates lower the cost beyond the quantile), without
+  // the aliases' search.
+  DriftDecision TestDrift(bool likelihood_ratio_only = false);
   // The groups in place of their ASRs' whole direction (true) or not.
   void SetSplitsEnabled(bool on);
   std::vector<Pose2> CurrentPoses() const;
