@@ -44,6 +44,14 @@ int RunMap(MapArgs& a) {
   // lower with this (67.1-67.5 -> 65.7-66.6 MiB over four runs each, CPU
   // time unchanged within the machine's noise; docs/BENCHMARKS.md).
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
+  // Up to 1 MiB free at the top of the heap stays with the process (glibc
+  // gives back whatever exceeds 128 KiB). Each room's grids, sweeps and
+  // solves take and give back a few hundred KiB: with the default they went
+  // back to the kernel after every room and were faulted in again for the
+  // next (intel: 4,500 -> 3,150 page faults, 5 % of the wall time; the
+  // 1000-room peak +0.5 MiB; a 4 MiB pad saved 6 % but cost 2 MiB of that
+  // peak: docs/BENCHMARKS.md, "Pages kept").
+  mallopt(M_TRIM_THRESHOLD, 1 << 20);
 #endif
   mapping::MapJob& job = a.job;
   if (a.mode != "paper" && a.mode != "default") throw InputError("--mode " + a.mode + ": expected paper or default");
