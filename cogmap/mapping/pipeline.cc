@@ -62,18 +62,21 @@ Correction MappingOptions::correction() const {
 }
 
 Pose2 DriftAdder::Add(const Pose2& odom) {
-  if (!last_) {
-    last_ = odom;
-    out_ = odom;
-    return out_;
+  if (!anchor_) {
+    anchor_ = odom;
+    anchor_out_ = odom;
+    return odom;
   }
-  const Pose2 inc = last_->inverse() * odom;
+  const Pose2 inc = anchor_->inverse() * odom;
   const double ds = std::hypot(inc.x, inc.y);
   const double extra = rate_ * ds;
   const Vec2 t = RotateAbout(inc.translation(), Vec2(0.0, 0.0), 0.5 * extra);
-  out_ = out_ * Pose2{t.x(), t.y(), inc.theta + extra};
-  last_ = odom;
-  return out_;
+  const Pose2 out = anchor_out_ * Pose2{t.x(), t.y(), inc.theta + extra};
+  if (ds >= step_m_) {
+    anchor_ = odom;
+    anchor_out_ = out;
+  }
+  return out;
 }
 
 bool LaserOnly(const sensors::RobotDescription& robot) {

@@ -147,18 +147,25 @@ std::vector<std::string> ScanMatchWarnings(const MappingOptions& options, const 
 const char* ScanMatchName(ScanMatch m);
 ScanMatch ParseScanMatch(const std::string& s);
 
-// Adds a systematic heading drift to odometry (the truth stays): each
-// increment turns by an extra rate x its length, and the position follows the
-// drifted heading.
+// Adds a systematic heading drift to odometry (the truth stays): the heading
+// turns by an extra rate x the distance driven, and the position follows the
+// drifted heading. The distance is counted from an anchor that moves on every
+// step_m of travel, as the mapper's bend counts it (CognitiveMapper::Current::
+// Bent): CARMEN logs interleave two odometry streams (ODOM lines and the
+// poses of FLASER lines) that jitter by centimetres from record to record,
+// and summed record by record that jitter made "1 deg/m" 1.04-1.10 deg per
+// metre driven on the five CARMEN logs (docs/BENCHMARKS.md, "Drift added to
+// real logs").
 class DriftAdder {
  public:
-  explicit DriftAdder(double rad_per_m) : rate_(rad_per_m) {}
+  explicit DriftAdder(double rad_per_m, double step_m = 0.1) : rate_(rad_per_m), step_m_(step_m) {}
   Pose2 Add(const Pose2& odom);
 
  private:
   double rate_;
-  std::optional<Pose2> last_;
-  Pose2 out_;
+  double step_m_;
+  std::optional<Pose2> anchor_;  // the input pose at the anchor
+  Pose2 anchor_out_;             // the drifted pose there
 };
 
 class MappingPipeline {
