@@ -151,11 +151,11 @@ ScanMatch ParseScanMatch(const std::string& s);
 // turns by an extra rate x the distance driven, and the position follows the
 // drifted heading. The distance is counted from an anchor that moves on every
 // step_m of travel, as the mapper's bend counts it (CognitiveMapper::Current::
-// Bent): CARMEN logs interleave two odometry streams (ODOM lines and the
-// poses of FLASER lines) that jitter by centimetres from record to record,
-// and summed record by record that jitter made "1 deg/m" 1.04-1.10 deg per
-// metre driven on the five CARMEN logs (docs/BENCHMARKS.md, "Drift added to
-// real logs").
+// Bent): a CARMEN log's poses (its ODOM lines, and the FLASER lines' poses
+// between them) jitter by centimetres from record to record, and summed
+// record by record that jitter made "1 deg/m" 1.07-1.13 deg per metre of the
+// five CARMEN logs' reference paths (1.02-1.03 now; docs/BENCHMARKS.md,
+// "Drift added to real logs").
 class DriftAdder {
  public:
   explicit DriftAdder(double rad_per_m, double step_m = 0.1) : rate_(rad_per_m), step_m_(step_m) {}
