@@ -201,8 +201,11 @@ void WriteReport(const ReportContext& c, std::ostream& out) {
       {"log_duration_s", duration},
       // The whole command up to this report (reading, mapping, every output
       // file); mapping_times_real_time: before the output files.
-      {"times_real_time", c.total_seconds > 0 ? duration / c.total_seconds : 0.0},
-      {"mapping_times_real_time", c.mapping_seconds > 0 ? duration / c.mapping_seconds : 0.0},
+      // null when the log's timestamps do not advance (belgioioso's are
+      // written to six digits: every record at 1.01893e+09 s).
+      {"times_real_time", duration > 0 && c.total_seconds > 0 ? nlohmann::json(duration / c.total_seconds) : nullptr},
+      {"mapping_times_real_time",
+       duration > 0 && c.mapping_seconds > 0 ? nlohmann::json(duration / c.mapping_seconds) : nullptr},
       {"peak_grid_cells", run.mapper.peak_grid_cells},
       {"max_rss_kb_mapping", c.rss_mapping_kb},
       {"store", c.store_path},
