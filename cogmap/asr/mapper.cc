@@ -309,6 +309,7 @@ void CognitiveMapper::Start(const Pose2& entry_pose, double time_s, const std::o
     const double rate = pre_bend_(a.id - pre_bend_lag_);
     a.pre_bend_rad_per_m = std::isfinite(rate) ? rate : 0.0;
   }
+  current_->bend = DriftReintegration(-a.pre_bend_rad_per_m, Vec2(0.0, 0.0));
   a.world_from_local_raw = Pose2{entry_pose.x, entry_pose.y, 0.0};
   a.world_from_local_corrected = a.world_from_local_raw;
   a.entry_pivot_m = entry_exit ? entry_exit->center_m : entry_pose.translation();
@@ -327,31 +328,10 @@ void CognitiveMapper::Start(const Pose2& entry_pose, double time_s, const std::o
   }
 }
 
-Pose2 CognitiveMapper::Current::Bent(const Pose2& raw_local) {
-  const double rate = asr.pre_bend_rad_per_m;
-  if (rate == 0.0) return raw_local;
-  // Each pose from the last anchor; the anchor moves on every kBendStep of
-  // travel. Logs that interleave two odometry streams (CARMEN's ODOM and the
-  // poses of its FLASER lines) jitter by centimetres from record to record:
-  // summed record by record, that jitter would count as distance driven and
-  // bend the room by more than the drift.
-  constexpr double kBendStep = 0.1;
-  const Vec2 d = raw_local.translation() - bend_last;
-  const double ds = d.norm();
-  const Vec2 at = bend_at + RotateAbout(d, Vec2(0.0, 0.0), -rate * (bend_s + 0.5 * ds));
-  const Pose2 out{at.x(), at.y(), NormalizeAngle(raw_local.theta - rate * (bend_s + ds))};
-  if (ds >= kBendStep) {
-    bend_at = at;
-    bend_s += ds;
-    bend_last = raw_local.translation();
-  }
-  return out;
-}
-
 void CognitiveMapper::Feed(const sensors::LogRecord& record, const Pose2& raw_odom) {
   Current& c = *current_;
   const auto t0 = Clock::now();
-  const Pose2 at = c.Bent(c.local_from_world * record.odom);
+  const Pose2 at = c.bend(c.local_from_world * record.odom);
   // Where along the path these echoes are heard from (the path's poses as
   // the pose graph's bend counts them, then the way to this record).
   const double seen_s =

@@ -230,18 +230,15 @@ class CognitiveMapper {
     std::vector<Pose2> raw_path;  // the raw odometry at the poses of asr.path
     std::vector<double> true_path_times;
     Pose2 local_from_world;
-    // The pre-bend's re-integration (Asr::pre_bend_rad_per_m): the last raw
-    // local position, the bent position and the distance driven so far.
-    Vec2 bend_last{0.0, 0.0}, bend_at{0.0, 0.0};
-    double bend_s = 0.0;
+    // The pre-bend's re-integration (Asr::pre_bend_rad_per_m removed), from
+    // the local origin: set in Start.
+    DriftReintegration bend{0.0, Vec2(0.0, 0.0)};
     // The distance along asr.path to its last pose (the grids' hits are
     // tagged with it plus the way from there: HimmFusion::SetDistance).
     double path_s = 0.0;
     // The turn summed since the last path pose (Asr::path_turn_rad).
     double turn_acc = 0.0, turn_last = 0.0;
     bool turn_started = false;
-    // A raw local pose as the grids take it: re-integrated under the pre-bend.
-    Pose2 Bent(const Pose2& raw_local);
   };
   struct Buffered {
     long seq;

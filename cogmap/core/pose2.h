@@ -47,4 +47,37 @@ inline Pose2 RotateAbout(const Pose2& pose, const Vec2& pivot, double angle_rad)
   return {t.x(), t.y(), NormalizeAngle(pose.theta + angle_rad)};
 }
 
+// A stream of poses re-integrated under a heading drift of rate_rad_per_m
+// per metre driven: each pose's heading turns by rate x the distance driven
+// so far, and its position follows the turned headings (the chord from the
+// anchor turned by the mean drift over it). The distance is counted from an
+// anchor that moves once the robot is step_m from it, so that centimetre
+// jitter between records (a CARMEN log's interleaved odometry) does not count
+// as driving. A positive rate adds a drift (DriftAdder, --add-drift-deg-per-
+// m); its negative removes one (the mapper's pre-bend). Rate 0: the poses as
+// they are. 'start': the raw position where the distance begins.
+class DriftReintegration {
+ public:
+  DriftReintegration(double rate_rad_per_m, const Vec2& start, double step_m = 0.1)
+      : rate_(rate_rad_per_m), step_m_(step_m), last_(start), at_(start) {}
+  Pose2 operator()(const Pose2& raw) {
+    if (rate_ == 0.0) return raw;
+    const Vec2 d = raw.translation() - last_;
+    const double ds = d.norm();
+    const Vec2 at = at_ + RotateAbout(d, Vec2(0.0, 0.0), rate_ * (s_ + 0.5 * ds));
+    const Pose2 out{at.x(), at.y(), NormalizeAngle(raw.theta + rate_ * (s_ + ds))};
+    if (ds >= step_m_) {
+      at_ = at;
+      s_ += ds;
+      last_ = raw.translation();
+    }
+    return out;
+  }
+
+ private:
+  double rate_, step_m_;
+  Vec2 last_, at_;  // the anchor's raw and re-integrated positions
+  double s_ = 0.0;  // distance driven to the anchor
+};
+
 }  // namespace cogmap

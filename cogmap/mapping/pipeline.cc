@@ -62,21 +62,8 @@ Correction MappingOptions::correction() const {
 }
 
 Pose2 DriftAdder::Add(const Pose2& odom) {
-  if (!anchor_) {
-    anchor_ = odom;
-    anchor_out_ = odom;
-    return odom;
-  }
-  const Pose2 inc = anchor_->inverse() * odom;
-  const double ds = std::hypot(inc.x, inc.y);
-  const double extra = rate_ * ds;
-  const Vec2 t = RotateAbout(inc.translation(), Vec2(0.0, 0.0), 0.5 * extra);
-  const Pose2 out = anchor_out_ * Pose2{t.x(), t.y(), inc.theta + extra};
-  if (ds >= step_m_) {
-    anchor_ = odom;
-    anchor_out_ = out;
-  }
-  return out;
+  if (!drift_) drift_.emplace(rate_, odom.translation(), step_m_);
+  return (*drift_)(odom);
 }
 
 bool LaserOnly(const sensors::RobotDescription& robot) {

@@ -149,11 +149,11 @@ ScanMatch ParseScanMatch(const std::string& s);
 
 // Adds a systematic heading drift to odometry (the truth stays): the heading
 // turns by an extra rate x the distance driven, and the position follows the
-// drifted heading. The distance is counted from an anchor that moves on every
-// step_m of travel, as the mapper's bend counts it (CognitiveMapper::Current::
-// Bent): a CARMEN log's poses (its ODOM lines, and the FLASER lines' poses
-// between them) jitter by centimetres from record to record, and summed
-// record by record that jitter made "1 deg/m" 1.07-1.13 deg per metre of the
+// drifted heading (DriftReintegration from the first pose, as the mapper's
+// pre-bend removes one). The distance is counted in step_m steps: a CARMEN
+// log's poses (its ODOM lines, and the FLASER lines' poses between them)
+// jitter by centimetres from record to record, and summed record by record
+// that jitter made "1 deg/m" 1.07-1.13 deg per metre of the
 // five CARMEN logs' reference paths (1.02-1.03 now; docs/BENCHMARKS.md,
 // "Drift added to real logs").
 class DriftAdder {
@@ -164,8 +164,7 @@ class DriftAdder {
  private:
   double rate_;
   double step_m_;
-  std::optional<Pose2> anchor_;  // the input pose at the anchor
-  Pose2 anchor_out_;             // the drifted pose there
+  std::optional<DriftReintegration> drift_;  // from the first pose
 };
 
 class MappingPipeline {
