@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <future>
@@ -483,12 +482,11 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
 
 std::string MapSummaryText(const MapJobSummary& s, const MapJob& job) {
   std::string out;
-  char pace[96];
-  if (s.times_real_time > 0.0) std::snprintf(pace, sizeof pace, "%.1fx real time", s.times_real_time);
-  else std::snprintf(pace, sizeof pace, "x real time unknown: the log's timestamps do not advance");
+  std::string pace = "x real time unknown: the log's timestamps do not advance";
+  if (s.times_real_time > 0.0) pace.clear(), AppendF(&pace, "%.1fx real time", s.times_real_time);
   AppendF(&out, "%s: %ld records, %d ASRs (%d this run), %d exits, grid %.1f KB -> polylines %.2f KB, %.2f s (%s)\n",
           job.log_path.c_str(), s.records, s.asrs, s.asrs_this_run, s.exits, s.bytes_grid / 1024.0,
-          s.bytes_polylines / 1024.0, s.seconds, pace);
+          s.bytes_polylines / 1024.0, s.seconds, pace.c_str());
   AppendF(&out, "floor plan: %d rooms, %d walls, %d doors\n", s.plan_rooms, s.plan_walls, s.plan_doors);
   if (s.room_precision) AppendF(&out, "rooms: precision %.3f recall %.3f\n", *s.room_precision, *s.room_recall);
   if (s.heading_asrs > 0)
