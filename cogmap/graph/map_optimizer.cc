@@ -842,7 +842,6 @@ bool MapOptimizer::LessConsistent(const Consistency& a, const Consistency& b) {
 
 MapOptimizer::DriftDecision MapOptimizer::TestDrift(bool likelihood_ratio_only) {
   DriftDecision out;
-  const int N = static_cast<int>(nodes_.size());
   graph_.SetRatesFixedAtZero(false);
   const PoseGraph::SolveSummary with_drift = graph_.Solve(0, options_.full_iterations);
   const double rate = MeanRate();
@@ -859,10 +858,101 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift(bool likelihood_ratio_only) 
   const double quantile = ChiSquareQuantile(options_.drift_test_probability, 1);
   out.detected = out.chi2 > quantile;
   if (likelihood_ratio_only) return out;
+  // The minima of the rates: the drift's own and its aliases.
+  int solved = 0;
+  double gap = 0.0;
+  std::vector<RateMinimum> minima = FindRateMinima(rate, with_drift.final_cost, drift_state, quantile, &solved, &gap);
+  size_t best = 0;
+  for (size_t k = 1; k < minima.size(); ++k)
+    if (minima[k].cost < minima[best].cost) best = k;
+  // Each minimum is a hypothesis of the map, weighed by its likelihood
+  // relative to the best: the covariances (Finish) hold them all, whichever
+  // is kept, since a Gaussian about the kept one alone says nothing of a
+  // quarter-turn alias that fits almost as well (aria/triangle with 8
+  // sonars at 2 deg/m: no drift found, the truth on an alias 90 degrees
+  // away, 0 of 3 ASRs within 3 sigma).
+  // 'home': the state standing for the drift's own basin (the rates held
+  // at zero when the test found no drift).
+  auto record = [&](const PoseGraph::State& home) {
+    for (size_t k = 0; k < minima.size(); ++k) {
+      graph_.Restore(k == 0 ? home : minima[k].state);
+      out.hypotheses.push_back({minima[k].rate, std::exp(-(minima[k].cost - minima[best].cost)), CurrentPoses()});
+    }
+  };
   if (!out.detected) {
+    graph_.SetRatesFixedAtZero(false);
+    record(minima[0].state);
+    // Aliases that fit about as well as the drift's own basin: the drift is
+    // left at zero (the test found none), and the user is told.
+    int close = 0;
+    double nearest = 0.0;
+    for (size_t k = 1; k < minima.size(); ++k)
+      if (2.0 * (minima[k].cost - minima[0].cost) < quantile) {
+        if (close == 0 || std::abs(minima[k].rate) < std::abs(nearest)) nearest = minima[k].rate;
+        ++close;
+      }
+    if (close > 0)
+      out.warning = "no drift found, but " + std::to_string(close) + (close == 1 ? " other rate" : " other rates") +
+                    " (" + std::to_string(RadToDeg(nearest)).substr(0, 5) +
+                    " deg/m the nearest) fit the wall directions about as well; the uncertainties hold them";
+    graph_.SetRatesFixedAtZero(true);
+    graph_.Restore(no_drift_state);
     if (options_.drift_known) out.detected = true;  // held at the drift removed (SetRatesHeldAtOffsets)
     return out;
   }
+  // The most likely of the minima is the drift; the others its aliases,
+  // weighed together: the drift's odds are its likelihood over theirs summed.
+  if (best != 0) {
+    drift_state = minima[best].state;
+    out.chi2 = 2.0 * (no_drift.final_cost - minima[best].cost);
+  }
+  double alias_weight = 0.0;
+  int close = 0;
+  for (size_t k = 0; k < minima.size(); ++k) {
+    if (k == best) continue;
+    const double d = 2.0 * (minima[k].cost - minima[best].cost);
+    out.alias_chi2 = std::min(out.alias_chi2, d);
+    alias_weight += std::exp(-0.5 * d);
+    if (d < quantile) {
+      out.alias_risk = true;
+      ++close;
+    }
+  }
+  const double found_rate = minima[best].rate;
+  // With aliases, more hypotheses were tried: the drift must beat no drift
+  // at the test's level divided among them (Bonferroni), and its aliases
+  // together by the odds asked for.
+  const double strict = ChiSquareQuantile(1.0 - (1.0 - options_.drift_test_probability) / (1 + std::max(2, solved)), 1);
+  const double odds = alias_weight > 0.0 ? 1.0 / alias_weight : std::numeric_limits<double>::infinity();
+  const bool beats_alias = odds >= std::max(1.0, options_.alias_min_odds);
+  const bool keep = !out.alias_risk || (out.chi2 > strict && beats_alias);
+  graph_.SetRatesFixedAtZero(false);
+  record(minima[0].state);
+  if (keep) {
+    graph_.SetRatesFixedAtZero(false);
+    graph_.Restore(drift_state);
+  } else {
+    graph_.SetRatesFixedAtZero(true);
+    graph_.Restore(no_drift_state);
+  }
+  if (out.alias_risk)
+    out.warning = "the drift rate is ambiguous: " + std::to_string(RadToDeg(found_rate)).substr(0, 5) + " deg/m and " +
+                  std::to_string(close) + (close == 1 ? " other rate" : " other rates") +
+                  " fit the wall directions about as well (" + std::to_string(static_cast<int>(gap)) +
+                  " m without one); " +
+                  (keep          ? "kept the most likely"
+                   : beats_alias ? "not corrected (no drift is about as likely)"
+                                 : "not corrected (odds " + std::to_string(odds).substr(0, 4) +
+                                       ":1 against its aliases: a coin toss)");
+  out.detected = keep || options_.drift_known;
+  return out;
+}
+
+std::vector<MapOptimizer::RateMinimum> MapOptimizer::FindRateMinima(double rate, double cost,
+                                                                    const PoseGraph::State& state, double quantile,
+                                                                    int* solved, double* gap_m) {
+  const int N = static_cast<int>(nodes_.size());
+  PoseGraph::State drift_state = state;
   // Aliasing: wall directions known modulo 90 degrees and far apart are
   // fitted as well by a rate that turns the heading by a quarter turn
   // more between them (the start of the run counts as a direction: its
@@ -878,6 +968,7 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift(bool likelihood_ratio_only) 
       s += (nodes_[i].path_local[t] - nodes_[i].path_local[t - 1]).norm();
   }
   gap = std::max(gap, s - last);
+  *gap_m = gap;
   // The aliases: other rates the wall directions may fit about as well. The
   // direction factors' cost over a common change of every rate
   // (PoseGraph::DirectionProfile: the odometry does not resist such a
@@ -890,12 +981,7 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift(bool likelihood_ratio_only) 
   // directions there are many (CARMEN intel as a 16-sonar ring, 1 deg/m
   // added: minima every 0.2-0.4 deg/m, five of them within the test's
   // quantile of the best).
-  struct Minimum {
-    double rate, cost;
-    PoseGraph::State state;
-  };
-  std::vector<Minimum> minima{{rate, with_drift.final_cost, drift_state}};
-  int solved = 0;
+  std::vector<RateMinimum> minima{{rate, cost, drift_state}};
   if (gap > 1.0 && s > 0.0) {
     const double period = (kPi / 2.0) / s;
     const double step = period / 16.0;
@@ -932,63 +1018,17 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift(bool likelihood_ratio_only) 
       for (size_t k : cands) {
         graph_.ChainWithRate(rate + deltas[k]);
         const PoseGraph::SolveSummary a = graph_.Solve(0, options_.full_iterations);
-        ++solved;
+        ++*solved;
         const double found = MeanRate();
         // A solve that went back nearer a minimum already found than a
         // quarter of the profile's period found the same map.
         bool same = false;
-        for (const Minimum& m : minima) same = same || std::abs(found - m.rate) < 0.25 * period;
+        for (const RateMinimum& m : minima) same = same || std::abs(found - m.rate) < 0.25 * period;
         if (!same) minima.push_back({found, a.final_cost, graph_.Save()});
       }
     }
   }
-  // The most likely of the minima is the drift; the others its aliases,
-  // weighed together: the drift's odds are its likelihood over theirs summed.
-  size_t best = 0;
-  for (size_t k = 1; k < minima.size(); ++k)
-    if (minima[k].cost < minima[best].cost) best = k;
-  if (best != 0) {
-    drift_state = minima[best].state;
-    out.chi2 = 2.0 * (no_drift.final_cost - minima[best].cost);
-  }
-  double alias_weight = 0.0;
-  int close = 0;
-  for (size_t k = 0; k < minima.size(); ++k) {
-    if (k == best) continue;
-    const double d = 2.0 * (minima[k].cost - minima[best].cost);
-    out.alias_chi2 = std::min(out.alias_chi2, d);
-    alias_weight += std::exp(-0.5 * d);
-    if (d < quantile) {
-      out.alias_risk = true;
-      ++close;
-    }
-  }
-  const double found_rate = minima[best].rate;
-  // With aliases, more hypotheses were tried: the drift must beat no drift
-  // at the test's level divided among them (Bonferroni), and its aliases
-  // together by the odds asked for.
-  const double strict = ChiSquareQuantile(1.0 - (1.0 - options_.drift_test_probability) / (1 + std::max(2, solved)), 1);
-  const double odds = alias_weight > 0.0 ? 1.0 / alias_weight : std::numeric_limits<double>::infinity();
-  const bool beats_alias = odds >= std::max(1.0, options_.alias_min_odds);
-  const bool keep = !out.alias_risk || (out.chi2 > strict && beats_alias);
-  if (keep) {
-    graph_.SetRatesFixedAtZero(false);
-    graph_.Restore(drift_state);
-  } else {
-    graph_.SetRatesFixedAtZero(true);
-    graph_.Restore(no_drift_state);
-  }
-  if (out.alias_risk)
-    out.warning = "the drift rate is ambiguous: " + std::to_string(RadToDeg(found_rate)).substr(0, 5) + " deg/m and " +
-                  std::to_string(close) + (close == 1 ? " other rate" : " other rates") +
-                  " fit the wall directions about as well (" + std::to_string(static_cast<int>(gap)) +
-                  " m without one); " +
-                  (keep          ? "kept the most likely"
-                   : beats_alias ? "not corrected (no drift is about as likely)"
-                                 : "not corrected (odds " + std::to_string(odds).substr(0, 4) +
-                                       ":1 against its aliases: a coin toss)");
-  out.detected = keep || options_.drift_known;
-  return out;
+  return minima;
 }
 
 void MapOptimizer::SetSplitsEnabled(bool on) {
@@ -1252,6 +1292,31 @@ OptimizerResult MapOptimizer::Finish() {
     for (const auto& [k, f] : fitted) graph_.SetSigmaFactor(k, f);
     if (zero) graph_.SetRatesFixedAtZero(true);
   }
+  // The minima of the rates TestDrift found (the drift's own basin with
+  // the rates free, and its aliases), each a map the walls fit, as likely
+  // as its weight: the covariance about the poses kept is the mixture's
+  // second moment about them (each hypothesis's own covariance taken as the
+  // one above, plus its offset from the poses kept, squared). Without it
+  // the sigmas were those of the hypothesis kept alone: a run whose drift
+  // the test left at zero while the truth was its alias (a quarter turn
+  // more between two wall directions far apart), or a drift within the
+  // test's quantile of none, was placed outside 3 sigma
+  // (bench/never_worse: 5 of 120 runs, aria/triangle with 8 sonars at 2
+  // deg/m with 0 of 3 ASRs within 3 sigma; docs/pose-graph.md).
+  std::vector<Eigen::Matrix3d> spread(N, Eigen::Matrix3d::Zero());
+  double total = 0.0;
+  for (const auto& h : drift.hypotheses) total += h.weight;
+  for (const auto& h : drift.hypotheses) {
+    const double w = h.weight / total;
+    res.drift_hypotheses.push_back({h.rate, w});
+    if (cov.empty()) continue;
+    for (int i = 0; i < N && i < static_cast<int>(h.poses.size()); ++i) {
+      if (nodes_[i].stored) continue;
+      const Eigen::Vector3d d(h.poses[i].x - chosen[i].x, h.poses[i].y - chosen[i].y,
+                              NormalizeAngle(h.poses[i].theta - chosen[i].theta));
+      spread[i] += w * d * d.transpose();
+    }
+  }
   res.covariance_seconds = Seconds(t0);
   const double factor = cov_chi2 / res.chi2_dof;
   const double inflate =
@@ -1274,7 +1339,7 @@ OptimizerResult MapOptimizer::Finish() {
     e.direction_factor = nodes_[i].direction;
     e.direction_residual_sigmas = dir_resid[i];
     if (!cov.empty()) {
-      e.covariance = inflate * cov[i];
+      e.covariance = inflate * cov[i] + spread[i];
       e.has_covariance = true;
       const double sp = std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1)));
       const double st = std::sqrt(std::max(0.0, e.covariance(2, 2)));

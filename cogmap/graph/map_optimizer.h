@@ -243,6 +243,15 @@ struct OptimizerResult {
   // Likelihood-ratio test of a drift rate against none (Finish).
   bool drift_detected = false;
   bool drift_alias_risk = false;  // detected, but the wall directions are too sparse to trust it
+  // The minima of the graph's cost over the drift rate (TestDrift: the
+  // drift's own basin, with the rates free, and its quarter-turn aliases),
+  // each a map the walls fit, with its share of their likelihood; the
+  // covariances hold their spread about the poses kept (Finish).
+  struct DriftHypothesis {
+    double rate_rad_per_m = 0.0;
+    double weight = 0.0;  // shares sum to 1
+  };
+  std::vector<DriftHypothesis> drift_hypotheses;
   int split_asrs = 0;             // ASRs whose walls were grouped along the path (direction_split_m)
   bool split_used = false;        // ... and the groups kept (Finish)
   double drift_test_chi2 = 0.0;
@@ -373,7 +382,26 @@ class MapOptimizer {
     bool alias_risk = false;
     double alias_chi2 = std::numeric_limits<double>::infinity();  // the best distinct alias's chi2 above the drift's
     std::string warning;
+    // Every minimum of the rates found (the drift's own basin among them),
+    // its poses and its likelihood relative to the best (exp(-delta cost)):
+    // the hypotheses the map's uncertainty must hold whichever was kept.
+    struct Hypothesis {
+      double rate = 0.0;
+      double weight = 1.0;
+      std::vector<Pose2> poses;
+    };
+    std::vector<Hypothesis> hypotheses;
   };
+  // The minima of the graph's cost over a common change of every rate
+  // (TestDrift): the one of 'rate' first (cost 'cost', state 'state'), then
+  // its aliases, each solved; the graph is left in an unspecified state.
+  struct RateMinimum {
+    double rate, cost;
+    PoseGraph::State state;
+  };
+  // '*gap_m': the longest stretch of the path without a wall direction.
+  std::vector<RateMinimum> FindRateMinima(double rate, double cost, const PoseGraph::State& state, double quantile,
+                                          int* solved, double* gap_m);
   // The drift test; with likelihood_ratio_only, the likelihood-ratio test
   // alone (detected: the rates lower the cost beyond the quantile), without
   // the aliases' search.

@@ -139,7 +139,12 @@ localize::HeadingCorrectionOptions HeadingOptionsFor(const sensors::RobotDescrip
 // model (0.35, 0.6, 0.02) the graph pulled good scan odometry towards its
 // wall directions: worse than its input in 28 of the bench's 60 laser runs
 // (docs/BENCHMARKS.md, "Laser odometry"). The variance components scale it
-// as they do the wheels'; the drift-rate prior stays.
+// as they do the wheels'. Its drift rate's prior is 0.5 deg/m, not the
+// wheels' 3: the scans measure the heading at every match, so a drift
+// would be a bias of every match, each erring by about 0.1 degree at
+// random; under the wheels' prior a quarter-turn alias of no drift (7.7
+// deg/m over a 12 m laser run) kept 7 % of the likelihood, and good laser
+// maps were flagged uncertain (docs/inputs.md, "Laser odometry").
 graph::OdometryNoiseOptions ScanOdometryNoise() {
   graph::OdometryNoiseOptions wheels;
   wheels.heading_sigma_rad_per_sqrt_m = DegToRad(0.1);
@@ -150,6 +155,7 @@ graph::OdometryNoiseOptions ScanOdometryNoise() {
   // scans cannot tell remain (with the wheels' 0.01, 2 of bench/never_worse's
   // 40 laser runs had every ASR outside 3 sigma, silently).
   wheels.min_sigma_m = 0.03;
+  wheels.rate_prior_sigma_rad_per_m = DegToRad(0.5);
   return wheels;
 }
 

@@ -65,6 +65,9 @@ nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStr
   }
   for (const auto& e : g.asrs)
     if (e.uncertain) uncertain.push_back({{"id", e.asr_id}, {"why", e.why}});
+  nlohmann::json hypotheses = nlohmann::json::array();
+  for (const auto& h : g.drift_hypotheses)
+    hypotheses.push_back({{"rate_deg_per_m", RadToDeg(h.rate_rad_per_m)}, {"weight", h.weight}});
   const nlohmann::json closures = streams->Add([&g, k = size_t{0}](nlohmann::json* out) mutable {
     if (k >= g.closures.size()) return false;
     *out = ClosureJson(g.closures[k++]);
@@ -92,6 +95,7 @@ nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStr
           {"variance_factor", g.variance_factor},
           {"drift_detected", g.drift_detected},
           {"drift_alias_risk", g.drift_alias_risk},
+          {"drift_hypotheses", hypotheses},
           {"direction_split_asrs", g.split_asrs},
           {"direction_split_used", g.split_used},
           {"drift_test_chi2", g.drift_test_chi2},
