@@ -1304,9 +1304,18 @@ OptimizerResult MapOptimizer::Finish() {
   // (bench/never_worse: 5 of 120 runs, aria/triangle with 8 sonars at 2
   // deg/m with 0 of 3 ASRs within 3 sigma; docs/pose-graph.md).
   std::vector<Eigen::Matrix3d> spread(N, Eigen::Matrix3d::Zero());
+  // A solve that failed (a cost not finite) is no hypothesis.
+  auto usable = [](const DriftDecision::Hypothesis& h) {
+    if (!std::isfinite(h.weight) || !std::isfinite(h.rate)) return false;
+    for (const Pose2& p : h.poses)
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.theta)) return false;
+    return true;
+  };
   double total = 0.0;
-  for (const auto& h : drift.hypotheses) total += h.weight;
+  for (const auto& h : drift.hypotheses)
+    if (usable(h)) total += h.weight;
   for (const auto& h : drift.hypotheses) {
+    if (!usable(h) || !(total > 0.0)) continue;
     const double w = h.weight / total;
     res.drift_hypotheses.push_back({h.rate, w});
     if (cov.empty()) continue;
