@@ -871,17 +871,12 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift(bool likelihood_ratio_only) 
   // quarter-turn alias that fits almost as well (aria/triangle with 8
   // sonars at 2 deg/m: no drift found, the truth on an alias 90 degrees
   // away, 0 of 3 ASRs within 3 sigma).
-  // 'home': the state standing for the drift's own basin (the rates held
-  // at zero when the test found no drift).
-  auto record = [&](const PoseGraph::State& home) {
-    for (size_t k = 0; k < minima.size(); ++k) {
-      graph_.Restore(k == 0 ? home : minima[k].state);
-      out.hypotheses.push_back({minima[k].rate, std::exp(-(minima[k].cost - minima[best].cost)), CurrentPoses()});
-    }
-  };
+  // (The graph is restored to the hypothesis kept below.)
+  for (const RateMinimum& m : minima) {
+    graph_.Restore(m.state);
+    out.hypotheses.push_back({m.rate, std::exp(-(m.cost - minima[best].cost)), CurrentPoses()});
+  }
   if (!out.detected) {
-    graph_.SetRatesFixedAtZero(false);
-    record(minima[0].state);
     // Aliases that fit about as well as the drift's own basin: the drift is
     // left at zero (the test found none), and the user is told.
     int close = 0;
@@ -926,8 +921,6 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift(bool likelihood_ratio_only) 
   const double odds = alias_weight > 0.0 ? 1.0 / alias_weight : std::numeric_limits<double>::infinity();
   const bool beats_alias = odds >= std::max(1.0, options_.alias_min_odds);
   const bool keep = !out.alias_risk || (out.chi2 > strict && beats_alias);
-  graph_.SetRatesFixedAtZero(false);
-  record(minima[0].state);
   if (keep) {
     graph_.SetRatesFixedAtZero(false);
     graph_.Restore(drift_state);
