@@ -652,6 +652,7 @@ void MapOptimizer::TryLoopClosures(int n) {
   std::vector<CandidateEval> evals(cands.size());
   ForEachShared(cands.size(), options_.threads,
                 [&](size_t i) { evals[i] = EvaluateCandidate(n, cands[i].k, cur_samples); });
+  std::vector<Implied> implied;
   for (size_t ci = 0; ci < cands.size(); ++ci) {
     const int k = cands[ci].k;
     const CandidateEval& ev = evals[ci];
@@ -720,8 +721,81 @@ void MapOptimizer::TryLoopClosures(int n) {
     closure_factor_.push_back(graph_.AddRelative(k, n, best.reg.target_from_source, best.reg.covariance,
                                                  FactorKind::kLoopClosure, 2.0, &to_k, &to_n));
     closure_index_.push_back(static_cast<int>(closures_.size()));
+    {
+      const Pose2 world = graph_.pose(k) * BendAt(to_k, rate_k) * best.reg.target_from_source *
+                          BendAt(to_n, rate_n).inverse();
+      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+      R.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(graph_.pose(k).theta).toRotationMatrix();
+      implied.push_back({closures_.size(), closure_factor_.size() - 1, k, world, R * best.reg.covariance * R.transpose()});
+    }
     closures_.push_back(lc);
   }
+  // Two closures of the new ASR must place it alike: the stored ASRs they
+  // reach are held to each other by the graph (closely, when they are
+  // neighbours), so the two places they imply differ by no more than their
+  // covariances and the odometry between the two stored ASRs allow. When
+  // they differ more, one of them is wrong and the walls cannot say which
+  // (hallway_loop driven twice: its new corridor piece closed on the two
+  // stored pieces it overlaps, 2-5 m apart along the corridor, both wrong);
+  // neither is kept. The closures of the ASR before it count too, carried
+  // to this one by the graph's odometry between the two.
+  const size_t own = implied.size();
+  if (prev_implied_node_ == n - 1) {
+    const Pose2 step = graph_.pose(n - 1).inverse() * graph_.pose(n);
+    const double var_step = std::max(0.0, cur.var_prefix - nodes_[n - 1].var_prefix);
+    const double heading_step = std::max(0.0, cur.heading_var - nodes_[n - 1].heading_var);
+    for (Implied im : prev_implied_) {
+      if (!closures_[im.closure].accepted) continue;
+      im.world = im.world * step;
+      im.cov(0, 0) += var_step;
+      im.cov(1, 1) += var_step;
+      im.cov(2, 2) += heading_step;
+      implied.push_back(im);
+    }
+  }
+  const double gate3 = ChiSquareQuantile(options_.gate_probability, 3);
+  std::vector<int> disagrees(implied.size(), -1);
+  for (size_t a = 0; a < implied.size(); ++a)
+    for (size_t b = a + 1; b < implied.size(); ++b) {
+      const Implied &A = implied[a], &B = implied[b];
+      Eigen::Matrix3d C = A.cov + B.cov;
+      const double between = std::abs(nodes_[A.k].var_prefix - nodes_[B.k].var_prefix) + 0.01;
+      C(0, 0) += between;
+      C(1, 1) += between;
+      C(2, 2) += std::abs(nodes_[A.k].heading_var - nodes_[B.k].heading_var) + DegToRad(1.0) * DegToRad(1.0);
+      const Eigen::Vector3d d = Difference(A.world, B.world);
+      if (d.dot(C.ldlt().solve(d)) > gate3) {
+        if (disagrees[a] < 0) disagrees[a] = static_cast<int>(b);
+        if (disagrees[b] < 0) disagrees[b] = static_cast<int>(a);
+      }
+    }
+  bool dropped = false;
+  for (size_t a = 0; a < implied.size(); ++a) {
+    if (disagrees[a] < 0) continue;
+    const Implied& other = implied[disagrees[a]];
+    LoopClosure& lc = closures_[implied[a].closure];
+    lc.accepted = false;
+    lc.same_room = false;
+    lc.reason = "disagrees with the closure to ASR " + std::to_string(nodes_[other.k].asr_id) + " (places it " +
+                std::to_string((implied[a].world.translation() - other.world.translation()).norm()).substr(0, 4) +
+                " m apart)";
+    graph_.SetRelativeEnabled(closure_factor_[implied[a].factor], false);
+    dropped = true;
+  }
+  if (dropped) {
+    // The room identities from the closures that stand.
+    for (size_t a = 0; a < implied.size(); ++a) {
+      Node& to = nodes_[node_of_asr_.at(closures_[implied[a].closure].to_asr)];
+      to.room_id = to.asr_id;
+    }
+    for (size_t a = 0; a < implied.size(); ++a) {
+      const LoopClosure& lc = closures_[implied[a].closure];
+      if (lc.accepted && lc.same_room) nodes_[node_of_asr_.at(lc.to_asr)].room_id = nodes_[implied[a].k].room_id;
+    }
+  }
+  implied.resize(own);
+  prev_implied_ = std::move(implied);
+  prev_implied_node_ = n;
 }
 
 MapOptimizer::Consistency MapOptimizer::MapConsistency(const std::vector<Pose2>& poses,

@@ -452,6 +452,19 @@ class MapOptimizer {
   std::vector<LoopClosure> closures_;
   std::vector<int> closure_factor_;  // per accepted closure: its AddRelative index
   std::vector<int> closure_index_;   // per accepted closure: index into closures_
+  // The closures TryLoopClosures accepted for one new ASR, each with the
+  // world pose of that ASR it implies and that pose's covariance (the
+  // registration's, turned into the world frame): the last call's, for the
+  // next one's consistency test.
+  struct Implied {
+    size_t closure;  // in closures_
+    size_t factor;   // in closure_factor_
+    int k;           // the stored ASR's node
+    Pose2 world;
+    Eigen::Matrix3d cov;
+  };
+  std::vector<Implied> prev_implied_;
+  int prev_implied_node_ = -1;
   int registrations_ = 0;
   // Weighted sums over the placed ASRs' direction factors (weight 1 /
   // sigma^2, s the distance driven to where the walls were seen): the
