@@ -445,6 +445,19 @@ TEST(MapOptimizer, DriftThatItsAliasFitsAsWellIsNotCorrected) {
     EXPECT_NEAR(AngleDiff(r.asrs[i].pose.theta, asrs[i].world_from_local_raw.theta), 0.0, DegToRad(2.0)) << i;
 }
 
+// A corridor driven 60 m, an ASR every 5 m, rooms (with walls) at 0, 20
+// and 60 m only.
+std::vector<Visit> CorridorWithRoomsAt0And20And60() {
+  std::vector<Visit> v;
+  for (int i = 0; i <= 12; ++i) {
+    const double x = 5.0 * i;
+    Visit s{{}, Pose2{x, 0.0, 0.0}};
+    if (i == 0 || i == 4 || i == 12) s.walls_world = Box(x - 2, -2, x + 2, 2);
+    v.push_back(s);
+  }
+  return v;
+}
+
 // Rooms 20 and 40 m apart along a corridor (walls at 0, 20 and 60 m), 2
 // deg/m: the longest stretch without walls (40 m) has its aliases 2.25 deg/m
 // away, which turn the room at 20 m by 45 degrees and fit nothing; but 4.5
@@ -454,13 +467,7 @@ TEST(MapOptimizer, DriftThatItsAliasFitsAsWellIsNotCorrected) {
 // drift is said to be ambiguous, and kept only when it is likelier than
 // its aliases together by the odds asked for (here about 1:1: not kept).
 TEST(MapOptimizer, AnAliasOfTheWholePathIsFoundNotOnlyTheLongestGaps) {
-  std::vector<Visit> v;
-  for (int i = 0; i <= 12; ++i) {
-    const double x = 5.0 * i;
-    Visit s{{}, Pose2{x, 0.0, 0.0}};
-    if (i == 0 || i == 4 || i == 12) s.walls_world = Box(x - 2, -2, x + 2, 2);
-    v.push_back(s);
-  }
+  const std::vector<Visit> v = CorridorWithRoomsAt0And20And60();
   const auto asrs = Simulate(v, DegToRad(2.0));
   MapOptimizer opt;
   const OptimizerResult r = PlaceAll(opt, asrs);
@@ -480,13 +487,7 @@ TEST(MapOptimizer, AnAliasOfTheWholePathIsFoundNotOnlyTheLongestGaps) {
 // well as the truth and pays nothing to the rate prior: it is what the map
 // keeps. Its covariances must still hold the truth, an alias of it.
 TEST(MapOptimizer, TheCovariancesHoldADriftTheTestLeftAtAnAlias) {
-  std::vector<Visit> v;
-  for (int i = 0; i <= 12; ++i) {
-    const double x = 5.0 * i;
-    Visit s{{}, Pose2{x, 0.0, 0.0}};
-    if (i == 0 || i == 4 || i == 12) s.walls_world = Box(x - 2, -2, x + 2, 2);
-    v.push_back(s);
-  }
+  const std::vector<Visit> v = CorridorWithRoomsAt0And20And60();
   const double truth = DegToRad(4.5);
   const auto asrs = Simulate(v, truth);
   MapOptimizer opt;
