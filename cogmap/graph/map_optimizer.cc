@@ -13,6 +13,14 @@
 namespace cogmap::graph {
 namespace {
 
+// A pose covariance (x, y, theta) of one frame, in a frame turned by theta
+// from it.
+Eigen::Matrix3d TurnedCovariance(const Eigen::Matrix3d& cov, double theta) {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  R.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(theta).toRotationMatrix();
+  return R * cov * R.transpose();
+}
+
 double Seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -313,9 +321,7 @@ asr::Asr MapOptimizer::Place(asr::Asr a, std::unique_ptr<asr::PlacementWork> wor
       // odometry is a factor.
       Eigen::Matrix3d prior = m.covariance;
       prior(2, 2) += std::pow(options_.odometry.rate_prior_sigma_rad_per_m * m.distance_m, 2);
-      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-      R.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(m.delta.theta).toRotationMatrix();
-      prior = R * prior * R.transpose();
+      prior = TurnedCovariance(prior, m.delta.theta);
       Registration reg = RegisterWalls(prev.faces, node.faces, guess, options_.registration, &prior);
       if (reg.converged && reg.match_fraction >= options_.min_match_fraction && reg.matches >= options_.min_matches &&
           reg.degenerate_directions == 0) {
@@ -721,13 +727,9 @@ void MapOptimizer::TryLoopClosures(int n) {
     closure_factor_.push_back(graph_.AddRelative(k, n, best.reg.target_from_source, best.reg.covariance,
                                                  FactorKind::kLoopClosure, 2.0, &to_k, &to_n));
     closure_index_.push_back(static_cast<int>(closures_.size()));
-    {
-      const Pose2 world = graph_.pose(k) * BendAt(to_k, rate_k) * best.reg.target_from_source *
-                          BendAt(to_n, rate_n).inverse();
-      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-      R.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(graph_.pose(k).theta).toRotationMatrix();
-      implied.push_back({closures_.size(), closure_factor_.size() - 1, k, world, R * best.reg.covariance * R.transpose()});
-    }
+    implied.push_back({closures_.size(), closure_factor_.size() - 1, k,
+                       graph_.pose(k) * BendAt(to_k, rate_k) * best.reg.target_from_source * BendAt(to_n, rate_n).inverse(),
+                       TurnedCovariance(best.reg.covariance, graph_.pose(k).theta)});
     closures_.push_back(lc);
   }
   // Two closures of the new ASR must place it alike: the stored ASRs they
@@ -782,20 +784,19 @@ void MapOptimizer::TryLoopClosures(int n) {
     graph_.SetRelativeEnabled(closure_factor_[implied[a].factor], false);
     dropped = true;
   }
-  if (dropped) {
-    // The room identities from the closures that stand.
-    for (size_t a = 0; a < implied.size(); ++a) {
-      Node& to = nodes_[node_of_asr_.at(closures_[implied[a].closure].to_asr)];
-      to.room_id = to.asr_id;
-    }
-    for (size_t a = 0; a < implied.size(); ++a) {
-      const LoopClosure& lc = closures_[implied[a].closure];
-      if (lc.accepted && lc.same_room) nodes_[node_of_asr_.at(lc.to_asr)].room_id = nodes_[implied[a].k].room_id;
-    }
-  }
+  if (dropped) AssignRoomIds();
   implied.resize(own);
   prev_implied_ = std::move(implied);
   prev_implied_node_ = n;
+}
+
+void MapOptimizer::AssignRoomIds() {
+  // Room identities from the closures that stand (a dropped closure no
+  // longer makes its ASR a revisit).
+  for (auto& n : nodes_)
+    if (!n.stored) n.room_id = n.asr_id;
+  for (const LoopClosure& lc : closures_)
+    if (lc.accepted && lc.same_room) nodes_[node_of_asr_[lc.to_asr]].room_id = nodes_[node_of_asr_[lc.from_asr]].room_id;
 }
 
 MapOptimizer::Consistency MapOptimizer::MapConsistency(const std::vector<Pose2>& poses,
@@ -924,7 +925,7 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift(bool likelihood_ratio_only) 
   // more than the 99 % chi-square quantile of one degree of freedom
   // (likelihood-ratio test). A few wall directions far apart, each known
   // modulo a quarter turn, can otherwise fit a confident wrong drift.
-  PoseGraph::State drift_state = graph_.Save();
+  const PoseGraph::State drift_state = graph_.Save();
   graph_.SetRatesFixedAtZero(true);
   const PoseGraph::SolveSummary no_drift = graph_.Solve(0, options_.full_iterations);
   const PoseGraph::State no_drift_state = graph_.Save();
@@ -971,10 +972,7 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift(bool likelihood_ratio_only) 
   }
   // The most likely of the minima is the drift; the others its aliases,
   // weighed together: the drift's odds are its likelihood over theirs summed.
-  if (best != 0) {
-    drift_state = minima[best].state;
-    out.chi2 = 2.0 * (no_drift.final_cost - minima[best].cost);
-  }
+  if (best != 0) out.chi2 = 2.0 * (no_drift.final_cost - minima[best].cost);
   double alias_weight = 0.0;
   int close = 0;
   for (size_t k = 0; k < minima.size(); ++k) {
@@ -997,7 +995,7 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift(bool likelihood_ratio_only) 
   const bool keep = !out.alias_risk || (out.chi2 > strict && beats_alias);
   if (keep) {
     graph_.SetRatesFixedAtZero(false);
-    graph_.Restore(drift_state);
+    graph_.Restore(minima[best].state);
   } else {
     graph_.SetRatesFixedAtZero(true);
     graph_.Restore(no_drift_state);
@@ -1019,7 +1017,6 @@ std::vector<MapOptimizer::RateMinimum> MapOptimizer::FindRateMinima(double rate,
                                                                     const PoseGraph::State& state, double quantile,
                                                                     int* solved, double* gap_m) {
   const int N = static_cast<int>(nodes_.size());
-  PoseGraph::State drift_state = state;
   // Aliasing: wall directions known modulo 90 degrees and far apart are
   // fitted as well by a rate that turns the heading by a quarter turn
   // more between them (the start of the run counts as a direction: its
@@ -1048,7 +1045,7 @@ std::vector<MapOptimizer::RateMinimum> MapOptimizer::FindRateMinima(double rate,
   // directions there are many (CARMEN intel as a 16-sonar ring, 1 deg/m
   // added: minima every 0.2-0.4 deg/m, five of them within the test's
   // quantile of the best).
-  std::vector<RateMinimum> minima{{rate, cost, drift_state}};
+  std::vector<RateMinimum> minima{{rate, cost, state}};
   if (gap > 1.0 && s > 0.0) {
     const double period = (kPi / 2.0) / s;
     const double step = period / 16.0;
@@ -1065,7 +1062,7 @@ std::vector<MapOptimizer::RateMinimum> MapOptimizer::FindRateMinima(double rate,
     std::vector<double> deltas;
     for (double r = lo; r <= hi; r += step) deltas.push_back(r - rate);
     graph_.SetRatesFixedAtZero(false);
-    graph_.Restore(drift_state);  // the profile is taken about the drift's solution
+    graph_.Restore(state);  // the profile is taken about the drift's solution
     const std::vector<double> profile = graph_.DirectionProfile(deltas);
     const size_t n_d = profile.size();
     if (n_d >= 3) {
@@ -1284,12 +1281,7 @@ OptimizerResult MapOptimizer::Finish() {
                              "the odometry");
     }
   }
-  // Room identities from the closures that stand (a dropped closure no
-  // longer makes its ASR a revisit).
-  for (auto& n : nodes_)
-    if (!n.stored) n.room_id = n.asr_id;
-  for (const LoopClosure& lc : closures_)
-    if (lc.accepted && lc.same_room) nodes_[node_of_asr_[lc.to_asr]].room_id = nodes_[node_of_asr_[lc.from_asr]].room_id;
+  AssignRoomIds();
   res.solve_seconds = solve_seconds_ + Seconds(t0);
   // Chi-square of the solved graph.
   const std::vector<PoseGraph::FactorResidual> final_residuals = graph_.Residuals();

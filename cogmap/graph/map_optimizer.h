@@ -465,6 +465,9 @@ class MapOptimizer {
   };
   std::vector<Implied> prev_implied_;
   int prev_implied_node_ = -1;
+  // Each node's room: its own, or the room of the stored ASR an accepted
+  // same-room closure revisits (in the closures' order).
+  void AssignRoomIds();
   int registrations_ = 0;
   // Weighted sums over the placed ASRs' direction factors (weight 1 /
   // sigma^2, s the distance driven to where the walls were seen): the
