@@ -206,7 +206,8 @@ std::function<int()> SetupMap(CLI::App& sub) {
   sub.add_flag("--raw", a->job.raw, "Draw the master map at the raw odometry poses (the store keeps both)");
   sub.add_flag("--resume", a->job.resume,
                "Continue into OUTDIR/map.sqlite: new ASRs append with the next ids; the log's first pose is "
-               "taken to be where the stored run ended");
+               "taken to be where the stored run ended. Given the log the store was mapped from (a killed run's), "
+               "the run continues from the record where the stored one stopped (docs/store.md '--resume')");
   sub.add_option("--world", a->job.world,
                  "Ground-truth world (2D-Map with Room cairns): adds room_precision / room_recall to report.json");
   sub.add_option("-o,--output", a->job.output_dir, "Output folder (created)")->required();

@@ -30,7 +30,10 @@ Each trial:
      `cogmap map TAIL --resume` where TAIL is the log from the record at which
      the store's last ASR was written (its last_raw_pose); it must exit 0 with
      a store that passes integrity_check, keep every stored ASR's walls, and
-     its ASR and room counts are compared with the uninterrupted run's.
+     its ASR and room counts are compared with the uninterrupted run's; and
+     `cogmap map LOG --resume` with the whole log into another copy must skip
+     what the store holds (report.json resumed_after_record) and make the
+     tail's map (the same ASR count and plan.json).
 
 Prints one line per trial and the figures at the end; exit status 1 when any
 check failed.
@@ -153,6 +156,16 @@ def classify(folder, ref_hashes, ref_run_id, scratch):
     return "new"
 
 
+def store_alone(store, folder):
+    """A new folder holding a copy of 'store' (and its -wal) alone; returns it."""
+    shutil.rmtree(folder, ignore_errors=True)
+    os.makedirs(folder)
+    shutil.copyfile(store, os.path.join(folder, "map.sqlite"))
+    if os.path.exists(store + "-wal"):
+        shutil.copyfile(store + "-wal", os.path.join(folder, "map.sqlite-wal"))
+    return folder
+
+
 def index_log(path):
     """Byte offset of the first record line, and (offset, time, x, y, theta) of every ODOM line."""
     header_end, odoms = None, []
@@ -249,6 +262,7 @@ def main():
     seen_rows = {}  # ASR id -> row, from killed runs' stores before the end-of-run rewrite
     rows_compared = rows_equal = 0
     resumed, resume_ok, resume_skipped = 0, 0, {}
+    same_log_resumed = []
     asr_diffs, room_diffs, resume_secs, kept_asrs, pose_diffs = [], [], [], [], []
     for trial in range(args.trials + args.commit_trials):
         at_commit = trial >= args.trials
@@ -327,12 +341,7 @@ def main():
                 start, dist = find_resume_record(odoms, end_time, pose)
                 check(start is not None and dist < 1e-6,
                       "trial %d: no ODOM line at last_raw_pose %s (nearest %s)" % (trial, pose, dist))
-                rdir = j("resume")
-                shutil.rmtree(rdir, ignore_errors=True)
-                os.makedirs(rdir)
-                shutil.copyfile(partial, os.path.join(rdir, "map.sqlite"))
-                if os.path.exists(partial + "-wal"):
-                    shutil.copyfile(partial + "-wal", os.path.join(rdir, "map.sqlite-wal"))
+                rdir = store_alone(partial, j("resume"))
                 tail = j("tail.log")
                 write_tail(log, header_end, start, tail)
                 t1 = time.monotonic()
@@ -358,6 +367,26 @@ def main():
                     if rooms is not None and ref_rooms is not None:
                         room_diffs.append(rooms - ref_rooms)
                     line += ", resumed: %d ASRs (%+d), %s rooms" % (rep["asr_count"], asr_diffs[-1], rooms)
+                if ok:
+                    # The same store resumed with the whole log: it knows that log (its
+                    # fingerprint) and where it stopped, skips to that record and must
+                    # make the tail's map.
+                    sdir = store_alone(partial, j("resume_same"))
+                    r2 = run([cogmap, "map", log, "--resume", "-o", sdir, "--outputs", "svg"])
+                    ok = check(r2.returncode == 0, "trial %d: resume with the whole log: exit %d: %s"
+                               % (trial, r2.returncode, r2.stderr))
+                    if ok:
+                        rep2 = json.load(open(os.path.join(sdir, "report.json")))
+                        skipped = rep2.get("resumed_after_record", 0)
+                        ok = check(skipped > 0, "trial %d: resume with the whole log mapped it from its start" % trial)
+                        if ok and rep2["records"] > 0:
+                            same = (rep2["asr_count"] == rep["asr_count"] and
+                                    open(os.path.join(sdir, "plan.json")).read() ==
+                                    open(os.path.join(rdir, "plan.json")).read())
+                            ok = check(same, "trial %d: resume with the whole log (%d ASRs) differs from the tail's (%d)"
+                                       % (trial, rep2["asr_count"], rep["asr_count"]))
+                        same_log_resumed.append(ok)
+                        line += ", whole log: after record %d%s" % (skipped, ", same map" if ok else "")
                 resume_ok += ok
         print(line, flush=True)
 
@@ -386,6 +415,9 @@ def main():
         # in the store (schema 6) they ended a median 4.6 m away.
         check(max(pose_diffs) < 0.5, "resumed runs place the killed run's ASRs %.3f m from the uninterrupted run's"
               % max(pose_diffs))
+    if same_log_resumed:
+        print("  resumed with the whole log (skipping what the store holds): %d of %d the tail's map"
+              % (sum(same_log_resumed), len(same_log_resumed)))
     if resume_secs:
         print("  resume run: median %.1f s" % statistics.median(resume_secs))
     print("  failures: %d" % len(failures))

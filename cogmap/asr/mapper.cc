@@ -392,6 +392,7 @@ void CognitiveMapper::Close(const std::optional<Exit>& exit, double end_time_s) 
   a.path_turn_rad.resize(a.path.size());
   if (exit) a.exits.push_back(*exit);
   a.end_time_s = std::max(a.start_time_s, end_time_s);
+  current_->records_through = first_record_ + stats_.records;
   if (options_.close_in_background && !odometry_filter_) {
     if (!worker_)
       worker_ = std::make_unique<Worker>(
@@ -497,10 +498,13 @@ Asr CognitiveMapper::Place(std::unique_ptr<Current> closing, const Pose2& last_r
     out.path = std::move(c.raw_path);
     out.heading_correction_rad = (out.world_from_local_corrected * out.world_from_local_raw.inverse()).theta;
   }
+  const long records_through = closing->records_through;
   closing.reset();
   if (store_) {
     store_->Put(out, {{kMetaLastRawPose, PoseText(last_raw_pose)},
-                      {kMetaNextId, std::to_string(next_id)}});
+                      {kMetaNextId, std::to_string(next_id)},
+                      {kMetaLogFingerprint, log_fingerprint_},
+                      {kMetaLastRecord, std::to_string(records_through)}});
   }
   return out;
 }

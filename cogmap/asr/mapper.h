@@ -94,6 +94,12 @@ std::vector<Vec2> SimplifyConvex(std::vector<Vec2> poly, double max_area_loss);
 // Run-state keys written with every ASR (so --resume can continue).
 constexpr const char* kMetaLastRawPose = "last_raw_pose";  // "x y theta"
 constexpr const char* kMetaNextId = "next_asr_id";
+// The log those ASRs were mapped from (io::LogFingerprint; empty: standard
+// input) and how many of its records the run had read when the last of them
+// closed (its last_raw_pose is the pose of that record): `cogmap map --resume`
+// given that log again continues from there instead of mapping it twice.
+constexpr const char* kMetaLogFingerprint = "log_fingerprint";
+constexpr const char* kMetaLastRecord = "last_record";
 // The footprint radius (m) of the robot of the store's last run, shortest
 // round-trip decimal: the floor plan's small-room size scales with it
 // (plan::PlanOptions::robot_radius_m).
@@ -200,6 +206,13 @@ class CognitiveMapper {
   }
   // Before the first Push.
   void Resume(const MapperResume& resume);
+  // The log being mapped (io::LogFingerprint) and how many of its records
+  // come before the first one pushed (skipped by a resumed run): written with
+  // every ASR (kMetaLogFingerprint, kMetaLastRecord). Before the first Push.
+  void SetLogIdentity(std::string fingerprint, long first_record) {
+    log_fingerprint_ = std::move(fingerprint);
+    first_record_ = first_record;
+  }
 
   void Push(const sensors::LogRecord& record);
   // Closes the ASR being mapped (a log that ends mid-room). Idempotent.
@@ -239,6 +252,8 @@ class CognitiveMapper {
     // The turn summed since the last path pose (Asr::path_turn_rad).
     double turn_acc = 0.0, turn_last = 0.0;
     bool turn_started = false;
+    // The records of the log read when it closed (kMetaLastRecord).
+    long records_through = 0;
   };
   struct Buffered {
     long seq;
@@ -283,6 +298,8 @@ class CognitiveMapper {
   bool resumed_ = false;
   std::optional<Pose2> world_from_odom_;
   Pose2 last_raw_pose_;
+  std::string log_fingerprint_;
+  long first_record_ = 0;
   bool finished_ = false;
   MapperStats stats_;
 };

@@ -2,8 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <vector>
+
+#include <zlib.h>
 
 #include "cogmap/core/error.h"
 #include "cogmap/io/carmen_log.h"
@@ -190,6 +195,81 @@ std::unique_ptr<LogReader> OpenLog(const std::string& path, const LogOpenOptions
   std::string known;
   for (const auto& n : LogFormatNames()) known += (known.empty() ? "" : ", ") + n;
   throw InputError(path, 0, "unknown log format '" + format + "' (known: " + known + ")");
+}
+
+namespace {
+constexpr std::uintmax_t kFingerprintBytes = 1u << 20;
+constexpr std::uintmax_t kFolderFileBytes = 64u << 10;
+
+// CRC-32 (zlib) of the first 'bytes' bytes of 'path' continuing 'crc'; false
+// when the file cannot be read or is shorter.
+bool CrcOfPrefix(const std::string& path, std::uintmax_t bytes, uLong* crc) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::vector<char> buf(64u << 10);
+  while (bytes > 0) {
+    const std::streamsize want = static_cast<std::streamsize>(std::min<std::uintmax_t>(bytes, buf.size()));
+    in.read(buf.data(), want);
+    if (in.gcount() != want) return false;
+    *crc = crc32(*crc, reinterpret_cast<const Bytef*>(buf.data()), static_cast<uInt>(want));
+    bytes -= static_cast<std::uintmax_t>(want);
+  }
+  return true;
+}
+
+std::string Hex(uLong crc) {
+  char text[16];
+  std::snprintf(text, sizeof text, "%08lx", crc & 0xfffffffful);
+  return text;
+}
+
+std::string FolderFingerprint(const std::string& path) {
+  std::error_code ec;
+  std::vector<fs::path> files;
+  for (fs::directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_regular_file(ec)) files.push_back(it->path());
+  if (ec || files.empty()) return "";
+  std::sort(files.begin(), files.end());
+  uLong crc = crc32(0L, Z_NULL, 0);
+  for (const fs::path& f : files) {
+    const std::uintmax_t size = fs::file_size(f, ec);
+    if (ec) return "";
+    const std::string head = f.filename().string() + "\n" + std::to_string(size) + "\n";
+    crc = crc32(crc, reinterpret_cast<const Bytef*>(head.data()), static_cast<uInt>(head.size()));
+    if (!CrcOfPrefix(f.string(), std::min(size, kFolderFileBytes), &crc)) return "";
+  }
+  return "folder-crc32 " + Hex(crc);
+}
+}  // namespace
+
+std::string LogFingerprint(const std::string& path) {
+  if (path.empty() || path == "-" || path == kStdinName) return "";
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec) return "";
+  if (fs::is_directory(st)) return FolderFingerprint(path);
+  if (!fs::is_regular_file(st)) return "";  // a pipe or a device: read once
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) return "";
+  const std::uintmax_t bytes = std::min(size, kFingerprintBytes);
+  uLong crc = crc32(0L, Z_NULL, 0);
+  if (!CrcOfPrefix(path, bytes, &crc)) return "";
+  return "crc32 " + Hex(crc) + " " + std::to_string(bytes);
+}
+
+bool IsLogOf(const std::string& path, const std::string& fingerprint) {
+  if (fingerprint.empty()) return false;
+  std::istringstream in(fingerprint);
+  std::string kind, hex;
+  in >> kind >> hex;
+  if (kind == "folder-crc32") return !hex.empty() && LogFingerprint(path) == fingerprint;
+  std::uintmax_t bytes = 0;
+  if (kind != "crc32" || !(in >> bytes) || bytes > kFingerprintBytes) return false;
+  if (path.empty() || path == "-" || path == kStdinName) return false;
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return false;
+  uLong crc = crc32(0L, Z_NULL, 0);
+  return CrcOfPrefix(path, bytes, &crc) && Hex(crc) == hex;
 }
 
 }  // namespace cogmap::io

@@ -101,4 +101,15 @@ sensors::RobotDescription RobotFor(const LogReader& log, const std::string& robo
 // head of standard input only (calling it before OpenLog("-") is fine).
 std::string DetectLogFormat(const std::string& path);
 
+// What identifies a log from one run to the next (`cogmap map --resume`
+// given the log the store was mapped from): "crc32 HEX BYTES", zlib's CRC-32
+// of the file's first BYTES bytes (all of it up to 1 MiB), so that a log
+// that has grown since (a recording still going on) is still that log; for a
+// folder (a ROS 2 bag) "folder-crc32 HEX" over its files' names, sizes and
+// first 64 KiB. Empty for standard input and a path that cannot be read (no
+// identity: such a log is never taken to be the stored one).
+std::string LogFingerprint(const std::string& path);
+// Whether 'path' is the log 'fingerprint' was taken of (or that log grown).
+bool IsLogOf(const std::string& path, const std::string& fingerprint);
+
 }  // namespace cogmap::io

@@ -324,5 +324,36 @@ TEST(StdinLog, StandardInputIsReadOnce) {
   }));
 }
 
+// --resume knows the log a store was mapped from by its fingerprint: the
+// same bytes, or the same log grown since; not another log, nor standard
+// input (read once, no identity).
+TEST(LogFingerprint, TheSameLogOrItGrownSinceButNoOther) {
+  const std::string text = "# cogmap-log 1\nrobot pioneer8\nODOM 0 0 0 0\nSWEEP 0 1 0 1\n";
+  const std::string path = WriteTemp("fingerprint.log", text);
+  const std::string fp = LogFingerprint(path);
+  EXPECT_THAT(fp, ::testing::StartsWith("crc32 "));
+  EXPECT_THAT(fp, ::testing::EndsWith(" " + std::to_string(text.size())));
+  EXPECT_TRUE(IsLogOf(path, fp));
+  EXPECT_TRUE(IsLogOf(WriteTemp("fingerprint_grown.log", text + "ODOM 1 0.1 0 0\n"), fp));
+  std::string changed = text;
+  changed[20] = 'X';
+  EXPECT_FALSE(IsLogOf(WriteTemp("fingerprint_changed.log", changed), fp));
+  EXPECT_FALSE(IsLogOf(WriteTemp("fingerprint_short.log", text.substr(0, 10)), fp));
+  EXPECT_EQ(LogFingerprint("-"), "");
+  EXPECT_FALSE(IsLogOf("-", fp));
+  EXPECT_FALSE(IsLogOf(path, ""));
+  EXPECT_FALSE(IsLogOf(path, "crc32 00000000 999999999999"));
+  EXPECT_EQ(LogFingerprint(path + ".missing"), "");
+  // A folder (a ROS 2 bag): its files' names, sizes and first bytes.
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path() / "fingerprint_bag";
+  std::filesystem::create_directories(dir);
+  WriteTemp("fingerprint_bag/metadata.yaml", "rosbag2_bagfile_information: {}\n");
+  const std::string folder = LogFingerprint(dir.string());
+  EXPECT_THAT(folder, ::testing::StartsWith("folder-crc32 "));
+  EXPECT_TRUE(IsLogOf(dir.string(), folder));
+  WriteTemp("fingerprint_bag/metadata.yaml", "rosbag2_bagfile_information: {x}\n");
+  EXPECT_FALSE(IsLogOf(dir.string(), folder));
+}
+
 }  // namespace
 }  // namespace cogmap::io

@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 
+#include "cogmap/asr/mapper.h"
 #include "cogmap/asr/room_metrics.h"
 #include "cogmap/asr/store.h"
 #include "cogmap/core/angles.h"
@@ -25,6 +26,7 @@
 #include "cogmap/draw/plots.h"
 #include "cogmap/io/atomic_file.h"
 #include "cogmap/io/log_lines.h"
+#include "cogmap/io/log_reader.h"
 #include "cogmap/io/map_files.h"
 #include "cogmap/io/output_folder.h"
 #include "cogmap/io/polyline_io.h"
@@ -182,7 +184,21 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
     for (const auto& s : robot.sensors) beam = std::max(beam, s.beam_width_rad);
     asr::SetSensorBeam(store.get(), beam);
     pipeline = std::make_unique<MappingPipeline>(robot, mapping, store.get());
+    const int stored_max = store->MaxId();
     if (job.resume) pipeline->Resume();
+    // The log's identity goes into the store with every ASR. Resumed with
+    // the log the store was mapped from (or that log grown since), the run
+    // continues where the stored one stopped: its last stored ASR closed at
+    // record N (whose pose is the stored last_raw_pose), so records 1..N-1
+    // are skipped and record N, pushed again, joins the two (docs/store.md).
+    const std::string fingerprint = io::LogFingerprint(from.path());
+    long skip = 0;
+    if (job.resume) {
+      const auto stored = store->GetMeta(asr::kMetaLogFingerprint);
+      const auto last = store->GetMeta(asr::kMetaLastRecord);
+      if (stored && last && io::IsLogOf(from.path(), *stored)) skip = std::max(0L, std::atol(last->c_str()) - 1);
+    }
+    pipeline->SetLogIdentity(fingerprint, skip);
     sensors::LogRecord rec;
     // With threads to spare the log is read on one of its own, ahead of the
     // grids (not standard input: a live robot's stream may pause for long).
@@ -191,6 +207,33 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
     io::LogReader& src = ahead ? static_cast<io::LogReader&>(*ahead) : from;
     try {
       long n = 0;
+      if (skip > 0) {
+        long k = 0;
+        while (k < skip && src.Next(&rec)) ++k;
+        sensors::LogRecord join;
+        const bool has_join = k == skip && src.Next(&join);
+        if (!has_join)
+          throw InputError(from.path() + ": the store was mapped from this log up to record " + std::to_string(skip + 1) +
+                           ", but it has only " + std::to_string(k) +
+                           " records: not the same log (give another log to continue the map)");
+        const bool more = src.Next(&rec);
+        // A run killed after its last room closed (in its end-of-run solve or
+        // its outputs) has every record stored but was never finished: its
+        // rooms are placed and its files written now.
+        const auto through = store->GetMeta(asr::kMetaFinishedThrough);
+        const bool unfinished = through && std::atoi(through->c_str()) < stored_max;
+        if (!more && !unfinished)
+          throw InputError(from.path() + ": nothing to resume: the store already holds this log to its end (all " +
+                           std::to_string(skip + 1) + " records); give the log that continues it");
+        if (job.notice)
+          job.notice(from.path() + ": the store was mapped from this log up to record " + std::to_string(skip + 1) +
+                     (more ? ": continuing from there" : ", its last; finishing the run that was cut short"));
+        if (more) {
+          pipeline->Push(join);
+          pipeline->Push(rec);
+          n = 2;
+        }
+      }
       while (src.Next(&rec)) {
         pipeline->Push(rec);
         if (++n % 256 == 0 && job.progress) job.progress(src.progress(), pipeline->asrs_closed());
@@ -202,7 +245,8 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
       // hold as it goes); SetAsideOnFailure keeps it under failed-run-*. A new
       // store that holds none is no partial result: no failed-run folder for it.
       pipeline.reset();
-      if (!job.resume && store->Count() == 0) {
+      // Nor a resumed store given nothing new (its copy is the map already in place).
+      if ((!job.resume && store->Count() == 0) || (job.resume && store->MaxId() == stored_max)) {
         store.reset();
         std::error_code ec;
         for (const char* suffix : {"", "-wal", "-shm", "-journal"}) fs::remove(folder->Staged("map.sqlite") + suffix, ec);
@@ -291,6 +335,10 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   const localize::HeadingErrorStats heading = localize::ComputeHeadingErrors(all, placed_paths);
   std::optional<asr::RoomMetrics> room_metrics;
   if (truth_plan) room_metrics = asr::EvaluateRooms(all, truth_plan->rooms);
+  // The truth's frame at the first record of the store's first run (walls.json).
+  std::optional<Pose2> first_world_from_map;
+  if (!all.empty() && !all.front().path.empty() && all.front().true_path.size() == all.front().path.size())
+    first_world_from_map = all.front().true_path.front() * all.front().path.front().inverse();
   for (auto& x : all) std::vector<Pose2>().swap(x.true_path);
   // The placed paths are read again from the store for the floor plan: they
   // are not held while the master map's pictures are encoded (5.9 MB at
@@ -307,8 +355,14 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   // walls.json for `cogmap eval` (the master map's walls; map frame = the raw
   // odometry frame of the first run, placed in the truth's world when known),
   // written first: the master map's walls can go once they are drawn.
-  if (!job.resume && run.world_from_map) {
-    const Pose2 w = *run.world_from_map;
+  // A resumed store keeps the frame its first run wrote. One killed before
+  // writing it has it from its first ASR: the truth and the raw pose at the
+  // first record of the first run (a resumed log's first record is where
+  // the drift had taken the odometry by then, not where the frames meet).
+  std::optional<Pose2> world_from_map = run.world_from_map;
+  if (job.resume) world_from_map = store->GetMeta("world_from_map") ? std::nullopt : first_world_from_map;
+  if (world_from_map) {
+    const Pose2 w = *world_from_map;
     store->SetMeta("world_from_map", std::to_string(w.x) + " " + std::to_string(w.y) + " " + std::to_string(w.theta));
   }
   io::WallsFile wf;

@@ -113,6 +113,7 @@ struct RunResult {
   graph::OptimizerResult graph;
   int smoothed = 0;                     // kDriftFilter: ASRs revised by smoothing
   int replayed = 0;                     // --resume: stored ASRs of a run cut short, placed again
+  long skipped_records = 0;             // --resume with the stored run's own log: its records already mapped
   // kDriftFilter: the filter's figures.
   double drift_rate_rad_per_m = 0.0;
   double drift_rate_sigma_rad_per_m = 0.0;
@@ -180,6 +181,13 @@ class MappingPipeline {
   // Continues the stored run: new ASRs take the next ids; the first record's
   // pose is taken to be where the stored run ended.
   void Resume();
+  // The log being mapped (io::LogFingerprint) and the records of it skipped
+  // before the first Push (a resumed run continuing its own log): stored with
+  // every ASR, so that --resume knows where a run of that log stopped.
+  void SetLogIdentity(const std::string& fingerprint, long skipped_records) {
+    mapper_->SetLogIdentity(fingerprint, skipped_records);
+    result_.skipped_records = skipped_records;
+  }
   // Called as each ASR closes (after it is stored).
   void OnAsrClosed(std::function<void(const asr::Asr&, const AsrSummary&)> callback);
 

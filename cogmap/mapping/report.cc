@@ -190,6 +190,7 @@ void WriteReport(const ReportContext& c, std::ostream& out) {
       {"scan_match", ScanMatchJson(job.mapping, run)},
       {"resumed", job.resume},
       {"replayed_asrs", run.replayed},
+      {"resumed_after_record", run.skipped_records},
       {"records", run.records},
       {"asr_count", static_cast<int>(c.all->size())},
       {"asr_count_this_run", static_cast<int>(run.asrs.size())},
