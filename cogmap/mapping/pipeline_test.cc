@@ -543,6 +543,22 @@ size_t RoomCount(const asr::SqliteAsrStore& store) {
 // run: the cut-short ASRs are placed again, so the loop closures among them
 // (the corridor seen three times) and their room identities are not lost.
 // Held fixed as stored, as before, they gave one room per ASR.
+// The log of a generated building of 'rooms' rooms along a corridor of
+// 'corridor_m', driven by 'robot' with the given seed and heading drift.
+std::vector<sensors::LogRecord> SimulatedBuilding(int rooms, double corridor_m, int seed,
+                                                  const sensors::RobotDescription& robot, double drift_rad_per_m) {
+  sim::BuildingOptions bo;
+  bo.rooms = rooms;
+  bo.corridor_m = corridor_m;
+  const FloorPlan plan = sim::GenerateBuilding(bo);
+  sim::SimulatorOptions so;
+  so.seed = seed;
+  so.odometry.drift_rad_per_m = drift_rad_per_m;
+  std::vector<sensors::LogRecord> records;
+  sim::Simulate(plan, robot, so, [&records](const sensors::LogRecord& r) { records.push_back(r); });
+  return records;
+}
+
 // A laser run's scan odometry is decided on its first scans. A run killed
 // and resumed keeps that decision (store meta scan_odometry): the resumed
 // run matches scans from its first record and places the killed run's ASRs
@@ -551,15 +567,8 @@ size_t RoomCount(const asr::SqliteAsrStore& store) {
 // tail's scans: hallway_loop's resumed maps ended at wall p95 0.47-0.57 m
 // against the uninterrupted run's 0.30 (0.29-0.33 now).
 TEST(MappingPipeline, ResumeAfterAKillKeepsTheLaserOdometryDecision) {
-  sim::BuildingOptions bo;
-  bo.rooms = 6;
-  bo.corridor_m = 30.0;
-  const FloorPlan plan = sim::GenerateBuilding(bo);
-  sim::SimulatorOptions so;
-  so.seed = 2;
-  std::vector<sensors::LogRecord> records;
   const sensors::RobotDescription laser = sensors::BuiltinRobot("laser");
-  sim::Simulate(plan, laser, so, [&records](const sensors::LogRecord& r) { records.push_back(r); });
+  const std::vector<sensors::LogRecord> records = SimulatedBuilding(6, 30.0, 2, laser, sim::SimulatorOptions{}.odometry.drift_rad_per_m);
   MappingOptions one_thread;
   one_thread.threads = 1;
   auto whole = asr::SqliteAsrStore::Open(TestTempPath("laser_whole.sqlite"), asr::SqliteAsrStore::OpenMode::kReplace);
@@ -599,16 +608,8 @@ TEST(MappingPipeline, ResumeAfterAKillKeepsTheLaserOdometryDecision) {
 }
 
 TEST(MappingPipeline, ResumeAfterAKillKeepsTheRunsLoopClosuresAndRooms) {
-  sim::BuildingOptions bo;
-  bo.rooms = 8;
-  bo.corridor_m = 40.0;
-  const FloorPlan plan = sim::GenerateBuilding(bo);
-  sim::SimulatorOptions so;
-  so.seed = 1;
-  so.odometry.drift_rad_per_m = DegToRad(1.0);
-  std::vector<sensors::LogRecord> records;
-  sim::Simulate(plan, sensors::BuiltinRobot("pioneer16"), so,
-                [&records](const sensors::LogRecord& r) { records.push_back(r); });
+  const std::vector<sensors::LogRecord> records =
+      SimulatedBuilding(8, 40.0, 1, sensors::BuiltinRobot("pioneer16"), DegToRad(1.0));
 
   // With the pre-bend (--pre-bend): the replayed ASRs are placed with the
   // drift their grids were built without, read back from the store.
