@@ -10,9 +10,12 @@ namespace cogmap::localize {
 
 // Heading error of one ASR: the circular mean, over the poses of its path, of
 // (estimated heading - true heading). path[i] pairs with true_path[i] when both
-// have the same length; else each pose of the shorter one pairs with the pose of
-// the longer one at the nearest fraction of the distance driven through the ASR
-// (truth may be sparser than odometry, e.g. CARMEN logs: laser records only).
+// have the same length; a path longer by poses before its first one with truth
+// (the mapper's sampling: a CARMEN log's odometry before its first laser
+// record) pairs from the end, those poses without a partner, as the trajectory
+// metrics pair them; else (a store whose path was sampled without regard to
+// the truth) each pose of the shorter one pairs with the pose of the longer
+// one at the nearest fraction of the distance driven through the ASR.
 struct AsrHeadingError {
   int asr_id = -1;
   int poses = 0;

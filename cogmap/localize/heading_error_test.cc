@@ -78,6 +78,24 @@ TEST(HeadingError, SparseTruthPairsByDistanceNotByIndex) {
   EXPECT_NEAR(RadToDeg(st.global_rotation_raw_rad), 0.0, 1e-9);
 }
 
+// A CARMEN log's first ASR: odometry poses before the first laser record
+// (no truth) and then a turn on the spot, truth at every pose after those.
+// Paired by distance driven, the spinning poses paired with truth taken
+// while the robot faced elsewhere (the first ASRs of the five CARMEN logs
+// read 2-7 degrees of error); paired from the end, none.
+TEST(HeadingError, LeadingPosesWithoutTruthAreLeftUnpaired) {
+  asr::Asr a;
+  a.path = {{0.0, 0.0, 0.0}, {0.02, 0.0, 0.0}};  // before the first truth
+  for (int i = 0; i < 8; ++i) a.path.push_back({0.03, 0.0, DegToRad(20.0 * i)});  // a turn on the spot
+  for (int i = 1; i <= 10; ++i) a.path.push_back({0.03 + 0.1 * i, 0.0, DegToRad(140.0)});
+  for (size_t k = 2; k < a.path.size(); ++k) a.true_path.push_back(a.path[k]);
+  asr::Asr b = a;
+  const HeadingErrorStats st = ComputeHeadingErrors({a, b});
+  ASSERT_EQ(st.per_asr.size(), 2u);
+  EXPECT_NEAR(st.max_raw_deg, 0.0, 1e-9);
+  EXPECT_NEAR(RadToDeg(st.global_rotation_raw_rad), 0.0, 1e-9);
+}
+
 TEST(HeadingError, NoTruthGivesNoKeys) {
   asr::Asr a;
   a.path = {{0, 0, 0}};
