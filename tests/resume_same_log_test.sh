@@ -9,7 +9,9 @@
 #   2. a store whose run was killed after its last room closed (emulated:
 #      no placements, finished_through -1, no world_from_map): resumed with
 #      its log, the run is finished and the map equals the uninterrupted one;
-#   3. a store of another log resumed with this one: mapped from its start.
+#   3. a store of another log resumed with this one: mapped from its start;
+#   4. a folder holding only a killed run's store (set aside as
+#      failed-run-*-killed): --resume says where it is and how to continue it.
 # (tests/kill_test.py resumes killed runs mid-log with the whole log.)
 #   tests/resume_same_log_test.sh COGMAP SHARED_DIR
 set -eu
@@ -52,6 +54,15 @@ grep -q "finishing the run that was cut short" "$work/err2" || { cat "$work/err2
 # 3. Another log's store: this log is new to it, mapped from its first record.
 "$cogmap" map "$work/other.log" -o "$work/two" > /dev/null 2>&1
 "$cogmap" map "$work/run.log" --resume -o "$work/two" > /dev/null 2>&1
+
+# 4. A folder whose only store is a killed run's, set aside: --resume says where.
+mkdir -p "$work/fresh/failed-run-20260101-000000-1-killed"
+cp "$work/out/map.sqlite" "$work/fresh/failed-run-20260101-000000-1-killed/"
+if "$cogmap" map "$work/run.log" --resume -o "$work/fresh" > /dev/null 2> "$work/err4"; then
+  echo "resuming a folder without a store succeeded"; exit 1
+fi
+grep -q "a killed run's store is in .*failed-run-20260101-000000-1-killed/: continue it with -o" "$work/err4" ||
+  { cat "$work/err4"; exit 1; }
 
 python3 - "$work" <<'PY'
 import json, sys

@@ -79,6 +79,23 @@ std::optional<Pose2> ParsePose(const std::optional<std::string>& text) {
 std::unique_ptr<asr::SqliteAsrStore> OpenStore(io::OutputFolder& folder, bool resume) {
   const std::string store_path = folder.Final("map.sqlite");
   if (resume) {
+    std::error_code ec;
+    if (!fs::exists(store_path, ec)) {
+      // A run killed before it ever committed a map leaves its store in a
+      // failed-run-*-killed folder (set aside when this run opened the
+      // folder): say where, and how to continue it.
+      std::string killed;
+      for (fs::directory_iterator it(fs::path(store_path).parent_path(), ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (name.rfind("failed-run-", 0) == 0 && name.size() > 7 && name.compare(name.size() - 7, 7, "-killed") == 0 &&
+            fs::exists(it->path() / "map.sqlite") && it->path().string() > killed)
+          killed = it->path().string();
+      }
+      if (!killed.empty())
+        throw InputError(store_path, 0,
+                         "no such store; a killed run's store is in " + killed + "/: continue it with -o " + killed +
+                             " --resume (with its log: from where it stopped)");
+    }
     // Every row read where it is, so that a damaged one is named as the
     // user's file, not as the staging copy the run continues.
     const auto original = asr::SqliteAsrStore::Open(store_path, asr::SqliteAsrStore::OpenMode::kReadOnly);
