@@ -352,10 +352,15 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   const localize::HeadingErrorStats heading = localize::ComputeHeadingErrors(all, placed_paths);
   std::optional<asr::RoomMetrics> room_metrics;
   if (truth_plan) room_metrics = asr::EvaluateRooms(all, truth_plan->rooms);
-  // The truth's frame at the first record of the store's first run (walls.json).
+  // The truth's frame at the first record of the store's first run with truth
+  // (walls.json): its path and truth paired from the end, as the trajectory
+  // metrics pair them (a CARMEN log's first poses have no truth).
   std::optional<Pose2> first_world_from_map;
-  if (!all.empty() && !all.front().path.empty() && all.front().true_path.size() == all.front().path.size())
-    first_world_from_map = all.front().true_path.front() * all.front().path.front().inverse();
+  if (!all.empty()) {
+    const asr::Asr& a = all.front();
+    const size_t n = a.path.size(), nt = a.true_path.size(), m = std::min(n, nt);
+    if (m > 0) first_world_from_map = a.true_path[nt - m] * a.path[n - m].inverse();
+  }
   for (auto& x : all) std::vector<Pose2>().swap(x.true_path);
   // The placed paths are read again from the store for the floor plan: they
   // are not held while the master map's pictures are encoded (5.9 MB at
