@@ -1285,6 +1285,13 @@ OptimizerResult MapOptimizer::Finish() {
   res.solve_seconds = solve_seconds_ + Seconds(t0);
   // Chi-square of the solved graph.
   const std::vector<PoseGraph::FactorResidual> final_residuals = graph_.Residuals();
+  // The weighted chi-square and what it is worth (Finish's covariances too).
+  auto weighted = [N](const std::vector<PoseGraph::FactorResidual>& rs) {
+    double chi2 = 0.0, dof = 0.0;
+    for (const auto& r : rs)
+      if (r.enabled) chi2 += r.weight * r.chi2, dof += r.consistency * r.dof;
+    return std::make_pair(chi2, std::max(1.0, dof - 3.0 * (N - 1)));
+  };
   for (const auto& r : final_residuals) {
     if (!r.enabled) continue;
     res.chi2 += r.chi2;
@@ -1293,10 +1300,12 @@ OptimizerResult MapOptimizer::Finish() {
   }
   res.chi2_dof = std::max(1, res.chi2_dof - 3 * (N - 1));
   res.chi2_p999 = ChiSquareQuantile(0.999, res.chi2_dof);
-  if (res.chi2 > res.chi2_p999)
-    res.warnings.push_back("the factors disagree more than their covariances allow (chi2 " +
-                           std::to_string(static_cast<int>(res.chi2)) + " for " + std::to_string(res.chi2_dof) +
-                           " dof): the uncertainties are optimistic");
+  std::tie(res.chi2_weighted, res.chi2_weighted_dof) = weighted(final_residuals);
+  const int weighted_dof = std::max(1, static_cast<int>(std::lround(res.chi2_weighted_dof)));
+  if (res.chi2_weighted > ChiSquareQuantile(0.999, weighted_dof))
+    res.warnings.push_back("the factors disagree more than their covariances allow (weighted chi2 " +
+                           std::to_string(static_cast<int>(res.chi2_weighted)) + " for " +
+                           std::to_string(weighted_dof) + " dof): the uncertainties are optimistic");
   res.registrations = registrations_;
   res.drift_rate_rad_per_m = MeanRate();
   // Covariances scaled by the a-posteriori variance factor chi2 / dof (the
@@ -1307,7 +1316,7 @@ OptimizerResult MapOptimizer::Finish() {
   // scale) was, which no residual of a graph without loops can see.
   t0 = std::chrono::steady_clock::now();
   std::vector<Eigen::Matrix3d> cov;
-  double cov_chi2 = res.chi2;  // chi-square of the model the covariances come from
+  double cov_chi2 = res.chi2_weighted;  // (weighted) chi-square of the model the covariances come from
   if (res.solution != "odometry") {
     // With the rates free even when the test kept them at zero: an
     // undetected drift is still a possible one, and the sigmas must say so.
@@ -1327,9 +1336,7 @@ OptimizerResult MapOptimizer::Finish() {
         graph_.SetSigmaFactor(k, std::max(1.0, fitted[k]));
       }
       // The variance factor below then belongs to the same (floored) model.
-      cov_chi2 = 0.0;
-      for (const auto& r : graph_.Residuals())
-        if (r.enabled) cov_chi2 += r.chi2;
+      cov_chi2 = weighted(graph_.Residuals()).first;
     }
     // The run's drift rate's uncertainty: the root mean square of its
     // nodes' marginal sigmas (the rate reported is their mean; strongly
@@ -1386,7 +1393,7 @@ OptimizerResult MapOptimizer::Finish() {
     }
   }
   res.covariance_seconds = Seconds(t0);
-  const double factor = cov_chi2 / res.chi2_dof;
+  const double factor = cov_chi2 / res.chi2_weighted_dof;
   const double inflate =
       res.chi2_dof >= options_.min_dof_to_shrink ? std::max(options_.min_variance_factor, factor) : std::max(1.0, factor);
   res.variance_factor = inflate;

@@ -239,6 +239,14 @@ struct OptimizerResult {
   double chi2 = 0.0;
   int chi2_dof = 0;
   double chi2_p999 = 0.0;      // the 99.9 % quantile for chi2_dof
+  // The same as the solve weighs the factors (each chi2 times its robust
+  // loss's weight, a factor the loss discounts as an outlier counting for
+  // little), against what that sum is worth when every sigma is right (each
+  // factor's consistency x its dof, less the parameters): what the
+  // disagreement warning and the variance factor use. An outlier is named
+  // with its ASR instead (its walls off the building direction).
+  double chi2_weighted = 0.0;
+  double chi2_weighted_dof = 1.0;
   double variance_factor = 1.0;  // applied to every covariance
   // Likelihood-ratio test of a drift rate against none (Finish).
   bool drift_detected = false;

@@ -665,6 +665,19 @@ void PoseGraph::SetDirectionBend(bool on, const std::vector<double>& rate_varian
   }
 }
 
+namespace {
+double CauchyConsistency(int dof, double a);
+// CauchyConsistency for a factor, remembered per (dof, scale): a run asks for
+// the same few pairs again and again (each thread keeps the ones it computed).
+double Consistency(int dof, double cauchy_scale) {
+  thread_local std::map<std::pair<int, double>, double> kappa;
+  const std::pair<int, double> key{dof, cauchy_scale};
+  auto it = kappa.find(key);
+  if (it == kappa.end()) it = kappa.emplace(key, CauchyConsistency(dof, cauchy_scale)).first;
+  return it->second;
+}
+}  // namespace
+
 std::vector<PoseGraph::FactorResidual> PoseGraph::Residuals() const {
   std::vector<FactorResidual> out;
   std::vector<int> rel_of(impl_->factors.size(), -1);
@@ -675,7 +688,14 @@ std::vector<PoseGraph::FactorResidual> PoseGraph::Residuals() const {
     f.cost->Evaluate(f.params.data(), r, nullptr);
     double chi2 = 0.0;
     for (int a = 0; a < f.dof; ++a) chi2 += r[a] * r[a];
-    out.push_back({f.kind, f.i, f.j, rel_of[k], chi2, f.dof, f.enabled, f.part_scale ? r[2] * r[2] : 0.0});
+    FactorResidual x{f.kind, f.i, f.j, rel_of[k], chi2, f.dof, f.enabled, f.part_scale ? r[2] * r[2] : 0.0};
+    if (f.loss) {
+      double rho[3];
+      f.loss->Evaluate(chi2, rho);
+      x.weight = rho[1];
+      x.consistency = Consistency(f.dof, f.cauchy_scale);
+    }
+    out.push_back(x);
   }
   return out;
 }
@@ -907,16 +927,8 @@ std::vector<PoseGraph::FactorRedundancy> PoseGraph::Redundancies() const {
     out[k].redundancy = std::clamp(factors[k].dof - JSJ.trace(), 0.0, static_cast<double>(factors[k].dof));
     if (factors[k].part_scale) out[k].redundancy_heading = std::clamp(1.0 - JSJ(2, 2), 0.0, 1.0);
   }
-  // (A run asks for the same few (dof, scale) pairs in every round of the
-  // variance components: each thread keeps the ones it computed.)
-  thread_local std::map<std::pair<int, double>, double> kappa;
-  for (size_t k = 0; k < factors.size(); ++k) {
-    if (!factors[k].enabled) continue;
-    const std::pair<int, double> key{factors[k].dof, factors[k].cauchy_scale};
-    auto it = kappa.find(key);
-    if (it == kappa.end()) it = kappa.emplace(key, CauchyConsistency(key.first, key.second)).first;
-    out[k].consistency = it->second;
-  }
+  for (size_t k = 0; k < factors.size(); ++k)
+    if (factors[k].enabled) out[k].consistency = Consistency(factors[k].dof, factors[k].cauchy_scale);
   return out;
 }
 

@@ -203,6 +203,10 @@ class PoseGraph {
     int dof = 0;
     bool enabled = true;
     double chi2_heading = 0.0;  // kOdometry: the part of chi2 from the heading (1 of its 3 dof)
+    // The robust loss's slope at chi2, rho'(chi2) (1 without a loss): what
+    // the solve weighs the factor by; and what weight x chi2 is worth per
+    // dof when the factor's sigma is right (Redundancy::consistency).
+    double weight = 1.0, consistency = 1.0;
   };
   std::vector<FactorResidual> Residuals() const;
 

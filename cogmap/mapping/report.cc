@@ -92,6 +92,8 @@ nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStr
           {"chi2", g.chi2},
           {"chi2_dof", g.chi2_dof},
           {"chi2_p999", g.chi2_p999},
+          {"chi2_weighted", g.chi2_weighted},
+          {"chi2_weighted_dof", g.chi2_weighted_dof},
           {"variance_factor", g.variance_factor},
           {"drift_detected", g.drift_detected},
           {"drift_alias_risk", g.drift_alias_risk},
