@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -9,6 +10,7 @@
 
 #include "cogmap/asr/room_metrics.h"
 #include "cogmap/asr/store.h"
+#include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
 #include "cogmap/core/text.h"
 #include "cogmap/eval/plan_metrics.h"
@@ -171,6 +173,21 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
     for (const auto& [key, value] : eval::TrajectoryEvalKeys(*trajectory)) {
       if (value) j[key] = *value;
       else j[key] = nullptr;
+    }
+    // The walls once more after the ATE's one rigid alignment of the path
+    // (the map's shape, whatever its frame: a heading error made before the
+    // first walls were seen turns the whole map about its start, which
+    // wall_precision_* counts and no later wall can see). The unaligned keys
+    // stay the figures; these say how much of them is that turn.
+    if (have_world && trajectory->ate.poses > 0 && prec.samples > 0) {
+      const Pose2& a = trajectory->ate.reference_from_estimate;
+      const auto aligned = eval::WallPrecision(Transform(a, wf.polylines), world.plan.walls, mo);
+      j["wall_precision_p95_m_aligned"] = aligned.p95_m;
+      j["wall_precision_mean_m_aligned"] = aligned.mean_m;
+      // The alignment against the frame the map was put in (world_from_map).
+      const Pose2 turn = a * wf.world_from_map.inverse();
+      j["map_alignment_deg"] = RadToDeg(NormalizeAngle(turn.theta));
+      j["map_alignment_m"] = std::hypot(turn.x, turn.y);
     }
     // Calibration of the pose graph's covariances (issue 10): the ASRs the
     // graph placed with a covariance, against their true frame poses.

@@ -7,11 +7,13 @@
 #include <fstream>
 #include <string>
 
+#include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
 #include "cogmap/core/test_temp.h"
 #include "cogmap/io/image.h"
 #include "cogmap/io/log_reader.h"
 #include "cogmap/io/native_log.h"
+#include "cogmap/io/polyline_io.h"
 #include "cogmap/io/world_io.h"
 #include "cogmap/mapping/map_job.h"
 #include "cogmap/sim/simulator.h"
@@ -37,18 +39,17 @@ io::RgbImage TwoRooms(bool closed) {
   return img;
 }
 
-TEST(EvaluateFolder, RoomsFromASegmentationImage) {
-  const std::string world_png = TestTempPath("two_rooms.png"), rooms_png = TestTempPath("two_rooms_gt.png");
-  io::WritePng(world_png, TwoRooms(false));
-  io::WritePng(rooms_png, TwoRooms(true));
+// A laser robot exploring the world from (2, 2) for 'seconds' (seed 'seed'),
+// logged as NAME.log and mapped into NAME_map (returned), default options.
+std::string MapExplored(const std::string& world_png, const std::string& name, int seed, double seconds) {
   const FloorPlan world = io::ReadWorld(world_png).plan;
   sim::SimulatorOptions so;
   so.mode = sim::SimMode::kExplore;
-  so.seed = 3;
-  so.max_time_s = 240.0;
+  so.seed = seed;
+  so.max_time_s = seconds;
   so.explore_idle_s = 40.0;
   so.start = Pose2{2.0, 2.0, 0.0};
-  const std::string log_path = TestTempPath("two_rooms.log");
+  const std::string log_path = TestTempPath(name + ".log");
   {
     std::ofstream out(log_path);
     io::NativeLogWriter w(out, sensors::BuiltinRobot("laser"));
@@ -56,9 +57,18 @@ TEST(EvaluateFolder, RoomsFromASegmentationImage) {
   }
   MapJob job;
   job.log_path = log_path;
-  job.output_dir = TestTempPath("two_rooms_map");
+  job.output_dir = TestTempPath(name + "_map");
   auto log = io::OpenLog(log_path);
   RunMapJob(*log, job);
+  return job.output_dir;
+}
+
+TEST(EvaluateFolder, RoomsFromASegmentationImage) {
+  const std::string world_png = TestTempPath("two_rooms.png"), rooms_png = TestTempPath("two_rooms_gt.png");
+  io::WritePng(world_png, TwoRooms(false));
+  io::WritePng(rooms_png, TwoRooms(true));
+  MapJob job;
+  job.output_dir = MapExplored(world_png, "two_rooms", 3, 240.0);
 
   EvaluateOptions o;
   o.world = world_png;
@@ -84,6 +94,32 @@ TEST(EvaluateFolder, RoomsFromASegmentationImage) {
     EXPECT_NE(std::string(e.what()).find(other), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("not the same building"), std::string::npos) << e.what();
   }
+}
+
+// The same folder's walls put into the world 3 degrees turned about the
+// start (the map's frame off by what a heading error made before the first
+// walls were seen): the unaligned precision counts it, the aligned keys see
+// the map's shape unchanged and name the turn.
+TEST(EvaluateFolder, AlignedWallPrecisionSeesTheShapeAndNamesTheTurn) {
+  const std::string world_png = TestTempPath("two_rooms_turn.png");
+  io::WritePng(world_png, TwoRooms(false));
+  MapJob job;
+  job.output_dir = MapExplored(world_png, "two_rooms_turn", 4, 120.0);
+  EvaluateOptions o;
+  o.world = world_png;
+  const nlohmann::json before = EvaluateFolder(job.output_dir, o).metrics;
+  ASSERT_TRUE(before["wall_precision_p95_m_aligned"].is_number());
+  EXPECT_LT(std::abs(before["map_alignment_deg"].get<double>()), 0.5);
+
+  const std::string walls = job.output_dir + "/walls.json";
+  io::WallsFile wf = io::ReadWallsJson(walls);
+  wf.world_from_map = Pose2{2.0, 2.0, DegToRad(3.0)} * Pose2{2.0, 2.0, 0.0}.inverse() * wf.world_from_map;
+  io::WriteWallsJson(walls, wf);
+  const nlohmann::json after = EvaluateFolder(job.output_dir, o).metrics;
+  EXPECT_GT(after["wall_precision_p95_m"].get<double>(), before["wall_precision_p95_m"].get<double>() + 0.05);
+  EXPECT_NEAR(after["wall_precision_p95_m_aligned"].get<double>(), before["wall_precision_p95_m_aligned"].get<double>(),
+              0.01);
+  EXPECT_NEAR(after["map_alignment_deg"].get<double>(), before["map_alignment_deg"].get<double>() - 3.0, 0.05);
 }
 
 }  // namespace
