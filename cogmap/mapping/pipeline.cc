@@ -299,11 +299,7 @@ void MappingPipeline::Resume() {
   if (scan_density_) {
     if (auto decided = store_->GetMeta(kMetaScanOdometry)) {
       scan_density_.reset();
-      if (*decided == "1") {
-        scan_odometry_ = std::make_unique<localize::ScanOdometry>(robot_);
-        result_.scan_match_active = true;
-        if (optimizer_) optimizer_->SetOdometryNoise(ScanOdometryNoise());
-      }
+      if (*decided == "1") MatchScans();
     }
   }
   // On --resume the correctors continue from the stored run: its last
@@ -418,15 +414,17 @@ void MappingPipeline::Push(sensors::LogRecord rec) {
   Process(std::move(rec));
 }
 
+void MappingPipeline::MatchScans() {
+  scan_odometry_ = std::make_unique<localize::ScanOdometry>(robot_);
+  result_.scan_match_active = true;
+  if (optimizer_) optimizer_->SetOdometryNoise(ScanOdometryNoise());
+}
+
 void MappingPipeline::DecideScanMatch() {
   if (!scan_density_) return;
   result_.scan_match_mean_step = scan_density_->mean_step();
   result_.scan_match_gaps = scan_density_->gaps();
-  if (scan_density_->dense()) {
-    scan_odometry_ = std::make_unique<localize::ScanOdometry>(robot_);
-    result_.scan_match_active = true;
-    if (optimizer_) optimizer_->SetOdometryNoise(ScanOdometryNoise());
-  }
+  if (scan_density_->dense()) MatchScans();
   if (store_) store_->SetMeta(kMetaScanOdometry, scan_density_->dense() ? "1" : "0");
   scan_density_.reset();
   std::vector<sensors::LogRecord> pending;

@@ -242,6 +242,9 @@ class MappingPipeline {
   std::vector<sensors::LogRecord> scan_pending_;
   void Process(sensors::LogRecord rec);
   void DecideScanMatch();
+  // Laser odometry from here on (scan_match auto, decided dense now or by
+  // the stored run), with the pose graph's noise model for it.
+  void MatchScans();
   std::function<void(const asr::Asr&, const AsrSummary&)> callback_;
   RunResult result_;
   std::mutex estimates_mutex_;
