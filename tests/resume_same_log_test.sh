@@ -11,7 +11,8 @@
 #      its log, the run is finished and the map equals the uninterrupted one;
 #   3. a store of another log resumed with this one: mapped from its start;
 #   4. a folder holding only a killed run's store (set aside as
-#      failed-run-*-killed): --resume says where it is and how to continue it.
+#      failed-run-*-killed): --resume says where it is and how to continue it;
+#   5. a store whose log identity is damaged: exit 2, the folder untouched.
 # (tests/kill_test.py resumes killed runs mid-log with the whole log.)
 #   tests/resume_same_log_test.sh COGMAP SHARED_DIR
 set -eu
@@ -23,17 +24,24 @@ world="$shared/worlds/nine_rooms.map"
 "$cogmap" simulate "$world" --seed 4 -o "$work/other.log" > /dev/null
 "$cogmap" map "$work/run.log" --world "$world" -o "$work/out" > /dev/null 2>&1
 
+# `cogmap map run.log --resume -o DIR` must exit 2 with PATTERN in its
+# message and leave every file of DIR as it was, with no failed-run folder.
+refused() {
+  dir=$1 pattern=$2
+  (cd "$dir" && sha256sum $(ls) > "$work/before.sha")
+  if "$cogmap" map "$work/run.log" --resume -o "$dir" > /dev/null 2> "$work/err"; then
+    echo "$dir: the resume succeeded"; exit 1
+  else
+    status=$?
+  fi
+  test "$status" -eq 2 || { echo "$dir: exit $status, expected 2"; exit 1; }
+  grep -q "$pattern" "$work/err" || { cat "$work/err"; exit 1; }
+  (cd "$dir" && sha256sum -c --quiet "$work/before.sha") || { echo "$dir: the folder changed"; exit 1; }
+  if ls -d "$dir"/failed-run-* > /dev/null 2>&1; then echo "$dir: a failed-run folder was left"; exit 1; fi
+}
+
 # 1. Nothing new: refused, the folder untouched.
-(cd "$work/out" && sha256sum $(ls) > "$work/before.sha")
-if "$cogmap" map "$work/run.log" --resume -o "$work/out" > /dev/null 2> "$work/err1"; then
-  echo "resuming a finished map with its own log succeeded"; exit 1
-else
-  status=$?
-fi
-test "$status" -eq 2 || { echo "exit $status, expected 2"; exit 1; }
-grep -q "nothing to resume" "$work/err1" || { cat "$work/err1"; exit 1; }
-(cd "$work/out" && sha256sum -c --quiet "$work/before.sha") || { echo "the folder changed"; exit 1; }
-if ls -d "$work/out"/failed-run-* > /dev/null 2>&1; then echo "a failed-run folder was left"; exit 1; fi
+refused "$work/out" "nothing to resume"
 
 # 2. A run killed after its last room closed, resumed with its log: finished.
 mkdir "$work/killed"
@@ -63,6 +71,12 @@ if "$cogmap" map "$work/run.log" --resume -o "$work/fresh" > /dev/null 2> "$work
 fi
 grep -q "a killed run's store is in .*failed-run-20260101-000000-1-killed/: continue it with -o" "$work/err4" ||
   { cat "$work/err4"; exit 1; }
+
+# 5. A store whose log identity no run wrote (last_record 'abc'): exit 2
+#    naming the store, the folder as it was (not the log mapped a second time).
+cp -r "$work/out" "$work/damaged"
+python3 -c "import sqlite3, sys; db = sqlite3.connect(sys.argv[1]); db.execute(\"UPDATE meta SET value = 'abc' WHERE key = 'last_record'\"); db.commit()" "$work/damaged/map.sqlite"
+refused "$work/damaged" "damaged/map.sqlite: a damaged store"
 
 python3 - "$work" <<'PY'
 import json, sys

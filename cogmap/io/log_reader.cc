@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -257,19 +258,35 @@ std::string LogFingerprint(const std::string& path) {
   return "crc32 " + Hex(crc) + " " + std::to_string(bytes);
 }
 
-bool IsLogOf(const std::string& path, const std::string& fingerprint) {
-  if (fingerprint.empty()) return false;
-  std::istringstream in(fingerprint);
+namespace {
+// A fingerprint LogFingerprint makes, taken apart: its kind ("crc32" or
+// "folder-crc32"), CRC and (crc32) bytes; nullopt for anything else.
+struct Fingerprint {
   std::string kind, hex;
-  in >> kind >> hex;
-  if (kind == "folder-crc32") return !hex.empty() && LogFingerprint(path) == fingerprint;
   std::uintmax_t bytes = 0;
-  if (kind != "crc32" || !(in >> bytes) || bytes > kFingerprintBytes) return false;
+};
+std::optional<Fingerprint> ParseFingerprint(const std::string& text) {
+  std::istringstream in(text);
+  Fingerprint f;
+  in >> f.kind >> f.hex;
+  const bool hex = f.hex.size() == 8 && f.hex.find_first_not_of("0123456789abcdef") == std::string::npos;
+  if (f.kind == "folder-crc32" && hex && (in >> std::ws).eof()) return f;
+  if (f.kind == "crc32" && hex && (in >> f.bytes) && f.bytes <= kFingerprintBytes && (in >> std::ws).eof()) return f;
+  return std::nullopt;
+}
+}  // namespace
+
+bool IsFingerprint(const std::string& text) { return text.empty() || ParseFingerprint(text).has_value(); }
+
+bool IsLogOf(const std::string& path, const std::string& fingerprint) {
+  const std::optional<Fingerprint> f = ParseFingerprint(fingerprint);
+  if (!f) return false;
+  if (f->kind == "folder-crc32") return LogFingerprint(path) == fingerprint;
   if (path.empty() || path == "-" || path == kStdinName) return false;
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return false;
   uLong crc = crc32(0L, Z_NULL, 0);
-  return CrcOfPrefix(path, bytes, &crc) && Hex(crc) == hex;
+  return CrcOfPrefix(path, f->bytes, &crc) && Hex(crc) == f->hex;
 }
 
 }  // namespace cogmap::io

@@ -111,5 +111,8 @@ std::string DetectLogFormat(const std::string& path);
 std::string LogFingerprint(const std::string& path);
 // Whether 'path' is the log 'fingerprint' was taken of (or that log grown).
 bool IsLogOf(const std::string& path, const std::string& fingerprint);
+// Whether 'text' is a fingerprint LogFingerprint could have made (empty
+// included: standard input): a store's that is not was damaged.
+bool IsFingerprint(const std::string& text);
 
 }  // namespace cogmap::io

@@ -344,6 +344,12 @@ TEST(LogFingerprint, TheSameLogOrItGrownSinceButNoOther) {
   EXPECT_FALSE(IsLogOf(path, ""));
   EXPECT_FALSE(IsLogOf(path, "crc32 00000000 999999999999"));
   EXPECT_EQ(LogFingerprint(path + ".missing"), "");
+  // What a store may hold: a fingerprint as made, or none (standard input).
+  EXPECT_TRUE(IsFingerprint(fp));
+  EXPECT_TRUE(IsFingerprint(""));
+  EXPECT_FALSE(IsFingerprint("crc32 zz 12"));
+  EXPECT_FALSE(IsFingerprint("crc32 0123abcd 99999999999"));
+  EXPECT_FALSE(IsFingerprint(fp + " more"));
   // A folder (a ROS 2 bag): its files' names, sizes and first bytes.
   const std::filesystem::path dir = std::filesystem::path(path).parent_path() / "fingerprint_bag";
   std::filesystem::create_directories(dir);
@@ -351,6 +357,7 @@ TEST(LogFingerprint, TheSameLogOrItGrownSinceButNoOther) {
   const std::string folder = LogFingerprint(dir.string());
   EXPECT_THAT(folder, ::testing::StartsWith("folder-crc32 "));
   EXPECT_TRUE(IsLogOf(dir.string(), folder));
+  EXPECT_TRUE(IsFingerprint(folder));
   WriteTemp("fingerprint_bag/metadata.yaml", "rosbag2_bagfile_information: {x}\n");
   EXPECT_FALSE(IsLogOf(dir.string(), folder));
 }

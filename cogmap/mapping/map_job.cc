@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -210,10 +211,20 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
     // are skipped and record N, pushed again, joins the two (docs/store.md).
     const std::string fingerprint = io::LogFingerprint(from.path());
     long skip = 0;
+    std::string damaged;  // a resumed store's log identity that no run wrote
     if (job.resume) {
       const auto stored = store->GetMeta(asr::kMetaLogFingerprint);
       const auto last = store->GetMeta(asr::kMetaLastRecord);
-      if (stored && last && io::IsLogOf(from.path(), *stored)) skip = std::max(0L, std::atol(last->c_str()) - 1);
+      if (stored && last) {
+        long through = 0;
+        const char* end = last->data() + last->size();
+        const auto [at, ec] = std::from_chars(last->data(), end, through);
+        if (ec != std::errc() || at != end || through < 1 || !io::IsFingerprint(*stored))
+          damaged = "a damaged store: its log_fingerprint '" + *stored + "' and last_record '" + *last +
+                    "' do not name a log and a record of it";
+        else if (io::IsLogOf(from.path(), *stored))
+          skip = through - 1;
+      }
     }
     pipeline->SetLogIdentity(fingerprint, skip);
     sensors::LogRecord rec;
@@ -223,6 +234,7 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
     if (mapping.threads >= 2 && from.path() != "-" && from.path() != io::kStdinName) ahead.emplace(from);
     io::LogReader& src = ahead ? static_cast<io::LogReader&>(*ahead) : from;
     try {
+      if (!damaged.empty()) throw InputError(folder->Final("map.sqlite"), 0, damaged);
       long n = 0;
       if (skip > 0) {
         long k = 0;
