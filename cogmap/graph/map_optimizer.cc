@@ -21,6 +21,10 @@ Eigen::Matrix3d TurnedCovariance(const Eigen::Matrix3d& cov, double theta) {
   return R * cov * R.transpose();
 }
 
+// Variance along the walls of a closure held across them only (100 m
+// squared: nothing the odometry's metres cannot outweigh).
+constexpr double kUnknownAlongWalls = 1e4;
+
 double Seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -327,13 +331,16 @@ asr::Asr MapOptimizer::Place(asr::Asr a, std::unique_ptr<asr::PlacementWork> wor
           reg.degenerate_directions == 0) {
         // Gate against the odometry: both can be wrong, the test uses both
         // covariances (drift-rate uncertainty folded into the heading).
-        Eigen::Matrix3d S = reg.covariance + m.covariance;
+        // Both in the end pose's frame (the registration's covariance turned
+        // from the previous ASR's: across a turn a corridor's weak axis is
+        // another axis there), as the difference and the factor take them.
+        const Eigen::Matrix3d reg_cov = CovarianceInSourceFrame(reg);
+        Eigen::Matrix3d S = reg_cov + m.covariance;
         S(2, 2) += std::pow(options_.odometry.rate_prior_sigma_rad_per_m * m.distance_m, 2);
         const Eigen::Vector3d d = Difference(guess, reg.target_from_source);
         const double d2 = d.dot(S.ldlt().solve(d));
         if (d2 <= ChiSquareQuantile(options_.gate_probability, 3)) {
-          graph_.AddRelative(idx - 1, idx, reg.target_from_source, reg.covariance, FactorKind::kRegistration, 2.0,
-                             &m);
+          graph_.AddRelative(idx - 1, idx, reg.target_from_source, reg_cov, FactorKind::kRegistration, 2.0, &m);
           ++registrations_;
         }
       }
@@ -630,6 +637,39 @@ MapOptimizer::CandidateEval MapOptimizer::EvaluateCandidate(int n, int k,
   return ev;
 }
 
+std::optional<Vec2> MapOptimizer::AlongTheWalls(const std::vector<Eigen::Vector3d>& alternatives,
+                                                const Eigen::Matrix3d& cov,
+                                                const std::vector<FacedSegment>& faces) const {
+  // The heading: each alternative within three sigmas of the best (both
+  // registrations' sigma, taken as the best's), a degree at least.
+  const double heading_tol = std::max(DegToRad(1.0), 3.0 * std::sqrt(2.0 * std::max(0.0, cov(2, 2))));
+  const Eigen::Vector3d* far = nullptr;
+  for (const Eigen::Vector3d& a : alternatives) {
+    if (std::abs(a(2)) > heading_tol) return std::nullopt;
+    if (!far || a.head<2>().norm() > far->head<2>().norm()) far = &a;
+  }
+  if (!far || far->head<2>().norm() < 0.3) return std::nullopt;
+  const Vec2 u = far->head<2>().normalized(), across(-u.y(), u.x());
+  // On one line through the best: across it within three sigmas of the
+  // walls' covariance and the agreement's tolerance.
+  const double sigma_across = std::sqrt(std::max(0.0, across.dot(cov.topLeftCorner<2, 2>() * across)));
+  for (const Eigen::Vector3d& a : alternatives)
+    if (std::abs(across.dot(a.head<2>())) > options_.loop_tolerance_m + 3.0 * std::sqrt(2.0) * sigma_across)
+      return std::nullopt;
+  // The walls run along it: a corridor repeats along its length, not across.
+  double along = 0.0, total = 0.0;
+  const double cos_tol = std::cos(options_.walls_along_rad);
+  for (const FacedSegment& f : faces) {
+    const Vec2 e = f.b - f.a;
+    const double len = e.norm();
+    if (!(len > 0.0)) continue;
+    total += len;
+    if (std::abs(e.dot(u)) >= cos_tol * len) along += len;
+  }
+  if (!(total > 0.0) || along < options_.walls_along_share * total) return std::nullopt;
+  return u;
+}
+
 void MapOptimizer::TryLoopClosures(int n) {
   Node& cur = nodes_[n];
   if (cur.sample_count < options_.min_matches) return;
@@ -680,7 +720,29 @@ void MapOptimizer::TryLoopClosures(int n) {
     lc.rmse_m = best.reg.rmse_m;
     // Gate against the prediction and its uncertainty.
     const double var = std::max(0.0, cur.var_prefix - o.var_prefix) + 0.01;
-    Eigen::Matrix3d S = best.reg.covariance;
+    // Distinct placements that fit about as well: the walls cannot tell
+    // them apart. When they all lie along the new ASR's walls (a corridor),
+    // the closure holds across the walls only.
+    std::vector<Eigen::Vector3d> alternatives;  // each in the best's frame
+    for (size_t s = 1; s < sols.size(); ++s) {
+      const Eigen::Vector3d dd = Difference(best.reg.target_from_source, sols[s].reg.target_from_source);
+      if ((dd.head<2>().norm() > 0.3 || std::abs(dd(2)) > DegToRad(5.0)) &&
+          sols[s].agreement >= options_.ambiguity_ratio * best.agreement)
+        alternatives.push_back(dd);
+    }
+    bool ambiguous = !alternatives.empty();
+    // The walls' covariance in the new ASR's frame, as the difference below
+    // and the closure factor take it.
+    Eigen::Matrix3d reg_cov = CovarianceInSourceFrame(best.reg);
+    if (ambiguous && options_.closures_across_walls) {
+      if (const std::optional<Vec2> along = AlongTheWalls(alternatives, reg_cov, cur.faces)) {
+        const Eigen::Vector3d u(along->x(), along->y(), 0.0);
+        reg_cov += kUnknownAlongWalls * u * u.transpose();
+        ambiguous = false;
+        lc.across_walls_only = true;
+      }
+    }
+    Eigen::Matrix3d S = reg_cov;
     S(0, 0) += var;
     S(1, 1) += var;
     S(2, 2) += cur.heading_var + o.heading_var + DegToRad(1.0) * DegToRad(1.0);
@@ -690,13 +752,6 @@ void MapOptimizer::TryLoopClosures(int n) {
     const Pose2 predicted_raw = BendAt(to_k, rate_k).inverse() * placed * BendAt(to_n, rate_n);
     const Eigen::Vector3d d = Difference(predicted_raw, best.reg.target_from_source);
     lc.mahalanobis2 = d.dot(S.ldlt().solve(d));
-    bool ambiguous = false;
-    for (size_t s = 1; s < sols.size(); ++s) {
-      const Eigen::Vector3d dd = Difference(best.reg.target_from_source, sols[s].reg.target_from_source);
-      if ((dd.head<2>().norm() > 0.3 || std::abs(dd(2)) > DegToRad(5.0)) &&
-          sols[s].agreement >= options_.ambiguity_ratio * best.agreement)
-        ambiguous = true;
-    }
     // Free space: neither ASR's path may cross the other's walls.
     const int cross = PathWallCrossings(o.faces, TransformPath(best.reg.target_from_source, cur.path_local)) +
                       PathWallCrossings(cur.faces, TransformPath(best.reg.target_from_source.inverse(), o.path_local));
@@ -718,18 +773,20 @@ void MapOptimizer::TryLoopClosures(int n) {
       continue;
     }
     lc.accepted = true;
-    lc.reason = "accepted";
-    if (best.agreement >= options_.same_room_agreement)
+    lc.reason = lc.across_walls_only ? "accepted across the walls only (along them another placement fits as well)"
+                                     : "accepted";
+    if (best.agreement >= options_.same_room_agreement && !lc.across_walls_only)
       lc.same_space = SameSpaceShare(o.path_local, o.faces, cur.path_local, cur.faces, best.reg.target_from_source,
                                      options_.same_space);
     lc.same_room = lc.same_space >= options_.same_space.min_share;
     if (lc.same_room) cur.room_id = o.room_id;
-    closure_factor_.push_back(graph_.AddRelative(k, n, best.reg.target_from_source, best.reg.covariance,
-                                                 FactorKind::kLoopClosure, 2.0, &to_k, &to_n));
+    closure_factor_.push_back(
+        graph_.AddRelative(k, n, best.reg.target_from_source, reg_cov, FactorKind::kLoopClosure, 2.0, &to_k, &to_n));
     closure_index_.push_back(static_cast<int>(closures_.size()));
-    implied.push_back({closures_.size(), closure_factor_.size() - 1, k,
-                       graph_.pose(k) * BendAt(to_k, rate_k) * best.reg.target_from_source * BendAt(to_n, rate_n).inverse(),
-                       TurnedCovariance(best.reg.covariance, graph_.pose(k).theta)});
+    const Pose2 implied_pose =
+        graph_.pose(k) * BendAt(to_k, rate_k) * best.reg.target_from_source * BendAt(to_n, rate_n).inverse();
+    implied.push_back({closures_.size(), closure_factor_.size() - 1, k, implied_pose,
+                       TurnedCovariance(reg_cov, implied_pose.theta)});
     closures_.push_back(lc);
   }
   // Two closures of the new ASR must place it alike: the stored ASRs they
@@ -765,7 +822,9 @@ void MapOptimizer::TryLoopClosures(int n) {
       C(0, 0) += between;
       C(1, 1) += between;
       C(2, 2) += std::abs(nodes_[A.k].heading_var - nodes_[B.k].heading_var) + DegToRad(1.0) * DegToRad(1.0);
+      // C is along the map's axes, the difference along A's.
       const Eigen::Vector3d d = Difference(A.world, B.world);
+      C = TurnedCovariance(C, -A.world.theta);
       if (d.dot(C.ldlt().solve(d)) > gate3) {
         if (disagrees[a] < 0) disagrees[a] = static_cast<int>(b);
         if (disagrees[b] < 0) disagrees[b] = static_cast<int>(a);

@@ -105,6 +105,20 @@ struct MapOptimizerOptions {
   double max_search_rad = DegToRad(10.0);
   double search_step_rad = DegToRad(4.0);
   double ambiguity_ratio = 0.9;     // a distinct solution this close to the best: ambiguous
+  // An ambiguous candidate whose alternatives all lie along the walls the
+  // new ASR has (a corridor whose doors repeat along it), at the best's
+  // heading, still fixes the heading and the position across those walls:
+  // it is a closure across the walls only, its covariance along them
+  // (100 m) leaving that direction to the odometry. Most of the new ASR's
+  // walls (by length, walls_along_share) must run along the alternatives'
+  // line (within walls_along_rad). Off by default: tried in the
+  // thirty-third session, a sonar corridor's heading from ICP is no better
+  // than its walls' lean, and on aria/office it made 3 of 80 bench maps
+  // worse and 1 better (docs/pose-graph.md, "Closures across the walls
+  // only"); false: every ambiguous candidate is rejected.
+  bool closures_across_walls = false;
+  double walls_along_share = 0.7;  // a room's walls run half one way, half the other
+  double walls_along_rad = DegToRad(15.0);
   double gate_probability = 0.999;  // chi-square gate on the closure vs the prediction
   double drift_test_probability = 0.99;  // likelihood-ratio test of a drift rate (Finish)
   // A drift whose quarter-turn alias (a rate that turns the heading a quarter
@@ -199,6 +213,10 @@ struct LoopClosure {
   double mahalanobis2 = 0.0;
   bool accepted = false;
   bool same_room = false;
+  // Accepted across the walls only (MapOptimizerOptions::closures_across_walls):
+  // along them other placements fit as well, and the factor leaves that
+  // direction to the odometry. Never a revisit.
+  bool across_walls_only = false;
   // SameSpaceShare of the two paths, measured for an accepted closure whose
   // walls agree enough for a revisit (same_room_agreement); -1 otherwise.
   double same_space = -1.0;
@@ -440,6 +458,13 @@ class MapOptimizer {
     Pose2 placed;                         // the graph's pose of n in k's frame
   };
   CandidateEval EvaluateCandidate(int n, int k, const std::vector<FacedPoint>& cur_samples) const;
+  // For an ambiguous closure: the direction (unit, in the new ASR's frame)
+  // along which its alternatives lie (each a^-1 b from the best, 'cov' the
+  // best's covariance in that frame), when they all keep the best's heading,
+  // lie on one line through it and the new ASR's walls ('faces') run along
+  // that line; nullopt otherwise.
+  std::optional<Vec2> AlongTheWalls(const std::vector<Eigen::Vector3d>& alternatives, const Eigen::Matrix3d& cov,
+                                    const std::vector<FacedSegment>& faces) const;
   // The points (in n's local frame) inside n's box, 0.5 m margin.
   std::vector<FacedPoint> InBox(const std::vector<FacedPoint>& pts, const Node& n) const;
   struct Consistency {

@@ -415,6 +415,56 @@ TEST(MapOptimizer, AClosureOnOneWallIsNotAccepted) {
   EXPECT_NE(opt.RoomOf(2), opt.RoomOf(0));
 }
 
+// A corridor (12 m along x, 2 m wide, a door in its north wall at x = 5)
+// driven east, a room north of the door, then the corridor again, entered
+// through the door heading south: the revisit's frame is a quarter turn
+// from the first visit's. Its odometry is 0.3 m off along the corridor and
+// 0.3 m across it. The corridor's walls fix the position across it and not
+// along it, and that holds in the revisit's own axes too: the closure takes
+// out the error across the corridor and leaves the error along it to the
+// odometry. (With the walls' covariance left along the first visit's axes,
+// the closure held the revisit along the corridor and let it slide across.)
+// A closure across the walls only is not the default (the candidate is
+// ambiguous along the corridor, and so rejected): the test turns it on.
+TEST(MapOptimizer, ACorridorRevisitedAcrossAQuarterTurnIsHeldAcrossItsWalls) {
+  const std::vector<Polyline> corridor = {{Vec2(-1, 0), Vec2(11, 0)},
+                                          {Vec2(-1, 2), Vec2(4.5, 2)},
+                                          {Vec2(5.5, 2), Vec2(11, 2)}};
+  std::vector<Visit> v = {{corridor, Pose2{4.0, 1.0, 0.0}},
+                          {Box(3, 2.2, 7, 6.2), Pose2{5.0, 2.6, DegToRad(90.0)}},
+                          {corridor, Pose2{5.0, 1.6, DegToRad(-90.0)}},
+                          {Box(11.2, -1, 15.2, 3), Pose2{11.4, 1.0, 0.0}}};
+  auto asrs = Simulate(v, 0.0);
+  const Pose2 error{0.3, 0.3, 0.0};  // in the map: along and across the corridor
+  for (size_t i = 2; i < asrs.size(); ++i) {
+    asrs[i].world_from_local_raw = error * asrs[i].world_from_local_raw;
+    asrs[i].world_from_local_corrected = asrs[i].world_from_local_raw;
+    for (Pose2& p : asrs[i].path) p = error * p;
+  }
+  MapOptimizerOptions o;
+  o.odometry.trans_sigma_m_per_sqrt_m = 0.2;  // the error within the odometry's reach
+  o.closures_across_walls = true;             // not the default
+  MapOptimizer opt(o);
+  const OptimizerResult r = PlaceAll(opt, asrs);
+  bool closed = false;
+  for (const auto& c : r.closures)
+    if (c.from_asr == 0 && c.to_asr == 2) {
+      closed = c.accepted;
+      EXPECT_TRUE(c.across_walls_only) << c.reason;  // along the corridor its doors repeat
+      EXPECT_FALSE(c.same_room);
+    }
+  ASSERT_TRUE(closed);
+  const Pose2& placed = r.asrs[2].pose;
+  EXPECT_NEAR(placed.y, v[2].entry.y, 0.05);                                  // across: the walls'
+  EXPECT_GT(std::abs(placed.x - v[2].entry.x), 0.1);                          // along: the odometry's
+  EXPECT_NEAR(AngleDiff(placed.theta, v[2].entry.theta), 0.0, DegToRad(0.5));
+  // Without closures across the walls the candidate is only ambiguous.
+  o.closures_across_walls = false;
+  MapOptimizer strict(o);
+  for (const auto& c : PlaceAll(strict, asrs).closures)
+    if (c.from_asr == 0 && c.to_asr == 2) EXPECT_FALSE(c.accepted) << c.reason;
+}
+
 TEST(MapOptimizer, QuarterTurnAmbiguousRoomNeverFlipsTheMap) {
   // A chain of axis-aligned rooms with one diamond room (walls at 45 deg: its
   // direction is exactly between two branches) in the middle.

@@ -114,6 +114,26 @@ TEST(PoseGraph, DirectionProfileRepeatsEveryQuarterTurnOverThePath) {
   EXPECT_GT(q[1], q[0] + 0.5 * 4.0 * std::log1p(90.0 * 90.0 / 4.0) - 1e-6);
 }
 
+// A relative factor's covariance is along the measured pose's own axes (as
+// the odometry's is along its end pose's). Node 1 is measured a quarter turn
+// from node 0, tightly along its own x (the map's y) and in heading, loosely
+// along its own y (the map's x); a second, isotropic measurement pulls it
+// 0.5 m along the map's x and 0.3 m along the map's y. The loose axis gives
+// way, the tight one holds.
+TEST(PoseGraph, ARelativeFactorsCovarianceIsAlongTheMeasuredPosesAxes) {
+  PoseGraph g;
+  g.AddNode({0, 0, 0}, true);
+  g.AddNode({1, 0, DegToRad(90.0)});
+  g.SetRatesFixedAtZero(true);
+  const Eigen::Matrix3d tight_x = Eigen::Vector3d(1e-4, 100.0, 1e-6).asDiagonal();
+  g.AddRelative(0, 1, {1, 0, DegToRad(90.0)}, tight_x, FactorKind::kRegistration, 0.0);
+  g.AddRelative(0, 1, {1.5, 0.3, DegToRad(90.0)}, Eigen::Matrix3d::Identity() * 0.01, FactorKind::kLoopClosure, 0.0);
+  g.Solve();
+  EXPECT_NEAR(g.pose(1).x, 1.5, 0.01);
+  EXPECT_NEAR(g.pose(1).y, 0.0, 0.01);
+  EXPECT_NEAR(g.pose(1).theta, DegToRad(90.0), 1e-3);
+}
+
 // The odometry of TurningOdometry's path as mapped with 'offset' removed:
 // the path re-integrated under that rate (asr::CorrectedPath).
 OdometryMeasurement PreBent(double length_m, double rate, double offset) {

@@ -117,6 +117,16 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
                            const Pose2& initial_target_from_source, const RegistrationOptions& options = {},
                            const Eigen::Matrix3d* prior_covariance = nullptr);
 
+// The registration's covariance as the error of target_from_source seen
+// from the source frame: x and y along the source's axes, then theta. That
+// is the frame of the pose graph's relative factors (PoseGraph::AddRelative,
+// as the odometry's covariance is in its end pose's frame) and of a^-1 b
+// differences; Registration::covariance has x and y along the target's axes
+// (the ICP moves the source in the target frame). The two differ by the
+// turn between the frames: a corridor registered across a quarter turn has
+// its weak axis along the target's x and along the source's y.
+Eigen::Matrix3d CovarianceInSourceFrame(const Registration& r);
+
 // Samples of faced segments every 'step_m' (point, normal).
 struct FacedPoint {
   Vec2 p;

@@ -51,6 +51,30 @@ TEST(Registration, CorridorLengthIsUncertain) {
   EXPECT_GT(r.covariance(0, 0), 100.0 * r.covariance(1, 1));
 }
 
+TEST(Registration, ItsCovarianceSeenFromTheSourceTurnsWithIt) {
+  // The same corridor, the source frame turned a quarter turn: its walls run
+  // along its own y. Along the target's x the walls fix nothing, and that is
+  // the source's y.
+  const std::vector<Polyline> walls = {{Vec2(0, 0), Vec2(10, 0)}, {Vec2(0, 2), Vec2(10, 2)}};
+  const auto target = FaceWalls(walls, {Vec2(1, 1), Vec2(9, 1)});
+  const Pose2 truth{5.0, 1.0, DegToRad(90.0)};
+  const auto source = FaceWalls(Transform(truth.inverse(), walls), {truth.inverse() * Vec2(1, 1), truth.inverse() * Vec2(9, 1)});
+  const Registration r = RegisterWalls(target, source, Pose2{5.0, 1.05, DegToRad(89.0)}, {});
+  ASSERT_TRUE(r.converged);
+  EXPECT_NEAR(r.target_from_source.y, 1.0, 1e-4);
+  EXPECT_NEAR(r.target_from_source.theta, truth.theta, 1e-5);
+  EXPECT_GT(r.covariance(0, 0), 100.0 * r.covariance(1, 1));
+  const Eigen::Matrix3d c = CovarianceInSourceFrame(r);
+  EXPECT_GT(c(1, 1), 100.0 * c(0, 0));
+  EXPECT_NEAR(c(1, 1), r.covariance(0, 0), 1e-6 * r.covariance(0, 0));
+  EXPECT_NEAR(c(0, 0), r.covariance(1, 1), 1e-6 * r.covariance(0, 0));
+  EXPECT_NEAR(c(2, 2), r.covariance(2, 2), 1e-12);
+  // Unturned, the source frame is the target's.
+  Registration same = r;
+  same.target_from_source.theta = 0.0;
+  EXPECT_TRUE(CovarianceInSourceFrame(same).isApprox(r.covariance));
+}
+
 // A corridor 2.4 m wide along x from 'x0' to 'x1', in the frame of a robot
 // standing at (at, 1.2), heading +x: its lower wall has a 0.9 m door every
 // 6 m (gaps centred on x = 6, 12, 18, ...), as hallway_loop's corridors.

@@ -17,7 +17,8 @@ nlohmann::json OrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : 
 
 nlohmann::json ClosureJson(const graph::LoopClosure& c) {
   return {{"from_asr", c.from_asr}, {"to_asr", c.to_asr}, {"accepted", c.accepted},
-          {"same_room", c.same_room}, {"agreement", c.agreement}, {"rmse_m", c.rmse_m},
+          {"same_room", c.same_room}, {"across_walls_only", c.across_walls_only},
+          {"agreement", c.agreement}, {"rmse_m", c.rmse_m},
           {"mahalanobis2", c.mahalanobis2}, {"reason", c.reason},
           {"same_space", c.same_space >= 0.0 ? nlohmann::json(c.same_space) : nlohmann::json(nullptr)},
           {"relative", {c.relative.x, c.relative.y, RadToDeg(c.relative.theta)}}};
