@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
+#include <filesystem>
 #include <mutex>
 #include <set>
 #include <stdexcept>
@@ -50,11 +52,49 @@ TEST(ForEachShared, RaisesTheFirstErrorOnceAllHaveStopped) {
                                [&](size_t i) {
                                  if (i == 3) throw std::runtime_error("index 3");
                                  if (i > 3) ++after;
+                                 // Work that takes time: a thread that took
+                                 // index 3 and was preempted before calling
+                                 // it (two cores, eight threads) still stops
+                                 // the others well before the end.
+                                 std::this_thread::sleep_for(std::chrono::microseconds(20));
                                }),
                  std::runtime_error);
     // The other threads stop taking indices: far fewer than all the rest ran.
     EXPECT_LT(after.load(), 9000);
   }
+}
+
+// The threads of the process (Linux: one entry each in /proc/self/task).
+size_t ThreadsOfThisProcess() {
+  size_t n = 0;
+  for (const auto& e : std::filesystem::directory_iterator("/proc/self/task")) n += e.is_directory() ? 1 : 0;
+  return n;
+}
+
+TEST(ForEachShared, HelpersAreKeptNotStartedForEachCall) {
+  ForEachShared(4, 3, [](size_t) {});  // the pool's helpers for 3 threads started
+  const size_t before = ThreadsOfThisProcess();
+  std::set<std::thread::id> ids;
+  std::mutex m;
+  for (int call = 0; call < 200; ++call)
+    ForEachShared(4, 3, [&](size_t) {
+      std::this_thread::sleep_for(std::chrono::microseconds(50));
+      std::lock_guard<std::mutex> lock(m);
+      ids.insert(std::this_thread::get_id());
+    });
+  EXPECT_EQ(ThreadsOfThisProcess(), before);
+  // Every call's threads were among those alive before (the pool may hold
+  // more helpers than this call wants: earlier tests asked for 8 threads).
+  EXPECT_GE(ids.size(), 1u);
+  EXPECT_LE(ids.size(), before);
+}
+
+TEST(ForEachShared, ACallInsideASharedCallFinishes) {
+  std::vector<std::atomic<int>> calls(16 * 16);
+  ForEachShared(16, 2, [&](size_t i) {
+    ForEachShared(16, 2, [&](size_t j) { ++calls[i * 16 + j]; });
+  });
+  for (const auto& c : calls) EXPECT_EQ(c.load(), 1);
 }
 
 TEST(Angles, NormalizeWrapsIntoHalfOpenRange) {
