@@ -176,16 +176,21 @@ int PoseCalibration::heading_within() const {
   return static_cast<int>(std::count_if(items.begin(), items.end(), [](const auto& i) { return i.heading_within; }));
 }
 
+std::optional<Pose2> TruthFromRaw(const asr::Asr& a) {
+  const size_t n = a.path.size(), nt = a.true_path.size(), m = std::min(n, nt);
+  if (m == 0) return std::nullopt;
+  return a.true_path[nt - m] * a.path[n - m].inverse();
+}
+
 PoseCalibration ComputePoseCalibration(const std::vector<asr::Asr>& asrs,
                                        const std::map<int, Eigen::Matrix3d>& covariances, double k_sigma) {
   PoseCalibration c;
   c.k_sigma = k_sigma;
-  // The true frame pose from the first paired path pose (paired from the
-  // ends, as PairAsrTrajectories does).
+  // The true frame pose from the first paired path pose.
   auto true_frame = [](const asr::Asr& a) -> std::optional<Pose2> {
-    const size_t n = a.path.size(), nt = a.true_path.size(), m = std::min(n, nt);
-    if (m == 0) return std::nullopt;
-    return a.true_path[nt - m] * a.path[n - m].inverse() * a.world_from_local_raw;
+    const std::optional<Pose2> t = TruthFromRaw(a);
+    if (!t) return std::nullopt;
+    return *t * a.world_from_local_raw;
   };
   std::optional<Pose2> truth_to_map;  // maps the truth's world onto the map's
   for (const auto& a : asrs) {

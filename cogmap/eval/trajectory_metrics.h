@@ -78,6 +78,12 @@ struct AsrTrajectories {
 AsrTrajectories PairAsrTrajectories(const std::vector<asr::Asr>& asrs,
                                     const std::map<int, std::vector<Pose2>>& corrected_paths = {});
 
+// The truth's world against the raw odometry frame an ASR's path is in, at
+// its first path pose with truth (the two paired from their ends, as
+// PairAsrTrajectories pairs them): truth pose x raw pose^-1. nullopt for an
+// ASR without a true path.
+std::optional<Pose2> TruthFromRaw(const asr::Asr& a);
+
 struct TrajectoryMetrics {
   AteStats ate, ate_raw;
   // One per distance of TrajectoryDistances(), nullopt where no pair exists.

@@ -25,6 +25,7 @@
 #include "cogmap/draw/map_picture.h"
 #include "cogmap/draw/world_picture.h"
 #include "cogmap/draw/plots.h"
+#include "cogmap/eval/trajectory_metrics.h"
 #include "cogmap/io/atomic_file.h"
 #include "cogmap/io/log_lines.h"
 #include "cogmap/io/log_reader.h"
@@ -367,12 +368,7 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   // The truth's frame at the first record of the store's first run with truth
   // (walls.json): its path and truth paired from the end, as the trajectory
   // metrics pair them (a CARMEN log's first poses have no truth).
-  std::optional<Pose2> first_world_from_map;
-  if (!all.empty()) {
-    const asr::Asr& a = all.front();
-    const size_t n = a.path.size(), nt = a.true_path.size(), m = std::min(n, nt);
-    if (m > 0) first_world_from_map = a.true_path[nt - m] * a.path[n - m].inverse();
-  }
+  const std::optional<Pose2> first_world_from_map = all.empty() ? std::nullopt : eval::TruthFromRaw(all.front());
   for (auto& x : all) std::vector<Pose2>().swap(x.true_path);
   // The placed paths are read again from the store for the floor plan: they
   // are not held while the master map's pictures are encoded (5.9 MB at
