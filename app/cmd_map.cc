@@ -163,6 +163,11 @@ std::function<int()> SetupMap(CLI::App& sub) {
                "Pose graph: once the graph has pinned the odometry's drift rate, build the rooms mapped next on "
                "odometry with that drift removed (sharper walls under strong drift; not the default: on real "
                "logs the maps move both ways, docs/pose-graph.md 'Drift removed while mapping')");
+  sub.add_flag("--search-closures-again", a->job.mapping.search_closures_again,
+               "Pose graph: at the end of the run, search the loop-closure candidates again against the solved "
+               "graph where its prediction moved since they were searched (more closures when rooms are cut by "
+               "distance, --max-asr; not the default: 6-16 % more time on intel for 3 closures; "
+               "docs/pose-graph.md 'Closures searched again')");
   sub.add_option("--remove-drift-deg-per-m", a->remove_drift_deg_per_m,
                  "Pose graph: a heading drift known before the run (degrees per metre, CCW positive), removed "
                  "inside every room while it is mapped; the graph still estimates the whole drift (what the "

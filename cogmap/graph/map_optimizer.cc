@@ -13,6 +13,11 @@
 namespace cogmap::graph {
 namespace {
 
+// The kinds of factor with a sigma factor of their own (fitted by
+// FitVarianceComponents, all but the closures; saved and restored by Finish).
+constexpr FactorKind kSigmaKinds[] = {FactorKind::kOdometry, FactorKind::kOdometryHeading, FactorKind::kDirection,
+                                      FactorKind::kRegistration, FactorKind::kLoopClosure};
+
 // A pose covariance (x, y, theta) of one frame, in a frame turned by theta
 // from it.
 Eigen::Matrix3d TurnedCovariance(const Eigen::Matrix3d& cov, double theta) {
@@ -233,6 +238,7 @@ void MapOptimizer::AddStored(const asr::Asr& stored, int room_id) {
   graph_.AddNode(stored.world_from_local_corrected, /*fixed=*/true, n.pre_rate);
   node_of_asr_[stored.id] = static_cast<int>(nodes_.size());
   nodes_.push_back(std::move(n));
+  searched_at_.push_back(stored.world_from_local_corrected);
 }
 
 class MapOptimizer::Prepared : public asr::PlacementWork {
@@ -379,6 +385,7 @@ asr::Asr MapOptimizer::Place(asr::Asr a, std::unique_ptr<asr::PlacementWork> wor
   }
   node_of_asr_[a.id] = idx;
   nodes_.push_back(std::move(node));
+  searched_at_.push_back(graph_.pose(idx));
 
   const size_t closures_before = closures_.size();
   if (idx > 0) TryLoopClosures(idx);
@@ -670,9 +677,9 @@ std::optional<Vec2> MapOptimizer::AlongTheWalls(const std::vector<Eigen::Vector3
   return u;
 }
 
-void MapOptimizer::TryLoopClosures(int n) {
+int MapOptimizer::TryLoopClosures(int n, SearchAgain* again) {
   Node& cur = nodes_[n];
-  if (cur.sample_count < options_.min_matches) return;
+  if (cur.sample_count < options_.min_matches) return 0;
   const std::vector<FacedPoint> cur_samples = SampleFaces(cur.faces, options_.registration.sample_step_m);
   const Vec2 cn = graph_.pose(n) * cur.centre_local;
   struct Cand {
@@ -683,6 +690,16 @@ void MapOptimizer::TryLoopClosures(int n) {
   for (int k = 0; k + 1 < n; ++k) {
     const Node& o = nodes_[k];
     if (o.sample_count < options_.min_matches) continue;
+    if (again) {
+      if (again->skip.count({k, n})) continue;
+      // The graph's prediction of n in k's frame against the one n's search
+      // had (k's pose then taken as the one k had when it was new): one that
+      // moved by less than a step of the correlative search is searched as
+      // before.
+      const Eigen::Vector3d moved =
+          Difference(searched_at_[k].inverse() * searched_at_[n], graph_.pose(k).inverse() * graph_.pose(n));
+      if (moved.head<2>().norm() < options_.search_step_m && std::abs(moved(2)) < options_.search_step_rad) continue;
+    }
     const double var = std::max(0.0, cur.var_prefix - o.var_prefix) + 0.01;
     const double gate = options_.candidate_sigmas * std::sqrt(var);
     const double dist = (graph_.pose(k) * o.centre_local - cn).norm();
@@ -699,6 +716,20 @@ void MapOptimizer::TryLoopClosures(int n) {
   ForEachShared(cands.size(), options_.threads,
                 [&](size_t i) { evals[i] = EvaluateCandidate(n, cands[i].k, cur_samples); });
   std::vector<Implied> implied;
+  int accepted = 0;
+  // Where the candidate's record goes: a new one, or (searched again) the
+  // pair's earlier record, replaced.
+  auto record = [&](const LoopClosure& lc, int k) -> size_t {
+    if (again) {
+      const auto it = again->record.find({k, n});
+      if (it != again->record.end()) {
+        closures_[it->second] = lc;
+        return it->second;
+      }
+    }
+    closures_.push_back(lc);
+    return closures_.size() - 1;
+  };
   for (size_t ci = 0; ci < cands.size(); ++ci) {
     const int k = cands[ci].k;
     const CandidateEval& ev = evals[ci];
@@ -708,7 +739,7 @@ void MapOptimizer::TryLoopClosures(int n) {
     lc.to_asr = cur.asr_id;
     if (ev.sols.empty()) {
       lc.reason = ev.reason;
-      closures_.push_back(lc);
+      record(lc, k);
       continue;
     }
     const std::vector<CandidateSolution>& sols = ev.sols;
@@ -769,12 +800,13 @@ void MapOptimizer::TryLoopClosures(int n) {
     else if (cross > 0) lc.reason = "a path crosses the other's walls";
     else if (lc.mahalanobis2 > ChiSquareQuantile(options_.gate_probability, 3)) lc.reason = "too far from the prediction";
     if (!lc.reason.empty()) {
-      closures_.push_back(lc);
+      record(lc, k);
       continue;
     }
     lc.accepted = true;
     lc.reason = lc.across_walls_only ? "accepted across the walls only (along them another placement fits as well)"
                                      : "accepted";
+    if (again) lc.reason += " (searched again at the end of the run)";
     if (best.agreement >= options_.same_room_agreement && !lc.across_walls_only)
       lc.same_space = SameSpaceShare(o.path_local, o.faces, cur.path_local, cur.faces, best.reg.target_from_source,
                                      options_.same_space);
@@ -782,12 +814,12 @@ void MapOptimizer::TryLoopClosures(int n) {
     if (lc.same_room) cur.room_id = o.room_id;
     closure_factor_.push_back(
         graph_.AddRelative(k, n, best.reg.target_from_source, reg_cov, FactorKind::kLoopClosure, 2.0, &to_k, &to_n));
-    closure_index_.push_back(static_cast<int>(closures_.size()));
+    const size_t at = record(lc, k);
+    closure_index_.push_back(static_cast<int>(at));
     const Pose2 implied_pose =
         graph_.pose(k) * BendAt(to_k, rate_k) * best.reg.target_from_source * BendAt(to_n, rate_n).inverse();
-    implied.push_back({closures_.size(), closure_factor_.size() - 1, k, implied_pose,
-                       TurnedCovariance(reg_cov, implied_pose.theta)});
-    closures_.push_back(lc);
+    implied.push_back({at, closure_factor_.size() - 1, k, implied_pose, TurnedCovariance(reg_cov, implied_pose.theta)});
+    ++accepted;
   }
   // Two closures of the new ASR must place it alike: the stored ASRs they
   // reach are held to each other by the graph (closely, when they are
@@ -842,11 +874,34 @@ void MapOptimizer::TryLoopClosures(int n) {
                 " m apart)";
     graph_.SetRelativeEnabled(closure_factor_[implied[a].factor], false);
     dropped = true;
+    if (a < own) --accepted;
   }
   if (dropped) AssignRoomIds();
   implied.resize(own);
   prev_implied_ = std::move(implied);
   prev_implied_node_ = n;
+  return accepted;
+}
+
+int MapOptimizer::SearchClosuresAgain() {
+  SearchAgain again;
+  // A pair once accepted keeps its factor and its record (standing, or
+  // dropped as contradicted or disagreeing: the graph and the other
+  // closures that judged it still do), and is not searched again.
+  for (size_t k = 0; k < closure_factor_.size(); ++k) {
+    const LoopClosure& lc = closures_[closure_index_[k]];
+    again.skip.insert({node_of_asr_.at(lc.from_asr), node_of_asr_.at(lc.to_asr)});
+  }
+  for (size_t i = 0; i < closures_.size(); ++i) {
+    const std::pair<int, int> pair{node_of_asr_.at(closures_[i].from_asr), node_of_asr_.at(closures_[i].to_asr)};
+    if (!again.skip.count(pair)) again.record[pair] = i;
+  }
+  prev_implied_node_ = -1;
+  prev_implied_.clear();
+  int accepted = 0;
+  for (int n = 1; n < size(); ++n)
+    if (!nodes_[n].stored) accepted += TryLoopClosures(n, &again);
+  return accepted;
 }
 
 void MapOptimizer::AssignRoomIds() {
@@ -1214,6 +1269,42 @@ OptimizerResult MapOptimizer::Finish() {
   FitVarianceComponents();
   DriftDecision drift = TestDrift();
   DropContradictedClosures();
+  // With search_again, the candidates are searched again against the
+  // solved graph; when none of the closures found so stands, the graph is
+  // left as it was (a wrong one, accepted and dropped again, would still
+  // have weighed on the variance components and the drift test).
+  if (options_.search_again) {
+    const PoseGraph::State before = graph_.Save();
+    const bool before_fixed = graph_.RatesFixedAtZero();
+    std::vector<double> before_sigma;
+    for (FactorKind k : kSigmaKinds) before_sigma.push_back(graph_.SigmaFactor(k));
+    const std::vector<LoopClosure> before_closures = closures_;
+    const size_t before_factors = closure_factor_.size();
+    const DriftDecision before_drift = drift;
+    if (SearchClosuresAgain() > 0) {
+      graph_.Solve(0, options_.full_iterations);
+      FitVarianceComponents();
+      drift = TestDrift();
+      DropContradictedClosures();
+      bool stands = false;
+      for (size_t k = before_factors; k < closure_factor_.size(); ++k)
+        stands = stands || closures_[closure_index_[k]].accepted;
+      if (!stands) {
+        for (size_t k = before_factors; k < closure_factor_.size(); ++k)
+          graph_.SetRelativeEnabled(closure_factor_[k], false);
+        closure_factor_.resize(before_factors);
+        closure_index_.resize(before_factors);
+        closures_ = before_closures;
+        for (size_t k = 0; k < closure_factor_.size(); ++k)
+          graph_.SetRelativeEnabled(closure_factor_[k], closures_[closure_index_[k]].accepted);
+        for (size_t k = 0; k < before_sigma.size(); ++k) graph_.SetSigmaFactor(kSigmaKinds[k], before_sigma[k]);
+        graph_.SetRatesFixedAtZero(before_fixed);
+        graph_.Restore(before);
+        drift = before_drift;
+        AssignRoomIds();
+      }
+    }
+  }
   // Drift inside long ASRs (direction_split_m): the walls grouped along the
   // path replace each such ASR's one direction, tried from the solution
   // with one direction per ASR (a good start: the groups of 3 m are bent by
@@ -1224,8 +1315,7 @@ OptimizerResult MapOptimizer::Finish() {
   if (!splits_.empty()) {
     const PoseGraph::State whole_state = graph_.Save();
     const bool whole_fixed = graph_.RatesFixedAtZero();
-    const FactorKind kinds[] = {FactorKind::kOdometry, FactorKind::kOdometryHeading, FactorKind::kDirection,
-                                FactorKind::kRegistration, FactorKind::kLoopClosure};
+    const auto& kinds = kSigmaKinds;
     std::vector<double> whole_sigma;
     for (FactorKind k : kinds) whole_sigma.push_back(graph_.SigmaFactor(k));
     const std::vector<LoopClosure> whole_closures = closures_;
@@ -1386,8 +1476,7 @@ OptimizerResult MapOptimizer::Finish() {
     // group's residuals are small where nothing else measures the same
     // relative pose (a chain without loops, a corridor's length), which says
     // nothing about the noise there (the global redundancy share cannot tell).
-    const FactorKind kinds[] = {FactorKind::kOdometry, FactorKind::kOdometryHeading, FactorKind::kDirection,
-                                FactorKind::kRegistration, FactorKind::kLoopClosure};
+    const auto& kinds = kSigmaKinds;
     std::map<FactorKind, double> fitted;
     if (options_.covariance_sigma_floor) {
       for (FactorKind k : kinds) {

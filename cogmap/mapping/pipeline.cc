@@ -169,6 +169,7 @@ graph::MapOptimizerOptions GraphOptionsFor(const localize::HeadingCorrectionOpti
   g.direction_split_m = o.direction_split_m;
   g.threads = o.threads;
   g.drift_known = o.remove_drift_rad_per_m != 0.0;
+  g.search_again = o.search_closures_again;
   return g;
 }
 }  // namespace

@@ -58,6 +58,7 @@ struct MappingOptions {
   bool correct = true;                 // false: every ASR at its odometry pose
   bool pose_graph = true;              // default mode: the pose graph (false: the drift filter)
   bool pre_bend = false;               // pose graph, --pre-bend: the drift it has pinned is removed while the next rooms are mapped
+  bool search_closures_again = false;  // pose graph, --search-closures-again (graph::MapOptimizerOptions::search_again)
   // Pose graph: a drift known before the run (rad per metre, CCW), removed
   // inside every room while it is mapped (asr::CognitiveMapper::SetPreBend, lag 0;
   // the graph still estimates the whole drift). `cogmap map`'s second pass
