@@ -13,6 +13,9 @@
 #   4. a folder holding only a killed run's store (set aside as
 #      failed-run-*-killed): --resume says where it is and how to continue it;
 #   5. a store whose log identity is damaged: exit 2, the folder untouched.
+#   6. a store whose finished_through, next_asr_id or last_raw_pose is not
+#      what a run writes: exit 2 naming the store and the key, the folder
+#      untouched.
 # (tests/kill_test.py resumes killed runs mid-log with the whole log.)
 #   tests/resume_same_log_test.sh COGMAP SHARED_DIR
 set -eu
@@ -77,6 +80,19 @@ grep -q "a killed run's store is in .*failed-run-20260101-000000-1-killed/: cont
 cp -r "$work/out" "$work/damaged"
 python3 -c "import sqlite3, sys; db = sqlite3.connect(sys.argv[1]); db.execute(\"UPDATE meta SET value = 'abc' WHERE key = 'last_record'\"); db.commit()" "$work/damaged/map.sqlite"
 refused "$work/damaged" "damaged/map.sqlite: a damaged store"
+
+# 6. Meta values a run reads back to continue (finished_through, next_asr_id,
+#    last_raw_pose) that are not what a run writes: exit 2 naming the store
+#    and the key, the folder as it was (they were read with atoi: 'x' was 0).
+for bad in "finished_through|x12" "next_asr_id|99999999999999999999" "next_asr_id|-5" "last_raw_pose|1 2 nan" \
+           "last_raw_pose|1 2"; do
+  key=${bad%%|*} value=${bad#*|}
+  rm -rf "$work/meta"
+  cp -r "$work/out" "$work/meta"
+  python3 -c "import sqlite3, sys; db = sqlite3.connect(sys.argv[1]); db.execute('UPDATE meta SET value = ? WHERE key = ?', (sys.argv[3], sys.argv[2])); db.commit(); assert db.total_changes == 1" \
+    "$work/meta/map.sqlite" "$key" "$value"
+  refused "$work/meta" "meta/map.sqlite: a damaged store: meta $key is"
+done
 
 python3 - "$work" <<'PY'
 import json, sys

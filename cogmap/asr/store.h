@@ -153,6 +153,13 @@ class SqliteAsrStore : public AsrStore {
   std::vector<ClosureRecord> Closures() const override;
 
   std::vector<Edge> Edges() const;
+  // A meta value that is an integer in [min, max] (an ASR id, a record
+  // number): none when the key is absent, an InputError naming the store
+  // when the value is anything else.
+  std::optional<long> GetMetaInt(const std::string& key, long min, long max) const;
+  // A meta value that is a pose, "x y theta" (three finite numbers): none
+  // when absent, an InputError naming the store when it is anything else.
+  std::optional<Pose2> GetMetaPose(const std::string& key) const;
   // "ok" when PRAGMA integrity_check passes, else its first message.
   std::string IntegrityCheck() const;
   // Test seam: limits the file to 'pages' pages (PRAGMA max_page_count), so

@@ -20,14 +20,6 @@ std::string Num(double v) {
   return s.str();
 }
 
-std::optional<Pose2> ParsePose(const std::optional<std::string>& text) {
-  if (!text) return std::nullopt;
-  std::istringstream in(*text);
-  Pose2 p;
-  if (!(in >> p.x >> p.y >> p.theta)) return std::nullopt;
-  return p;
-}
-
 double PathLength(const std::vector<Pose2>& path) {
   double s = 0.0;
   for (size_t i = 1; i < path.size(); ++i) s += (path[i].translation() - path[i - 1].translation()).norm();
@@ -308,7 +300,8 @@ void MappingPipeline::Resume() {
   const int last = store_->MaxId();
   asr::MapperResume r;
   r.next_id = last + 1;
-  if (auto next = store_->GetMeta(asr::kMetaNextId)) r.next_id = std::max(r.next_id, std::atoi(next->c_str()));
+  if (const auto next = store_->GetMetaInt(asr::kMetaNextId, 0, std::numeric_limits<int>::max() - 1))
+    r.next_id = std::max(r.next_id, static_cast<int>(*next));
   Pose2 carried;  // raw -> corrected at the end of the stored run
   std::optional<double> reference;
   if (last >= 0) {
@@ -325,7 +318,7 @@ void MappingPipeline::Resume() {
   }
   corrector_.Restore(carried, reference);
   drift_corrector_.Restore(carried, reference);
-  r.last_raw_pose = ParsePose(store_->GetMeta(asr::kMetaLastRawPose));
+  r.last_raw_pose = store_->GetMetaPose(asr::kMetaLastRawPose);
   mapper_->Resume(r);
   if (optimizer_) {
     // The ASRs of a run that finished stay where it placed them. The ASRs of a
@@ -333,8 +326,8 @@ void MappingPipeline::Resume() {
     // placement) are placed again, in order, from their stored raw fields, as
     // that run placed them: the pose graph, its loop closures and its room
     // identities continue as if it had not stopped (docs/store.md).
-    const auto through = store_->GetMeta(asr::kMetaFinishedThrough);
-    const int finished_through = through ? std::atoi(through->c_str()) : std::numeric_limits<int>::max();
+    const auto through = store_->GetMetaInt(asr::kMetaFinishedThrough, -1, std::numeric_limits<int>::max());
+    const long finished_through = through ? *through : std::numeric_limits<long>::max();
     for (int id : store_->Ids()) {
       auto x = store_->Get(id);
       if (!x) continue;
