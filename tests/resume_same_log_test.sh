@@ -13,9 +13,9 @@
 #   4. a folder holding only a killed run's store (set aside as
 #      failed-run-*-killed): --resume says where it is and how to continue it;
 #   5. a store whose log identity is damaged: exit 2, the folder untouched.
-#   6. a store whose finished_through, next_asr_id or last_raw_pose is not
-#      what a run writes: exit 2 naming the store and the key, the folder
-#      untouched.
+#   6. a store whose finished_through, next_asr_id, last_raw_pose or
+#      world_from_map is not what a run writes: exit 2 naming the store and
+#      the key, the folder untouched.
 # (tests/kill_test.py resumes killed runs mid-log with the whole log.)
 #   tests/resume_same_log_test.sh COGMAP SHARED_DIR
 set -eu
@@ -85,7 +85,7 @@ refused "$work/damaged" "damaged/map.sqlite: a damaged store"
 #    last_raw_pose) that are not what a run writes: exit 2 naming the store
 #    and the key, the folder as it was (they were read with atoi: 'x' was 0).
 for bad in "finished_through|x12" "next_asr_id|99999999999999999999" "next_asr_id|-5" "last_raw_pose|1 2 nan" \
-           "last_raw_pose|1 2"; do
+           "last_raw_pose|1 2" "world_from_map|0 0 zero"; do
   key=${bad%%|*} value=${bad#*|}
   rm -rf "$work/meta"
   cp -r "$work/out" "$work/meta"

@@ -68,14 +68,6 @@ long MaxRssKb() {
   return u.ru_maxrss;
 }
 
-std::optional<Pose2> ParsePose(const std::optional<std::string>& text) {
-  if (!text) return std::nullopt;
-  std::istringstream in(*text);
-  Pose2 p;
-  if (!(in >> p.x >> p.y >> p.theta)) return std::nullopt;
-  return p;
-}
-
 // Opens the run's store in the folder's staging area: a copy of the stored map
 // to continue (--resume, checked where it is first), or a new one (which may
 // replace a cogmap store, never another file nor a newer cogmap's store).
@@ -110,6 +102,7 @@ std::unique_ptr<asr::SqliteAsrStore> OpenStore(io::OutputFolder& folder, bool re
     original->GetMetaInt(asr::kMetaFinishedThrough, -1, std::numeric_limits<int>::max());
     original->GetMetaInt(asr::kMetaNextId, 0, std::numeric_limits<int>::max() - 1);
     original->GetMetaPose(asr::kMetaLastRawPose);
+    original->GetMetaPose("world_from_map");
     folder.CopyIntoStaging("map.sqlite");
     return asr::SqliteAsrStore::Open(folder.Staged("map.sqlite"), asr::SqliteAsrStore::OpenMode::kOpenExisting);
   }
@@ -402,7 +395,7 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   }
   io::WallsFile wf;
   for (const auto& r : master.rooms) wf.polylines.insert(wf.polylines.end(), r.walls.begin(), r.walls.end());
-  if (auto w = ParsePose(store->GetMeta("world_from_map"))) {
+  if (auto w = store->GetMetaPose("world_from_map")) {
     wf.world_from_map = *w;
     wf.has_truth = true;
   }
