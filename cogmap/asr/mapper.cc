@@ -34,23 +34,14 @@ void SetPositiveMeta(AsrStore* store, const char* key, double v) {
   const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;
   store->SetMeta(key, std::string(buf, end));
 }
-
-std::optional<double> PositiveMeta(const AsrStore& store, const char* key) {
-  const auto r = store.GetMeta(key);
-  if (!r) return std::nullopt;
-  double v = 0.0;
-  const auto [end, ec] = std::from_chars(r->data(), r->data() + r->size(), v);
-  if (ec != std::errc() || end != r->data() + r->size() || !std::isfinite(v) || v <= 0.0) return std::nullopt;
-  return v;
-}
 }  // namespace
 
 void SetRobotRadius(AsrStore* store, double radius_m) { SetPositiveMeta(store, kMetaRobotRadius, radius_m); }
-std::optional<double> RobotRadius(const AsrStore& store) { return PositiveMeta(store, kMetaRobotRadius); }
+std::optional<double> RobotRadius(const AsrStore& store) { return store.GetMetaPositive(kMetaRobotRadius); }
 void SetSensorReach(AsrStore* store, double reach_m) { SetPositiveMeta(store, kMetaSensorReach, reach_m); }
-std::optional<double> SensorReach(const AsrStore& store) { return PositiveMeta(store, kMetaSensorReach); }
+std::optional<double> SensorReach(const AsrStore& store) { return store.GetMetaPositive(kMetaSensorReach); }
 void SetSensorBeam(AsrStore* store, double beam_rad) { SetPositiveMeta(store, kMetaSensorBeam, beam_rad); }
-std::optional<double> SensorBeam(const AsrStore& store) { return PositiveMeta(store, kMetaSensorBeam); }
+std::optional<double> SensorBeam(const AsrStore& store) { return store.GetMetaPositive(kMetaSensorBeam); }
 
 Pose2 BestRigidFit(const std::vector<Pose2>& from, const std::vector<Pose2>& to) {
   const size_t n = std::min(from.size(), to.size());

@@ -105,7 +105,8 @@ constexpr const char* kMetaLastRecord = "last_record";
 // (plan::PlanOptions::robot_radius_m).
 constexpr const char* kMetaRobotRadius = "robot_radius_m";
 void SetRobotRadius(AsrStore* store, double radius_m);
-// The stored radius; none when absent or not a positive finite number.
+// The stored radius; none when absent, an InputError naming the store when
+// it is not a positive finite number (AsrStore::GetMetaPositive).
 std::optional<double> RobotRadius(const AsrStore& store);
 // How far from the robot the ASR grids of the store's last run took
 // readings (m): the largest of min(max range, MHIMM window) over its

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "cogmap/core/error.h"
+
 namespace cogmap::asr {
 namespace {
 
@@ -398,10 +400,11 @@ TEST(BestRigidFit, RecoversARigidTransform) {
   EXPECT_EQ(BestRigidFit({}, {}).theta, 0.0);
 }
 
-// The robot radius the floor plan scales its small rooms by: written in
-// shortest round-trip form, read back exactly; junk reads as none.
-// The positive numbers of the store's meta: the robot radius and the sensor
-// reach, each under its own key, shortest round-trip decimals.
+// The positive numbers of the store's meta (the robot radius, the sensor
+// reach, the sensor beam), each under its own key, written in shortest
+// round-trip form and read back exactly; junk is a damaged store, an error
+// naming the store and the key (it read as none: the floor plan then fell
+// back to its defaults without a word).
 TEST(PositiveMeta, RoundTripsAndRefusesJunk) {
   struct Key {
     const char* key;
@@ -410,7 +413,8 @@ TEST(PositiveMeta, RoundTripsAndRefusesJunk) {
     double value;
   };
   for (const Key& k : {Key{kMetaRobotRadius, SetRobotRadius, RobotRadius, 0.1234567890123},
-                       Key{kMetaSensorReach, SetSensorReach, SensorReach, 3.0000000001}}) {
+                       Key{kMetaSensorReach, SetSensorReach, SensorReach, 3.0000000001},
+                       Key{kMetaSensorBeam, SetSensorBeam, SensorBeam, 0.4363323129985824}}) {
     SCOPED_TRACE(k.key);
     MemoryAsrStore store;
     EXPECT_FALSE(k.get(store));
@@ -420,7 +424,13 @@ TEST(PositiveMeta, RoundTripsAndRefusesJunk) {
     EXPECT_EQ(store.GetMeta(k.key == kMetaRobotRadius ? kMetaSensorReach : kMetaRobotRadius), std::nullopt);
     for (const char* bad : {"", "abc", "0.2x", "3 m", "-0.3", "0", "nan", "inf"}) {
       store.SetMeta(k.key, bad);
-      EXPECT_FALSE(k.get(store)) << bad;
+      try {
+        k.get(store);
+        ADD_FAILURE() << "'" << bad << "' read without an error";
+      } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), std::string("memory store: a damaged store: meta ") + k.key + " is '" + bad +
+                                             "', not a positive number");
+      }
     }
   }
 }

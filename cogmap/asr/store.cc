@@ -209,6 +209,42 @@ std::optional<Placement> MemoryAsrStore::GetPlacement(int id) const {
   return it->second;
 }
 
+std::optional<long> AsrStore::GetMetaInt(const std::string& key, long min, long max) const {
+  const std::optional<std::string> text = GetMeta(key);
+  if (!text) return std::nullopt;
+  long value = 0;
+  const char* end = text->data() + text->size();
+  const auto [at, ec] = std::from_chars(text->data(), end, value);
+  if (ec != std::errc() || at != end || text->empty() || value < min || value > max)
+    throw InputError(Name(), 0,
+                     "a damaged store: meta " + key + " is '" + *text + "', not an integer in [" +
+                         std::to_string(min) + ", " + std::to_string(max) + "]");
+  return value;
+}
+
+std::optional<Pose2> AsrStore::GetMetaPose(const std::string& key) const {
+  const std::optional<std::string> text = GetMeta(key);
+  if (!text) return std::nullopt;
+  std::istringstream in(*text);
+  Pose2 p;
+  std::string rest;
+  if (!(in >> p.x >> p.y >> p.theta) || (in >> rest) || !std::isfinite(p.x) || !std::isfinite(p.y) ||
+      !std::isfinite(p.theta))
+    throw InputError(Name(), 0, "a damaged store: meta " + key + " is '" + *text + "', not a pose (x y theta)");
+  return p;
+}
+
+std::optional<double> AsrStore::GetMetaPositive(const std::string& key) const {
+  const std::optional<std::string> text = GetMeta(key);
+  if (!text) return std::nullopt;
+  double v = 0.0;
+  const char* end = text->data() + text->size();
+  const auto [at, ec] = std::from_chars(text->data(), end, v);
+  if (ec != std::errc() || at != end || text->empty() || !std::isfinite(v) || v <= 0.0)
+    throw InputError(Name(), 0, "a damaged store: meta " + key + " is '" + *text + "', not a positive number");
+  return v;
+}
+
 std::optional<std::string> MemoryAsrStore::GetMeta(const std::string& key) const {
   const auto it = meta_.find(key);
   if (it == meta_.end()) return std::nullopt;
@@ -968,31 +1004,6 @@ std::optional<std::string> SqliteAsrStore::GetMeta(const std::string& key) const
   if (s.ok() && s.Step() == SQLITE_ROW) return s.Text(0);
   if (s.failed()) Fail("meta " + key + ": " + sqlite3_errmsg(Db(db_)));
   return std::nullopt;
-}
-
-std::optional<long> SqliteAsrStore::GetMetaInt(const std::string& key, long min, long max) const {
-  const std::optional<std::string> text = GetMeta(key);
-  if (!text) return std::nullopt;
-  long value = 0;
-  const char* end = text->data() + text->size();
-  const auto [at, ec] = std::from_chars(text->data(), end, value);
-  if (ec != std::errc() || at != end || text->empty() || value < min || value > max)
-    throw InputError(path_, 0,
-                     "a damaged store: meta " + key + " is '" + *text + "', not an integer in [" +
-                         std::to_string(min) + ", " + std::to_string(max) + "]");
-  return value;
-}
-
-std::optional<Pose2> SqliteAsrStore::GetMetaPose(const std::string& key) const {
-  const std::optional<std::string> text = GetMeta(key);
-  if (!text) return std::nullopt;
-  std::istringstream in(*text);
-  Pose2 p;
-  std::string rest;
-  if (!(in >> p.x >> p.y >> p.theta) || (in >> rest) || !std::isfinite(p.x) || !std::isfinite(p.y) ||
-      !std::isfinite(p.theta))
-    throw InputError(path_, 0, "a damaged store: meta " + key + " is '" + *text + "', not a pose (x y theta)");
-  return p;
 }
 
 void SqliteAsrStore::SetMeta(const std::string& key, const std::string& value) {

@@ -55,6 +55,18 @@ class AsrStore {
   virtual std::vector<int> Neighbours(int id) const = 0;
   virtual std::optional<std::string> GetMeta(const std::string& key) const = 0;
   virtual void SetMeta(const std::string& key, const std::string& value) = 0;
+  // What errors name the store by: its file, or "memory store".
+  virtual std::string Name() const = 0;
+  // A meta value that is an integer in [min, max] (an ASR id, a record
+  // number): none when the key is absent, an InputError naming the store
+  // when the value is anything else.
+  std::optional<long> GetMetaInt(const std::string& key, long min, long max) const;
+  // A meta value that is a pose, "x y theta" (three finite numbers): none
+  // when absent, an InputError naming the store when it is anything else.
+  std::optional<Pose2> GetMetaPose(const std::string& key) const;
+  // A meta value that is a positive finite number: none when absent, an
+  // InputError naming the store when it is anything else.
+  std::optional<double> GetMetaPositive(const std::string& key) const;
   // Rewrites the given ASRs (their optimised poses), their placements and the
   // run's closure candidates, in one transaction.
   virtual void PutPlacements(const std::vector<Asr>& asrs, const std::vector<Placement>& placements,
@@ -89,6 +101,7 @@ class MemoryAsrStore : public AsrStore {
   std::vector<int> Neighbours(int id) const override;
   std::optional<std::string> GetMeta(const std::string& key) const override;
   void SetMeta(const std::string& key, const std::string& value) override { meta_[key] = value; }
+  std::string Name() const override { return "memory store"; }
   void PutPlacements(const std::vector<Asr>& asrs, const std::vector<Placement>& placements,
                      const std::vector<ClosureRecord>& closures) override;
   void RevisePlacements(const std::vector<int>& ids, const std::function<void(Asr&)>& revise,
@@ -144,6 +157,7 @@ class SqliteAsrStore : public AsrStore {
   std::vector<int> Neighbours(int id) const override;
   std::optional<std::string> GetMeta(const std::string& key) const override;
   void SetMeta(const std::string& key, const std::string& value) override;
+  std::string Name() const override { return path_; }
   void PutPlacements(const std::vector<Asr>& asrs, const std::vector<Placement>& placements,
                      const std::vector<ClosureRecord>& closures) override;
   void RevisePlacements(const std::vector<int>& ids, const std::function<void(Asr&)>& revise,
@@ -153,13 +167,6 @@ class SqliteAsrStore : public AsrStore {
   std::vector<ClosureRecord> Closures() const override;
 
   std::vector<Edge> Edges() const;
-  // A meta value that is an integer in [min, max] (an ASR id, a record
-  // number): none when the key is absent, an InputError naming the store
-  // when the value is anything else.
-  std::optional<long> GetMetaInt(const std::string& key, long min, long max) const;
-  // A meta value that is a pose, "x y theta" (three finite numbers): none
-  // when absent, an InputError naming the store when it is anything else.
-  std::optional<Pose2> GetMetaPose(const std::string& key) const;
   // "ok" when PRAGMA integrity_check passes, else its first message.
   std::string IntegrityCheck() const;
   // Test seam: limits the file to 'pages' pages (PRAGMA max_page_count), so
