@@ -360,8 +360,15 @@ def main():
                     # 16 here) and corrected positions (4, 5) with the uninterrupted run's.
                     ok = check(all(i in rrows for i in rows), "trial %d: resume lost stored ASRs" % trial)
                     kept_asrs.append(sum(rrows[i][16] == ref_rows[i][16] for i in rows if i in ref_rows) / len(rows))
-                    pose_diffs.extend(math.hypot(rrows[i][4] - ref_rows[i][4], rrows[i][5] - ref_rows[i][5])
-                                      for i in rows if i in ref_rows)
+                    diffs = [math.hypot(rrows[i][4] - ref_rows[i][4], rrows[i][5] - ref_rows[i][5])
+                             for i in rows if i in ref_rows]
+                    pose_diffs.extend(diffs)
+                    if diffs and max(diffs) >= 0.5:
+                        # Kept for a look: the killed store and its resume.
+                        kept = j("trial-%d" % trial)
+                        store_alone(partial, os.path.join(kept, "killed"))
+                        shutil.copytree(rdir, os.path.join(kept, "resumed"))
+                        line += ", killed ASRs up to %.3f m off (kept in %s)" % (max(diffs), kept)
                     asr_diffs.append(rep["asr_count"] - ref_asrs)
                     rooms = rep.get("pose_graph", {}).get("rooms")
                     if rooms is not None and ref_rooms is not None:
@@ -421,7 +428,9 @@ def main():
     if resume_secs:
         print("  resume run: median %.1f s" % statistics.median(resume_secs))
     print("  failures: %d" % len(failures))
-    if not args.work:
+    if failures:
+        print("  work folder kept: %s" % work)
+    elif not args.work:
         shutil.rmtree(work, ignore_errors=True)
     sys.exit(1 if failures else 0)
 
