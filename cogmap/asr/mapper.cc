@@ -42,6 +42,13 @@ void SetSensorReach(AsrStore* store, double reach_m) { SetPositiveMeta(store, kM
 std::optional<double> SensorReach(const AsrStore& store) { return store.GetMetaPositive(kMetaSensorReach); }
 void SetSensorBeam(AsrStore* store, double beam_rad) { SetPositiveMeta(store, kMetaSensorBeam, beam_rad); }
 std::optional<double> SensorBeam(const AsrStore& store) { return store.GetMetaPositive(kMetaSensorBeam); }
+std::optional<long> FinishedThrough(const AsrStore& store) {
+  return store.GetMetaInt(kMetaFinishedThrough, -1, std::numeric_limits<int>::max());
+}
+std::optional<long> NextAsrId(const AsrStore& store) {
+  return store.GetMetaInt(kMetaNextId, 0, std::numeric_limits<int>::max() - 1);
+}
+std::optional<Pose2> LastRawPose(const AsrStore& store) { return store.GetMetaPose(kMetaLastRawPose); }
 
 Pose2 BestRigidFit(const std::vector<Pose2>& from, const std::vector<Pose2>& to) {
   const size_t n = std::min(from.size(), to.size());

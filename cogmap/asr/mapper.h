@@ -126,6 +126,13 @@ std::optional<double> SensorBeam(const AsrStore& store);
 // it were stored by a run that stopped before its end (a kill); absent in
 // stores written before schema 3.
 constexpr const char* kMetaFinishedThrough = "finished_through";
+// The run-state values a resume continues from, as a run writes them
+// (finished_through -1 or an ASR id, next_asr_id an ASR id, last_raw_pose a
+// pose): none when absent, an InputError naming the store when the value is
+// anything else (AsrStore::GetMetaInt, GetMetaPose).
+std::optional<long> FinishedThrough(const AsrStore& store);
+std::optional<long> NextAsrId(const AsrStore& store);
+std::optional<Pose2> LastRawPose(const AsrStore& store);
 
 struct MapperStats {
   int asr_count = 0;          // ASRs closed and handed to the callback

@@ -14,7 +14,7 @@ namespace cogmap::graph {
 namespace {
 
 // The kinds of factor with a sigma factor of their own (fitted by
-// FitVarianceComponents, all but the closures; saved and restored by Finish).
+// FitVarianceComponents, all but the closures; kept by a Trial).
 constexpr FactorKind kSigmaKinds[] = {FactorKind::kOdometry, FactorKind::kOdometryHeading, FactorKind::kDirection,
                                       FactorKind::kRegistration, FactorKind::kLoopClosure};
 
@@ -1239,6 +1239,29 @@ std::vector<double> MapOptimizer::CurrentRates() const {
   return out;
 }
 
+MapOptimizer::Trial MapOptimizer::StartTrial() const {
+  Trial t;
+  t.state = graph_.Save();
+  t.rates_fixed = graph_.RatesFixedAtZero();
+  for (FactorKind k : kSigmaKinds) t.sigma.push_back(graph_.SigmaFactor(k));
+  t.closures = closures_;
+  t.closure_factors = closure_factor_.size();
+  return t;
+}
+
+void MapOptimizer::TakeBack(const Trial& t) {
+  // Closures accepted since: their factors disabled and forgotten.
+  for (size_t k = t.closure_factors; k < closure_factor_.size(); ++k) graph_.SetRelativeEnabled(closure_factor_[k], false);
+  closure_factor_.resize(t.closure_factors);
+  closure_index_.resize(t.closure_factors);
+  closures_ = t.closures;
+  for (size_t k = 0; k < closure_factor_.size(); ++k)
+    graph_.SetRelativeEnabled(closure_factor_[k], closures_[closure_index_[k]].accepted);
+  for (size_t k = 0; k < t.sigma.size(); ++k) graph_.SetSigmaFactor(kSigmaKinds[k], t.sigma[k]);
+  graph_.SetRatesFixedAtZero(t.rates_fixed);
+  graph_.Restore(t.state);
+}
+
 void MapOptimizer::DropContradictedClosures() {
   // A closure the whole graph contradicts is dropped and the graph re-solved.
   const double gate3 = ChiSquareQuantile(options_.gate_probability, 3);
@@ -1274,12 +1297,7 @@ OptimizerResult MapOptimizer::Finish() {
   // left as it was (a wrong one, accepted and dropped again, would still
   // have weighed on the variance components and the drift test).
   if (options_.search_again) {
-    const PoseGraph::State before = graph_.Save();
-    const bool before_fixed = graph_.RatesFixedAtZero();
-    std::vector<double> before_sigma;
-    for (FactorKind k : kSigmaKinds) before_sigma.push_back(graph_.SigmaFactor(k));
-    const std::vector<LoopClosure> before_closures = closures_;
-    const size_t before_factors = closure_factor_.size();
+    const Trial before = StartTrial();
     const DriftDecision before_drift = drift;
     if (SearchClosuresAgain() > 0) {
       graph_.Solve(0, options_.full_iterations);
@@ -1287,21 +1305,11 @@ OptimizerResult MapOptimizer::Finish() {
       drift = TestDrift();
       DropContradictedClosures();
       bool stands = false;
-      for (size_t k = before_factors; k < closure_factor_.size(); ++k)
+      for (size_t k = before.closure_factors; k < closure_factor_.size(); ++k)
         stands = stands || closures_[closure_index_[k]].accepted;
       if (!stands) {
-        for (size_t k = before_factors; k < closure_factor_.size(); ++k)
-          graph_.SetRelativeEnabled(closure_factor_[k], false);
-        closure_factor_.resize(before_factors);
-        closure_index_.resize(before_factors);
-        closures_ = before_closures;
-        for (size_t k = 0; k < closure_factor_.size(); ++k)
-          graph_.SetRelativeEnabled(closure_factor_[k], closures_[closure_index_[k]].accepted);
-        for (size_t k = 0; k < before_sigma.size(); ++k) graph_.SetSigmaFactor(kSigmaKinds[k], before_sigma[k]);
-        graph_.SetRatesFixedAtZero(before_fixed);
-        graph_.Restore(before);
+        TakeBack(before);
         drift = before_drift;
-        AssignRoomIds();
       }
     }
   }
@@ -1313,12 +1321,7 @@ OptimizerResult MapOptimizer::Finish() {
   // map at least as consistent (robot path through walls) as without them.
   res.split_asrs = static_cast<int>(splits_.size());
   if (!splits_.empty()) {
-    const PoseGraph::State whole_state = graph_.Save();
-    const bool whole_fixed = graph_.RatesFixedAtZero();
-    const auto& kinds = kSigmaKinds;
-    std::vector<double> whole_sigma;
-    for (FactorKind k : kinds) whole_sigma.push_back(graph_.SigmaFactor(k));
-    const std::vector<LoopClosure> whole_closures = closures_;
+    const Trial whole = StartTrial();
     const Consistency c_whole = MapConsistency(CurrentPoses(), CurrentRates());
     SetSplitsEnabled(true);
     graph_.SetRatesFixedAtZero(false);
@@ -1343,12 +1346,7 @@ OptimizerResult MapOptimizer::Finish() {
       res.split_used = true;
     } else {
       SetSplitsEnabled(false);
-      for (size_t k = 0; k < whole_sigma.size(); ++k) graph_.SetSigmaFactor(kinds[k], whole_sigma[k]);
-      closures_ = whole_closures;
-      for (size_t k = 0; k < closure_factor_.size(); ++k)
-        graph_.SetRelativeEnabled(closure_factor_[k], closures_[closure_index_[k]].accepted);
-      graph_.SetRatesFixedAtZero(whole_fixed);
-      graph_.Restore(whole_state);
+      TakeBack(whole);
     }
   }
   res.drift_test_chi2 = drift.chi2;
@@ -1476,10 +1474,9 @@ OptimizerResult MapOptimizer::Finish() {
     // group's residuals are small where nothing else measures the same
     // relative pose (a chain without loops, a corridor's length), which says
     // nothing about the noise there (the global redundancy share cannot tell).
-    const auto& kinds = kSigmaKinds;
     std::map<FactorKind, double> fitted;
     if (options_.covariance_sigma_floor) {
-      for (FactorKind k : kinds) {
+      for (FactorKind k : kSigmaKinds) {
         fitted[k] = graph_.SigmaFactor(k);
         graph_.SetSigmaFactor(k, std::max(1.0, fitted[k]));
       }

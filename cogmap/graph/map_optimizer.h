@@ -453,6 +453,19 @@ class MapOptimizer {
   // Closures the solved graph contradicts (chi-square over the gate) are
   // disabled and the graph re-solved, up to 3 rounds.
   void DropContradictedClosures();
+  // What Finish tries and may take back (the split directions, the
+  // closures searched again): the graph's poses and rates, whether the
+  // rates are held, the sigma factors and the closures. TakeBack disables
+  // and forgets the closure factors added since.
+  struct Trial {
+    PoseGraph::State state;
+    bool rates_fixed = false;
+    std::vector<double> sigma;  // per kSigmaKinds (map_optimizer.cc)
+    std::vector<LoopClosure> closures;
+    size_t closure_factors = 0;
+  };
+  Trial StartTrial() const;
+  void TakeBack(const Trial& t);
   // The loop-closure candidates of node n: searched, gated and, when
   // accepted, added to the graph; the number accepted. With 'again' (the
   // end of the run, search_again) the pairs it holds are skipped, and so is
@@ -520,9 +533,9 @@ class MapOptimizer {
     Eigen::Matrix3d cov;
   };
   std::vector<Implied> prev_implied_;
+  int prev_implied_node_ = -1;
   // Each node's pose when its candidates were searched (TryLoopClosures).
   std::vector<Pose2> searched_at_;
-  int prev_implied_node_ = -1;
   // Each node's room: its own, or the room of the stored ASR an accepted
   // same-room closure revisits (in the closures' order).
   void AssignRoomIds();

@@ -461,8 +461,11 @@ TEST(MapOptimizer, ACorridorRevisitedAcrossAQuarterTurnIsHeldAcrossItsWalls) {
   // Without closures across the walls the candidate is only ambiguous.
   o.closures_across_walls = false;
   MapOptimizer strict(o);
-  for (const auto& c : PlaceAll(strict, asrs).closures)
-    if (c.from_asr == 0 && c.to_asr == 2) EXPECT_FALSE(c.accepted) << c.reason;
+  for (const auto& c : PlaceAll(strict, asrs).closures) {
+    if (c.from_asr == 0 && c.to_asr == 2) {
+      EXPECT_FALSE(c.accepted) << c.reason;
+    }
+  }
 }
 
 TEST(MapOptimizer, QuarterTurnAmbiguousRoomNeverFlipsTheMap) {

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <future>
 #include <iomanip>
-#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -99,9 +98,9 @@ std::unique_ptr<asr::SqliteAsrStore> OpenStore(io::OutputFolder& folder, bool re
       original->GetPlacement(id);
     }
     // And the values the run continues from (MappingPipeline::Resume).
-    original->GetMetaInt(asr::kMetaFinishedThrough, -1, std::numeric_limits<int>::max());
-    original->GetMetaInt(asr::kMetaNextId, 0, std::numeric_limits<int>::max() - 1);
-    original->GetMetaPose(asr::kMetaLastRawPose);
+    asr::FinishedThrough(*original);
+    asr::NextAsrId(*original);
+    asr::LastRawPose(*original);
     original->GetMetaPose("world_from_map");
     folder.CopyIntoStaging("map.sqlite");
     return asr::SqliteAsrStore::Open(folder.Staged("map.sqlite"), asr::SqliteAsrStore::OpenMode::kOpenExisting);
@@ -248,7 +247,7 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
         // A run killed after its last room closed (in its end-of-run solve or
         // its outputs) has every record stored but was never finished: its
         // rooms are placed and its files written now.
-        const auto through = store->GetMetaInt(asr::kMetaFinishedThrough, -1, std::numeric_limits<int>::max());
+        const auto through = asr::FinishedThrough(*store);
         const bool unfinished = through && *through < stored_max;
         if (!more && !unfinished)
           throw InputError(from.path() + ": nothing to resume: the store already holds this log to its end (all " +

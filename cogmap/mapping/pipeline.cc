@@ -300,7 +300,7 @@ void MappingPipeline::Resume() {
   const int last = store_->MaxId();
   asr::MapperResume r;
   r.next_id = last + 1;
-  if (const auto next = store_->GetMetaInt(asr::kMetaNextId, 0, std::numeric_limits<int>::max() - 1))
+  if (const auto next = asr::NextAsrId(*store_))
     r.next_id = std::max(r.next_id, static_cast<int>(*next));
   Pose2 carried;  // raw -> corrected at the end of the stored run
   std::optional<double> reference;
@@ -318,7 +318,7 @@ void MappingPipeline::Resume() {
   }
   corrector_.Restore(carried, reference);
   drift_corrector_.Restore(carried, reference);
-  r.last_raw_pose = store_->GetMetaPose(asr::kMetaLastRawPose);
+  r.last_raw_pose = asr::LastRawPose(*store_);
   mapper_->Resume(r);
   if (optimizer_) {
     // The ASRs of a run that finished stay where it placed them. The ASRs of a
@@ -326,7 +326,7 @@ void MappingPipeline::Resume() {
     // placement) are placed again, in order, from their stored raw fields, as
     // that run placed them: the pose graph, its loop closures and its room
     // identities continue as if it had not stopped (docs/store.md).
-    const auto through = store_->GetMetaInt(asr::kMetaFinishedThrough, -1, std::numeric_limits<int>::max());
+    const auto through = asr::FinishedThrough(*store_);
     const long finished_through = through ? *through : std::numeric_limits<long>::max();
     for (int id : store_->Ids()) {
       auto x = store_->Get(id);
