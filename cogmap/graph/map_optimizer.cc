@@ -18,14 +18,6 @@ namespace {
 constexpr FactorKind kSigmaKinds[] = {FactorKind::kOdometry, FactorKind::kOdometryHeading, FactorKind::kDirection,
                                       FactorKind::kRegistration, FactorKind::kLoopClosure};
 
-// A pose covariance (x, y, theta) of one frame, in a frame turned by theta
-// from it.
-Eigen::Matrix3d TurnedCovariance(const Eigen::Matrix3d& cov, double theta) {
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  R.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(theta).toRotationMatrix();
-  return R * cov * R.transpose();
-}
-
 // Variance along the walls of a closure held across them only (100 m
 // squared: nothing the odometry's metres cannot outweigh).
 constexpr double kUnknownAlongWalls = 1e4;

@@ -323,12 +323,16 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
   return r;
 }
 
+Eigen::Matrix3d TurnedCovariance(const Eigen::Matrix3d& cov, double theta) {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  R.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(theta).toRotationMatrix();
+  return R * cov * R.transpose();
+}
+
 Eigen::Matrix3d CovarianceInSourceFrame(const Registration& r) {
   // A move (dx, dy) of the target-frame translation is R(theta)^T (dx, dy)
   // along the source's axes; the heading is the same in both.
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  R.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(-r.target_from_source.theta).toRotationMatrix();
-  return R * r.covariance * R.transpose();
+  return TurnedCovariance(r.covariance, -r.target_from_source.theta);
 }
 
 std::vector<int> AgreementOverShifts(const std::vector<FacedSegment>& target, const std::vector<FacedPoint>& points,

@@ -117,6 +117,10 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
                            const Pose2& initial_target_from_source, const RegistrationOptions& options = {},
                            const Eigen::Matrix3d* prior_covariance = nullptr);
 
+// A pose covariance (x, y, theta) of one frame, in a frame turned by theta
+// from it: x and y turned by theta, the heading as it is.
+Eigen::Matrix3d TurnedCovariance(const Eigen::Matrix3d& cov, double theta);
+
 // The registration's covariance as the error of target_from_source seen
 // from the source frame: x and y along the source's axes, then theta. That
 // is the frame of the pose graph's relative factors (PoseGraph::AddRelative,
