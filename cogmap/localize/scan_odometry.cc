@@ -64,44 +64,51 @@ std::vector<Vec2> ScanOdometry::ScanPoints(const std::vector<sensors::RangeReadi
   return out;
 }
 
-void ScanOdometry::Lines(const std::vector<Vec2>& pts, std::vector<Vec2>* on_line, std::vector<Vec2>* normals) const {
+std::vector<Vec2> ScanOdometry::Normals(const std::vector<Vec2>& pts) const {
   const int n = static_cast<int>(pts.size());
+  std::vector<Vec2> normals(pts.size(), Vec2(0.0, 0.0));
   // Each point's line: the principal axis of the returns of up to
   // 'line_beams' beams either side within neighbour_m of it (a surface, not
   // a jump to another one), at least three of them and thin (their spread
   // across the axis under a fifth of that along it: no corner). With two
   // neighbours alone the range noise tilted the normals by degrees, and
   // the tilt slid a corridor's scans along it.
+  // One pass over the neighbours (offsets from the point itself, so the
+  // sums stay small), the 2 x 2 scatter's eigen-decomposition in closed form.
+  const double r2 = o_.neighbour_m * o_.neighbour_m;
   for (int i = 0; i < n; ++i) {
-    Vec2 sum(0, 0);
+    double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0, syy = 0.0;
     int m = 0;
     const int lo = std::max(0, i - o_.line_beams), hi = std::min(n - 1, i + o_.line_beams);
-    for (int j = lo; j <= hi; ++j)
-      if ((pts[j] - pts[i]).norm() <= o_.neighbour_m) {
-        sum += pts[j];
-        ++m;
-      }
+    for (int j = lo; j <= hi; ++j) {
+      const Vec2 d = pts[j] - pts[i];
+      if (d.squaredNorm() > r2) continue;
+      sx += d.x(), sy += d.y();
+      sxx += d.x() * d.x(), sxy += d.x() * d.y(), syy += d.y() * d.y();
+      ++m;
+    }
     if (m < 3) continue;
-    const Vec2 mean = sum / m;
-    Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
-    for (int j = lo; j <= hi; ++j)
-      if ((pts[j] - pts[i]).norm() <= o_.neighbour_m) {
-        const Vec2 d = pts[j] - mean;
-        C += d * d.transpose();
-      }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(C);
-    if (!(es.eigenvalues()(0) <= kThin * es.eigenvalues()(1))) continue;
-    on_line->push_back(pts[i]);
-    normals->push_back(es.eigenvectors().col(0).normalized());
+    const double a = sxx - sx * sx / m, b = sxy - sx * sy / m, c = syy - sy * sy / m;
+    const double mid = 0.5 * (a + c), half = std::hypot(0.5 * (a - c), b);
+    if (!(mid - half <= kThin * (mid + half))) continue;
+    // The principal axis's angle; the normal is across it.
+    const double phi = 0.5 * std::atan2(2.0 * b, a - c);
+    normals[i] = Vec2(-std::sin(phi), std::cos(phi));
   }
+  return normals;
 }
 
-void ScanOdometry::MakeReference(const std::vector<Vec2>& points, const Pose2& corrected, const Pose2& odom) {
+void ScanOdometry::MakeReference(const std::vector<Vec2>& points, const std::vector<Vec2>& normals,
+                                 const Pose2& corrected, const Pose2& odom) {
   Reference ref;
   ref.corrected = corrected;
   ref.odom = odom;
   ref.cell = o_.max_correspondence_m;
-  Lines(points, &ref.points, &ref.normals);
+  for (size_t i = 0; i < points.size(); ++i)
+    if (normals[i] != Vec2(0.0, 0.0)) {
+      ref.points.push_back(points[i]);
+      ref.normals.push_back(normals[i]);
+    }
   if (!ref.points.empty()) {
     double x1 = ref.points[0].x(), y1 = ref.points[0].y();
     ref.x0 = x1, ref.y0 = y1;
@@ -175,9 +182,10 @@ Pose2 ScanOdometry::Correct(const Pose2& odom, const std::vector<sensors::RangeR
   std::vector<Vec2> points = ScanPoints(ranges);
   if (points.empty()) return predicted;
   ++stats_.scans;
+  const std::vector<Vec2> normals = Normals(points);
   if (!has_reference_) {
     last_scan_odom_ = odom;
-    if (static_cast<int>(points.size()) >= o_.min_matches) MakeReference(points, predicted, odom);
+    if (static_cast<int>(points.size()) >= o_.min_matches) MakeReference(points, normals, predicted, odom);
     return predicted;
   }
   // The scan's pose in the reference's frame: the guess (the last scan's
@@ -198,6 +206,7 @@ Pose2 ScanOdometry::Correct(const Pose2& odom, const std::vector<sensors::RangeR
   lever = std::max(0.1, std::sqrt(lever / points.size()));
   int matches = 0;
   double sum_e2 = 0.0;
+  const double min_normal_cos = std::cos(o_.max_normal_angle_rad);
   for (int it = 0; it < o_.iterations; ++it) {
     const double frac = o_.iterations > 1 ? static_cast<double>(it) / (o_.iterations - 1) : 1.0;
     const double max_d = o_.max_correspondence_m + frac * (o_.final_correspondence_m - o_.max_correspondence_m);
@@ -206,13 +215,22 @@ Pose2 ScanOdometry::Correct(const Pose2& odom, const std::vector<sensors::RangeR
     Eigen::Vector3d gd = Eigen::Vector3d::Zero();
     matches = 0;
     sum_e2 = 0.0;
-    for (const Vec2& p : points) {
+    for (size_t i = 0; i < points.size(); ++i) {
+      const Vec2& p = points[i];
       const Vec2 rp(c * p.x() - s * p.y(), s * p.x() + c * p.y());
       const Vec2 q(rp.x() + T(0), rp.y() + T(1));
       double e = 0.0;
       const int k = Nearest(q, max_d, &e);
       if (k < 0) continue;
       const Vec2& n = ref_.normals[k];
+      // A point on a surface of its own that faces another way than the
+      // reference's is on another surface (a wall beside the robot taken
+      // for the end of a door's jamb seen at the edge of the reference's
+      // view): it would measure the motion along its own surface as none.
+      const Vec2& own = normals[i];
+      if (own != Vec2(0.0, 0.0) && std::abs(n.x() * (c * own.x() - s * own.y()) + n.y() * (s * own.x() + c * own.y())) <
+                                       min_normal_cos)
+        continue;
       const Eigen::Vector3d J(n.x(), n.y(), n.x() * -rp.y() + n.y() * rp.x());
       const double w = (std::abs(e) <= o_.huber_m ? 1.0 : o_.huber_m / std::abs(e)) * w_point;
       Hd += w * J * J.transpose();
@@ -270,7 +288,7 @@ Pose2 ScanOdometry::Correct(const Pose2& odom, const std::vector<sensors::RangeR
   last_corrected_ = corrected;
   const Pose2 rel = ref_.corrected.inverse() * corrected;
   if (!matched || std::hypot(rel.x, rel.y) > o_.reference_m || std::abs(rel.theta) > o_.reference_rad) {
-    if (static_cast<int>(points.size()) >= o_.min_matches) MakeReference(points, corrected, odom);
+    if (static_cast<int>(points.size()) >= o_.min_matches) MakeReference(points, normals, corrected, odom);
   }
   return corrected;
 }

@@ -30,6 +30,11 @@ struct ScanOdometryOptions {
   // Correspondences within this distance, shrinking linearly from the first
   // to the last iteration.
   double max_correspondence_m = 0.5;
+  // A return whose own line (Normals) is turned by more than this from the
+  // line of the reference return nearest to it is not matched to it. Scans
+  // 0.5 m apart see a surface turned by the match's rotation alone (a few
+  // degrees); a pair further apart lies on two surfaces (a corner, a jamb).
+  double max_normal_angle_rad = 0.785398163397448;  // 45 degrees
   double final_correspondence_m = 0.15;
   int iterations = 20;
   // Residuals beyond this weigh less (Huber).
@@ -127,12 +132,12 @@ class ScanOdometry {
     std::vector<int> start, order;
     Pose2 corrected, odom;  // the reference scan's poses
   };
-  // The returns of a scan (robot frame, beam order) that lie on a line, and
-  // their normals.
-  void Lines(const std::vector<Vec2>& points, std::vector<Vec2>* on_line, std::vector<Vec2>* normals) const;
+  // Each return's normal (robot frame) where it lies on a line, else (0, 0).
+  std::vector<Vec2> Normals(const std::vector<Vec2>& points) const;
   // A scan's returns in the robot frame, in beam order (lasers only, within range).
   std::vector<Vec2> ScanPoints(const std::vector<sensors::RangeReading>& ranges) const;
-  void MakeReference(const std::vector<Vec2>& points, const Pose2& corrected, const Pose2& odom);
+  void MakeReference(const std::vector<Vec2>& points, const std::vector<Vec2>& normals, const Pose2& corrected,
+                     const Pose2& odom);
   int Nearest(const Vec2& q, double max_d, double* e) const;  // index into ref_.points, or -1
 
   sensors::RobotDescription robot_;
