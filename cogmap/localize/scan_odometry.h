@@ -26,7 +26,7 @@ struct ScanOdometryOptions {
   // Returns of nearby beams at most this far from a reference point lie on
   // its surface: the point's local line (its normal) is fitted to them.
   double neighbour_m = 0.3;
-  int line_beams = 15;  // ... of up to this many beams either side
+  int line_beams = 200;  // ... of at most this many beams either side (a bound on the work)
   // Correspondences within this distance, shrinking linearly from the first
   // to the last iteration.
   double max_correspondence_m = 0.5;
