@@ -7,8 +7,8 @@
 namespace cogmap::localize {
 namespace {
 
-// A reference point's neighbours make a line when their spread across it is
-// under a fifth of that along it (variance ratio 0.04): not a corner.
+// A return's neighbours make a line when their spread across it is under a
+// fifth of that along it (variance ratio 0.04): not a corner.
 constexpr double kThin = 0.04;
 constexpr int kMissesToStop = 3;
 
@@ -237,9 +237,10 @@ Pose2 ScanOdometry::Correct(const Pose2& odom, const std::vector<sensors::RangeR
       if (k < 0) continue;
       const Vec2& n = ref_.normals[k];
       // A point on a surface of its own that faces another way than the
-      // reference's is on another surface (a wall beside the robot taken
-      // for the end of a door's jamb seen at the edge of the reference's
-      // view): it would measure the motion along its own surface as none.
+      // reference's is on another surface (through a door, the wall beside
+      // the robot taken for the corridor's wall seen edge-on at the side of
+      // the reference's view): it would measure the motion along its own
+      // surface as none.
       const Vec2& own = normals[i];
       if (own != Vec2(0.0, 0.0) && std::abs(n.x() * (c * own.x() - s * own.y()) + n.y() * (s * own.x() + c * own.y())) <
                                        min_normal_cos)
