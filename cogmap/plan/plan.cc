@@ -1152,6 +1152,7 @@ struct DoorCand {
   // An unmeasured exit whose ASRs' paths went through a doorway the walls
   // show: a door the boundary detector missed, wherever the cut came.
   bool crossed_door = false;
+  Vec2 centre{0, 0};  // the exit's placed centre (where the robot crossed)
   Vec2 line_c{0, 0}, line_u{1, 0};
   double lo = 0, hi = 0;  // the gap along line_u from line_c
   // The robot's way through it: each of the two ASRs' paths within
@@ -1910,6 +1911,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       d.from_asr = e.from, d.to_asr = e.to;
       d.unmeasured = e.width <= 0.0;
       const Vec2 c = e.sum / e.n;
+      d.centre = c;
       const double w = std::clamp(e.width, o.min_door_m, o.max_door_m);
       // The wall lines that pass the exit (their extent grown by a door
       // width), nearest first.
@@ -2067,7 +2069,12 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // went through a doorway the walls show (a gap of min_door_m to
   // max_door_m between the ends of two wall faces on one line): a space cut
   // by distance after the robot crossed a door it did not detect (off the
-  // door's middle) holds two rooms, and its exit stays a door.
+  // door's middle) holds two rooms, and its exit stays a door. A doorway
+  // the ASR's own measured exits lie in was detected: it is their door, and
+  // says nothing of the cut (a corridor piece entered from an office and cut
+  // while the robot crossed the corridor to the office opposite was drawn
+  // with a 6 m door along the corridor's middle: gen-building, a 3 m
+  // corridor).
   if (std::any_of(door_cands.begin(), door_cands.end(), [](const DoorCand& d) { return d.unmeasured; })) {
     std::vector<std::pair<Vec2, Vec2>> gaps;
     const double cos_face = std::cos(Deg(o.face_angle_deg));
@@ -2091,10 +2098,19 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     auto through_door = [&](int asr_id) {
       auto it = index_of.find(asr_id);
       if (it == index_of.end()) return false;
+      std::vector<Vec2> detected;  // the ASR's measured exits
+      for (const DoorCand& d : door_cands)
+        if (!d.unmeasured && (d.from_asr == asr_id || d.to_asr == asr_id)) detected.push_back(d.centre);
+      auto detected_door = [&](const std::pair<Vec2, Vec2>& gap) {
+        const Vec2 mid = 0.5 * (gap.first + gap.second);
+        return std::any_of(detected.begin(), detected.end(),
+                           [&](const Vec2& c) { return (c - mid).norm() <= o.max_door_m; });
+      };
       const auto& pp = path[it->second];
       for (size_t k = 1; k < pp.size(); ++k)
         for (int gi : gap_hash.Query(pp[k - 1].cwiseMin(pp[k]), pp[k - 1].cwiseMax(pp[k])))
-          if (SegmentsCross(pp[k - 1], pp[k], gaps[gi].first, gaps[gi].second)) return true;
+          if (SegmentsCross(pp[k - 1], pp[k], gaps[gi].first, gaps[gi].second) && !detected_door(gaps[gi]))
+            return true;
       return false;
     };
     for (auto& d : door_cands)

@@ -1447,5 +1447,47 @@ TEST(BuildPlan, RoomsCutByDistanceAcrossAMissedDoorStayTwo) {
   EXPECT_EQ(BuildPlan({a, b}, {}).rooms.size(), 1u);
 }
 
+TEST(BuildPlan, ACutByDistanceAfterADetectedDoorIsNoDoor) {
+  // A corridor 3.4 m wide and 12 m long (y = 0..3.4), an office below it
+  // (y = -4..0, its door at x = 2..3) and one above (y = 3.4..7, its door at
+  // x = 9..10). The robot left the lower office (an exit 1 m wide, cut in
+  // the middle of its way through the doorway, 0.6 m before the wall),
+  // drove along the corridor and, crossing it to the upper office, was cut
+  // by distance in its middle (an exit of no measured width), then cut
+  // again at the upper door (another measured exit). The corridor piece's
+  // path went through a doorway the walls show, but that doorway is its
+  // own measured exit's: the cut was no missed door and parts nothing. No
+  // door there (drawn across the robot's way, it ran along the corridor's
+  // middle, wall to wall: 6 m on a generated building with a 3 m corridor;
+  // here 4.7 m, and the corridor in two rooms). A corridor this wide is no
+  // corridor piece of the plan: its rooms' rules are the open plan's.
+  const Polyline south = {{0, 0}, {2, 0}}, south2 = {{3, 0}, {12, 0}};
+  const Polyline north = {{0, 3.4}, {9, 3.4}}, north2 = {{10, 3.4}, {12, 3.4}};
+  const Polyline low = {{2, 0}, {0, 0}, {0, -4}, {6, -4}, {6, 0}, {3, 0}};
+  const Polyline high = {{9, 3.4}, {7, 3.4}, {7, 7}, {12, 7}, {12, 3.4}, {10, 3.4}};
+  std::vector<Vec2> p0 = Line({1.0, -3.0}, {2.5, -3.0});
+  for (const Vec2& p : Line({2.5, -3.0}, {2.5, -0.6})) p0.push_back(p);
+  asr::Asr a = MakeAsr(0, {low, south, south2}, p0);
+  std::vector<Vec2> p1 = Line({2.5, -0.6}, {2.5, 1.7});
+  for (const Vec2& p : Line({2.5, 1.7}, {9.5, 1.7})) p1.push_back(p);
+  asr::Asr b = MakeAsr(1, {south, south2, north, north2, {{0, 0}, {0, 3.4}}, {{12, 0}, {12, 3.4}}}, p1, 10.0);
+  std::vector<Vec2> p2 = Line({9.5, 1.7}, {9.5, 2.8});
+  asr::Asr c = MakeAsr(2, {{{8.4, 3.4}, {9, 3.4}}, {{10, 3.4}, {10.6, 3.4}}}, p2, 20.0);
+  std::vector<Vec2> p3 = Line({9.5, 2.8}, {9.5, 6.0});
+  for (const Vec2& p : Line({9.5, 6.0}, {11.0, 6.0})) p3.push_back(p);
+  asr::Asr d = MakeAsr(3, {high, north, north2}, p3, 30.0);
+  for (asr::Asr* x : {&a, &b}) x->exits.push_back({{2.5, -0.6}, 1.0, 0, 1});
+  for (asr::Asr* x : {&b, &c}) x->exits.push_back({{9.5, 1.7}, 0.0, 1, 2});
+  for (asr::Asr* x : {&c, &d}) x->exits.push_back({{9.5, 2.8}, 1.0, 2, 3});
+  const Plan plan = BuildPlan({a, b, c, d}, {});
+  for (const Door& door : plan.doors) {
+    EXPECT_LT((door.b - door.a).norm(), 1.5);
+    EXPECT_FALSE(door.from_asr == 1 && door.to_asr == 2);
+  }
+  EXPECT_EQ(plan.doors.size(), 2u);
+  ASSERT_EQ(plan.rooms.size(), 3u);
+  EXPECT_NEAR(plan.rooms[1].area_m2, 12.0 * 3.4, 2.0);  // the corridor, one room
+}
+
 }  // namespace
 }  // namespace cogmap::plan
