@@ -156,5 +156,20 @@ TEST(RobotJson, ShippedCourseRobotMatchesPioneer8Mounts) {
   }
 }
 
+TEST(RobotJson, ShippedLaserRobotsAreWhatTheirNamesSay) {
+  const auto scanner = LoadRobotJson(std::string(COGMAP_SOURCE_DIR) + "/docs/robots/laser-240deg-4m.json");
+  ASSERT_EQ(scanner.sensors.size(), 341u);
+  EXPECT_NEAR(RadToDeg(scanner.sensors.back().robot_from_sensor.theta - scanner.sensors.front().robot_from_sensor.theta),
+              240.0, 1e-9);
+  EXPECT_DOUBLE_EQ(scanner.sensors.front().max_range_m, 4.0);
+  const auto depth = LoadRobotJson(std::string(COGMAP_SOURCE_DIR) + "/docs/robots/depth-camera-57deg-4m.json");
+  ASSERT_EQ(depth.sensors.size(), 160u);
+  EXPECT_NEAR(RadToDeg(depth.sensors.back().robot_from_sensor.theta - depth.sensors.front().robot_from_sensor.theta),
+              57.0, 1e-9);
+  EXPECT_DOUBLE_EQ(depth.sensors.front().min_range_m, 0.45);
+  for (const auto* r : {&scanner, &depth})
+    for (const RangeSensor& s : r->sensors) EXPECT_EQ(s.kind, SensorKind::kLaser);
+}
+
 }  // namespace
 }  // namespace cogmap::sensors
