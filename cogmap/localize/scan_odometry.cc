@@ -228,9 +228,9 @@ Pose2 ScanOdometry::Correct(const Pose2& odom, const std::vector<sensors::RangeR
     Eigen::Vector3d gd = Eigen::Vector3d::Zero();
     matches = 0;
     sum_e2 = 0.0;
+    auto turned = [c, s](const Vec2& v) { return Vec2(c * v.x() - s * v.y(), s * v.x() + c * v.y()); };
     for (size_t i = 0; i < points.size(); ++i) {
-      const Vec2& p = points[i];
-      const Vec2 rp(c * p.x() - s * p.y(), s * p.x() + c * p.y());
+      const Vec2 rp = turned(points[i]);
       const Vec2 q(rp.x() + T(0), rp.y() + T(1));
       double e = 0.0;
       const int k = Nearest(q, max_d, &e);
@@ -242,9 +242,7 @@ Pose2 ScanOdometry::Correct(const Pose2& odom, const std::vector<sensors::RangeR
       // the reference's view): it would measure the motion along its own
       // surface as none.
       const Vec2& own = normals[i];
-      if (own != Vec2(0.0, 0.0) && std::abs(n.x() * (c * own.x() - s * own.y()) + n.y() * (s * own.x() + c * own.y())) <
-                                       min_normal_cos)
-        continue;
+      if (own != Vec2(0.0, 0.0) && std::abs(n.dot(turned(own))) < min_normal_cos) continue;
       const Eigen::Vector3d J(n.x(), n.y(), n.x() * -rp.y() + n.y() * rp.x());
       const double w = (std::abs(e) <= o_.huber_m ? 1.0 : o_.huber_m / std::abs(e)) * w_point;
       Hd += w * J * J.transpose();

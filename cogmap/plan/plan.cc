@@ -2095,12 +2095,20 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     CellHash gap_hash(2.0);
     for (size_t k = 0; k < gaps.size(); ++k)
       gap_hash.Add(gaps[k].first.cwiseMin(gaps[k].second), gaps[k].first.cwiseMax(gaps[k].second), static_cast<int>(k));
+    // Each ASR's measured exits, taken before any unmeasured one below turns
+    // into a door (whose centre is where the cut fell, not a doorway).
+    std::map<int, std::vector<Vec2>> measured_of_asr;
+    for (const DoorCand& d : door_cands)
+      if (!d.unmeasured) {
+        measured_of_asr[d.from_asr].push_back(d.centre);
+        if (d.to_asr != d.from_asr) measured_of_asr[d.to_asr].push_back(d.centre);
+      }
+    const std::vector<Vec2> none;
     auto through_door = [&](int asr_id) {
       auto it = index_of.find(asr_id);
       if (it == index_of.end()) return false;
-      std::vector<Vec2> detected;  // the ASR's measured exits
-      for (const DoorCand& d : door_cands)
-        if (!d.unmeasured && (d.from_asr == asr_id || d.to_asr == asr_id)) detected.push_back(d.centre);
+      const auto m = measured_of_asr.find(asr_id);
+      const std::vector<Vec2>& detected = m == measured_of_asr.end() ? none : m->second;
       auto detected_door = [&](const std::pair<Vec2, Vec2>& gap) {
         const Vec2 mid = 0.5 * (gap.first + gap.second);
         return std::any_of(detected.begin(), detected.end(),
