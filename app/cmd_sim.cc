@@ -136,6 +136,10 @@ std::function<int()> SetupBuilding(CLI::App& sub) {
   sub.add_option("--room-depth-m", a->options.room_depth_m, "Room depth, metres")->capture_default_str();
   sub.add_option("--door-m", a->options.door_width_m, "Door width, metres")->capture_default_str();
   sub.add_option("--seed", a->options.seed, "Random seed (room widths, door positions)")->capture_default_str();
+  sub.add_option("--wing-deg", a->options.wing_deg,
+                 "Not 0: a second wing like the first (seed + 1), turned by this many degrees (at most 60 either way) "
+                 "and joined to its east end by a stretch of corridor; its rooms have no truth boxes (docs/simulator.md)")
+      ->capture_default_str();
   sub.add_option("-o,--output", a->output, "2D-Map file to write")->required();
   return [a] { return RunBuilding(*a); };
 }

@@ -1035,6 +1035,9 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift(bool likelihood_ratio_only) 
   graph_.SetRatesFixedAtZero(true);
   const PoseGraph::SolveSummary no_drift = graph_.Solve(0, options_.full_iterations);
   const PoseGraph::State no_drift_state = graph_.Save();
+  out.free_state = drift_state;
+  out.held_state = no_drift_state;
+  out.free_cost = with_drift.final_cost;
   out.chi2 = 2.0 * (no_drift.final_cost - with_drift.final_cost);
   const double quantile = ChiSquareQuantile(options_.drift_test_probability, 1);
   out.detected = out.chi2 > quantile;
@@ -1204,8 +1207,273 @@ std::vector<MapOptimizer::RateMinimum> MapOptimizer::FindRateMinima(double rate,
 void MapOptimizer::SetSplitsEnabled(bool on) {
   for (const Split& sp : splits_) {
     graph_.SetFactorEnabled(sp.whole, !on);
-    for (int g : sp.groups) graph_.SetFactorEnabled(g, on);
+    for (int g : sp.groups) {
+      graph_.SetFactorEnabled(g, on);
+      graph_.SetDirectionFamily(g, graph_.DirectionFamily(sp.whole));  // the ASR's building direction
+    }
   }
+}
+
+constexpr double kQuarterTurn = kPi / 2.0;
+// A change of building direction is judged on the mean of up to this many
+// wall directions either side (a sparse ring's single room reads its walls
+// a few degrees off).
+constexpr int kWingStepRun = 3;
+
+namespace {
+// Greedily: the widest group of angles (folded into a quarter turn) within
+// a window min_rad wide (of equal counts, the narrowest), by a sliding
+// window over them sorted (n log n); then the same among those at least
+// min_rad from every group's direction, while a group of min_count or more
+// is left. Each direction is its group's mean weighted by 'weights' (none:
+// equal); the total count and squared spread are what the scan ranks by.
+struct Gathering {
+  int count = 0;
+  double spread = 0.0;
+  std::vector<double> directions;
+};
+Gathering Gather(const std::vector<double>& angles, const std::vector<double>* weights, double min_rad,
+                 int min_count, int most) {
+  auto fold = [](double a) { return a - kQuarterTurn * std::round(a / kQuarterTurn); };
+  Gathering g;
+  std::vector<std::pair<double, double>> u;  // (folded angle, weight)
+  for (size_t k = 0; k < angles.size(); ++k) u.emplace_back(fold(angles[k]), weights ? (*weights)[k] : 1.0);
+  std::vector<std::pair<double, double>> ring;
+  while (static_cast<int>(g.directions.size()) < most && static_cast<int>(u.size()) >= min_count) {
+    std::sort(u.begin(), u.end());
+    const size_t n = u.size();
+    ring.assign(u.begin(), u.end());
+    for (size_t k = 0; k < n; ++k) ring.emplace_back(u[k].first + kQuarterTurn, u[k].second);  // once round
+    size_t best_first = 0, best_count = 0;
+    double best_span = 0.0;
+    for (size_t a = 0, b = 0; a < n; ++a) {
+      b = std::max(b, a);
+      while (b + 1 < a + n && ring[b + 1].first - ring[a].first <= min_rad) ++b;
+      const size_t count = b - a + 1;
+      const double span = ring[b].first - ring[a].first;
+      if (count > best_count || (count == best_count && span < best_span)) {
+        best_count = count;
+        best_first = a;
+        best_span = span;
+      }
+    }
+    if (static_cast<int>(best_count) < min_count) break;
+    double sum = 0.0, wsum = 0.0;
+    for (size_t k = best_first; k < best_first + best_count; ++k) {
+      sum += ring[k].second * ring[k].first;
+      wsum += ring[k].second;
+    }
+    const double mean = wsum > 0.0 ? sum / wsum : ring[best_first].first;
+    for (size_t k = best_first; k < best_first + best_count; ++k)
+      g.spread += (ring[k].first - mean) * (ring[k].first - mean);
+    g.count += static_cast<int>(best_count);
+    g.directions.push_back(fold(mean));
+    std::vector<std::pair<double, double>> rest;
+    for (const auto& x : u)
+      if (std::abs(fold(x.first - mean)) >= min_rad) rest.push_back(x);
+    u.swap(rest);
+  }
+  return g;
+}
+}  // namespace
+
+std::vector<double> BuildingDirections(const std::vector<double>& directions, const std::vector<double>& weights,
+                                       double min_rad, int min_count, int most) {
+  return Gather(directions, &weights, min_rad, min_count, most).directions;
+}
+
+std::optional<WingScan> ScanBuildingDirections(const std::vector<PoseGraph::DirectionTerm>& terms, double lo,
+                                               double hi, double step, double min_rad, int min_count, int most,
+                                               const std::vector<double>& reference_rates) {
+  if (terms.empty() || !(step > 0.0) || !(hi >= lo)) return std::nullopt;
+  auto fold = [](double a) { return a - kQuarterTurn * std::round(a / kQuarterTurn); };
+  std::vector<double> u(terms.size());
+  auto at = [&](double r) {
+    for (size_t t = 0; t < terms.size(); ++t) u[t] = fold(terms[t].world + r * terms[t].slope);
+  };
+  // What one direction gathers at the rates found with one.
+  int single = 0;
+  for (double r : reference_rates) {
+    at(r);
+    single = std::max(single, Gather(u, nullptr, min_rad, 1, 1).count);
+  }
+  Gathering best;
+  double best_rate = 0.0;
+  const int samples = static_cast<int>(std::floor((hi - lo) / step)) + 1;
+  for (int k = 0; k < samples; ++k) {
+    const double r = lo + k * step;
+    at(r);
+    Gathering g = Gather(u, nullptr, min_rad, min_count, most);
+    if (g.directions.size() >= 2 && (g.count > best.count || (g.count == best.count && g.spread < best.spread))) {
+      best = std::move(g);
+      best_rate = r;
+    }
+  }
+  if (best.directions.size() < 2 || best.count < single + min_count) return std::nullopt;
+  return WingScan{best_rate, best.count, single, best.directions};
+}
+
+WingSteps CountWingSteps(const std::vector<double>& world, const std::vector<int>& node,
+                         const std::vector<int>& family, const std::vector<double>& directions, double tol_rad,
+                         int run) {
+  auto fold = [](double a) { return a - kQuarterTurn * std::round(a / kQuarterTurn); };
+  std::vector<size_t> order(world.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return node[a] < node[b]; });
+  // Each factor's walls less its building direction.
+  std::vector<double> off(order.size());
+  for (size_t k = 0; k < order.size(); ++k) off[k] = fold(world[order[k]] - directions[family[order[k]]]);
+  auto fam = [&](size_t k) { return family[order[k]]; };
+  WingSteps out;
+  for (size_t k = 1; k < order.size(); ++k) {
+    if (fam(k - 1) == fam(k)) continue;
+    // The mean offset of up to 'run' factors either side of the change,
+    // each side its own building direction's.
+    double before = 0.0, after = 0.0;
+    int nb = 0, na = 0;
+    for (size_t i = k; i-- > 0 && nb < run && fam(i) == fam(k - 1);) before += off[i], ++nb;
+    for (size_t j = k; j < order.size() && na < run && fam(j) == fam(k); ++j) after += off[j], ++na;
+    ++(std::abs(after / na - before / nb) <= tol_rad ? out.supported : out.unsupported);
+  }
+  return out;
+}
+
+int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) {
+  if (options_.max_building_directions < 2 || graph_.building_directions() != 1) return 0;
+  auto fold = [](double a) { return a - kQuarterTurn * std::round(a / kQuarterTurn); };
+  // The one building direction, with the rates free: the cost more must
+  // lower; and the map as decided: the consistency they must keep.
+  const PoseGraph::State decided = graph_.Save();
+  const bool decided_held = graph_.RatesFixedAtZero();
+  graph_.SetRatesFixedAtZero(false);
+  graph_.Restore(drift->free_state);
+  const double cost_before = graph_.Cost();
+  // The walls' directions along the odometry, dead-reckoned without drift
+  // and with the drift the rates found: a wing's step stands out there,
+  // while a solved graph has already spread it over the odometry's heading
+  // noise (a 30-degree wing, 16 sonars: every residual within 10 degrees).
+  // Each grouping of two or more directions is a candidate, solved with the
+  // rates free from there, each factor tied to its nearest direction.
+  struct Candidate {
+    double cost = std::numeric_limits<double>::infinity();
+    std::vector<double> directions;
+    std::vector<std::pair<int, int>> family;  // (factor handle, building direction)
+    PoseGraph::State state;
+  };
+  // And at the rate at which the walls, dead-reckoned, gather best into
+  // two or more directions (ScanBuildingDirections, over the rates within
+  // the prior's 3 sigma every sixteenth of a quarter turn over the path):
+  // a wing on top of a drift, which pulls the rates found with one
+  // direction away from the truth (a 30-degree wing at 1 deg/m, 16 sonars:
+  // 1.27 deg/m found).
+  std::vector<std::pair<const PoseGraph::State*, double>> sources = {{&drift->held_state, 0.0}};
+  graph_.Restore(drift->free_state);
+  sources.emplace_back(&drift->free_state, MeanRate());
+  graph_.Restore(drift->held_state);
+  graph_.ChainWithRate(0.0);
+  {
+    const std::vector<PoseGraph::DirectionTerm> terms = graph_.DirectionTerms();
+    double s = 0.0;
+    for (const PoseGraph::DirectionTerm& t : terms) s = std::max(s, std::abs(t.slope));
+    if (s > 0.0 && static_cast<int>(terms.size()) >= 2 * options_.building_direction_min_asrs) {
+      const double limit = 3.0 * options_.odometry.rate_prior_sigma_rad_per_m;
+      // Some 4 million angle evaluations at most (the finest step kept).
+      const double budget = std::max(2000.0, 4e6 / static_cast<double>(terms.size()));
+      const double step = std::max((kQuarterTurn / s) / 16.0, 2.0 * limit / budget);
+      const std::optional<WingScan> scan = ScanBuildingDirections(
+          terms, -limit, limit, step, options_.building_direction_min_rad, options_.building_direction_min_asrs,
+          options_.max_building_directions, {0.0, sources[1].second});
+      if (scan) sources.emplace_back(&drift->held_state, scan->rate_rad_per_m);
+    }
+  }
+  std::vector<Candidate> candidates;
+  int tried = 0;
+  for (const auto& [source, rate] : sources) {
+    graph_.Restore(*source);
+    graph_.ChainWithRate(rate);
+    const std::vector<PoseGraph::DirectionResidual> rs = graph_.DirectionResiduals();
+    std::vector<double> world, weight;
+    for (const PoseGraph::DirectionResidual& r : rs) {
+      world.push_back(graph_.building_direction(0) + r.angle);
+      weight.push_back(1.0 / std::max(1e-12, r.sigma * r.sigma));
+    }
+    const std::vector<double> dirs = BuildingDirections(world, weight, options_.building_direction_min_rad,
+                                                        options_.building_direction_min_asrs,
+                                                        options_.max_building_directions);
+    if (dirs.size() < 2) continue;
+    Candidate c;
+    c.directions = dirs;
+    graph_.SetBuildingDirection(0, dirs[0]);
+    for (size_t k = 1; k < dirs.size(); ++k) graph_.AddBuildingDirection(dirs[k]);
+    std::vector<int> family(rs.size(), 0), node(rs.size());
+    for (size_t f = 0; f < rs.size(); ++f) {
+      for (size_t k = 1; k < dirs.size(); ++k)
+        if (std::abs(fold(world[f] - dirs[k])) < std::abs(fold(world[f] - dirs[family[f]])))
+          family[f] = static_cast<int>(k);
+      node[f] = rs[f].node;
+    }
+    // A wing begins where the robot passes into it: the walls of the ASRs
+    // either side of each change of building direction turn by the step
+    // between the two directions. A slow wander of the odometry's heading
+    // over a long run gathers into groups too, split where it happens to
+    // cross half-way between them (a generated 1000-room building, no wing:
+    // 1 change of 227 at a step), and so does a drift read at another rate.
+    // At most one change in five may be off (a room's direction misread).
+    const WingSteps steps =
+        CountWingSteps(world, node, family, dirs, 0.5 * options_.building_direction_min_rad, kWingStepRun);
+    if (steps.supported < 1 || steps.unsupported > steps.supported / 4) {
+      graph_.RemoveBuildingDirections();
+      continue;
+    }
+    ++tried;
+    for (size_t f = 0; f < rs.size(); ++f) {
+      c.family.emplace_back(rs[f].handle, family[f]);
+      graph_.SetDirectionFamily(rs[f].handle, family[f]);
+    }
+    graph_.SetRatesFixedAtZero(false);
+    graph_.Solve(0, options_.full_iterations);
+    c.cost = graph_.Cost();
+    c.state = graph_.Save();
+    graph_.RemoveBuildingDirections();
+    candidates.push_back(std::move(c));
+  }
+  // Of the candidates, the one whose likelihood ratio clears its quantile
+  // (its directions beyond the first are parameters of their own) by the
+  // most, at the drift test's level divided among those tried.
+  double chi2 = 0.0, margin = -std::numeric_limits<double>::infinity();
+  const Candidate* chosen = nullptr;
+  for (const Candidate& c : candidates) {
+    const int extra = static_cast<int>(c.directions.size()) - 1;
+    const double q = ChiSquareQuantile(1.0 - (1.0 - options_.drift_test_probability) / tried, extra);
+    const double x = 2.0 * (cost_before - c.cost);
+    if (x - q > margin) {
+      margin = x - q;
+      chi2 = x;
+      chosen = &c;
+    }
+  }
+  // The graph as decided, to keep or go back to.
+  graph_.Restore(decided);
+  graph_.SetRatesFixedAtZero(decided_held);
+  if (!chosen || !(margin > 0.0)) return 0;
+  const Trial before = StartTrial();
+  const DriftDecision before_drift = *drift;
+  const Consistency c_before = MapConsistency(CurrentPoses(), CurrentRates());
+  for (size_t k = 1; k < chosen->directions.size(); ++k) graph_.AddBuildingDirection(chosen->directions[k]);
+  for (const auto& [handle, family] : chosen->family) graph_.SetDirectionFamily(handle, family);
+  graph_.Restore(chosen->state);
+  graph_.SetRatesFixedAtZero(false);
+  FitVarianceComponents();
+  *drift = TestDrift();
+  DropContradictedClosures();
+  if (LessConsistent(MapConsistency(CurrentPoses(), CurrentRates()), c_before)) {
+    graph_.RemoveBuildingDirections();
+    TakeBack(before);
+    *drift = before_drift;
+    return 0;
+  }
+  *chi2_out = chi2;
+  return graph_.building_directions() - 1;
 }
 
 std::vector<Pose2> MapOptimizer::CurrentPoses() const {
@@ -1305,6 +1573,9 @@ OptimizerResult MapOptimizer::Finish() {
       }
     }
   }
+  // A wing turned against the rest of the building: a building direction
+  // of its own, when the walls say so.
+  TryBuildingDirections(&drift, &res.building_direction_chi2);
   // Drift inside long ASRs (direction_split_m): the walls grouped along the
   // path replace each such ASR's one direction, tried from the solution
   // with one direction per ASR (a good start: the groups of 3 m are bent by
@@ -1341,6 +1612,7 @@ OptimizerResult MapOptimizer::Finish() {
       TakeBack(whole);
     }
   }
+  for (int k = 0; k < graph_.building_directions(); ++k) res.building_directions_rad.push_back(graph_.building_direction(k));
   res.drift_test_chi2 = drift.chi2;
   res.drift_detected = drift.detected;
   res.drift_alias_risk = drift.alias_risk;
@@ -1535,6 +1807,8 @@ OptimizerResult MapOptimizer::Finish() {
       res.chi2_dof >= options_.min_dof_to_shrink ? std::max(options_.min_variance_factor, factor) : std::max(1.0, factor);
   res.variance_factor = inflate;
   std::vector<double> dir_resid(N, 0.0);
+  std::vector<int> family(N, 0);
+  for (const PoseGraph::DirectionResidual& r : graph_.DirectionResiduals()) family[r.node] = r.family;
   for (const auto& r : final_residuals)
     if (r.kind == FactorKind::kDirection && r.enabled) dir_resid[r.i] = std::max(dir_resid[r.i], std::sqrt(r.chi2));
   int uncertain = 0;
@@ -1550,6 +1824,7 @@ OptimizerResult MapOptimizer::Finish() {
     e.corrected_walls = BendWalls(nodes_[i], e.drift_rate_rad_per_m, /*output=*/true);
     e.direction_factor = nodes_[i].direction;
     e.direction_residual_sigmas = dir_resid[i];
+    e.building_direction = family[i];
     if (!cov.empty()) {
       e.covariance = inflate * cov[i] + spread[i];
       e.has_covariance = true;

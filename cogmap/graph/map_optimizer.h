@@ -150,6 +150,24 @@ struct MapOptimizerOptions {
   // ATE 0.06-0.14 -> 0.46-0.52 m, the odometry's); with the rates free and
   // untested, fhw at 1 deg/m cut every 8 m slid to an alias at -2.48 deg/m.
   bool drift_known = false;
+  // A wing of the building turned against the rest (Finish,
+  // TryBuildingDirections): the walls of at least building_direction_min_asrs
+  // ASRs agree with each other within half building_direction_min_rad but
+  // lie at least that far off every building direction so far (modulo a
+  // quarter turn). A drift rate fits such a step in the wall directions
+  // badly, as a ramp that turns the rooms on both sides of it (a 30-degree
+  // wing: 0.31 +- 0.05 deg/m "found" with no drift, heading errors up to 19
+  // degrees); a second building direction fits it exactly. It is kept when
+  // it lowers the graph's robust cost (the rates free on both sides) by more
+  // than the drift test's chi-square quantile (Bonferroni over the
+  // directions tried) and leaves the map at least as consistent. Wings meet
+  // at 15 degrees or more in real buildings; a room's direction misread by a
+  // few degrees (sonar) is what the Cauchy tail is for, and several misread
+  // alike is what the 10 degrees keep out. At most max_building_directions
+  // in all (1: the first only, as before the thirty-sixth session).
+  int max_building_directions = 3;
+  double building_direction_min_rad = DegToRad(15.0);
+  int building_direction_min_asrs = 3;
   // The aliases tried (TestDrift): at most this many of the lowest minima
   // of the wall directions' cost over the drift rate, each a full solve.
   int max_drift_aliases = 6;
@@ -250,6 +268,7 @@ struct AsrEstimate {
   std::vector<Polyline> corrected_walls;
   bool direction_factor = false;
   double direction_residual_sigmas = 0.0;
+  int building_direction = 0;  // which of OptimizerResult::building_directions_rad its walls follow
   bool uncertain = false;
   std::vector<std::string> why;    // reasons it is uncertain
 };
@@ -289,6 +308,11 @@ struct OptimizerResult {
     double weight = 0.0;  // shares sum to 1
   };
   std::vector<DriftHypothesis> drift_hypotheses;
+  // The building directions (radians, modulo a quarter turn, in the map
+  // frame): the first, then any wing's (TryBuildingDirections); with the
+  // chi-square each lowered the graph's cost by.
+  std::vector<double> building_directions_rad;
+  double building_direction_chi2 = 0.0;  // twice the robust cost the directions beyond the first lowered
   int split_asrs = 0;             // ASRs whose walls were grouped along the path (direction_split_m)
   bool split_used = false;        // ... and the groups kept (Finish)
   double drift_test_chi2 = 0.0;
@@ -306,6 +330,51 @@ struct OptimizerResult {
   double covariance_seconds = 0.0;
   std::vector<std::string> warnings;
 };
+
+// The building directions (radians, modulo a quarter turn) that wall
+// directions agree on: greedily, the widest group of 'directions' within a
+// window min_rad wide (their mean weighted by 'weights'), then the same
+// among those at least min_rad from every direction taken, while min_count
+// or more agree; at most 'most', largest first.
+// Two or more: a wing of the building turned against the rest.
+std::vector<double> BuildingDirections(const std::vector<double>& directions, const std::vector<double>& weights,
+                                       double min_rad, int min_count, int most);
+
+// The common drift rate, among lo, lo + step, ... hi, at which the wall
+// directions, each dead-reckoned as term.world + rate x term.slope, gather
+// into two or more building directions (as BuildingDirections groups them)
+// with the most of them (the tightest, of equal counts); none unless they
+// gather at least min_count more there than one direction gathers at any
+// of 'reference_rates' (the rates found with one building direction): a
+// wing turned against the rest, on top of whatever drift. A drift alone
+// gathers into one direction at its rate.
+struct WingScan {
+  double rate_rad_per_m = 0.0;
+  int count = 0;         // directions gathered at that rate
+  int single_count = 0;  // the most one direction gathers at the reference rates
+  std::vector<double> directions;
+};
+std::optional<WingScan> ScanBuildingDirections(const std::vector<PoseGraph::DirectionTerm>& terms, double lo,
+                                               double hi, double step, double min_rad, int min_count, int most,
+                                               const std::vector<double>& reference_rates);
+
+// Where two wall directions that follow each other along the run (the
+// ASRs by node order; 'world' each one's walls along the odometry, 'family'
+// the building direction each is tied to) are tied to different building
+// directions, the walls should turn by the step between those directions:
+// a wing begins where the robot passes into it. Judged on the mean of up
+// to 'run' wall directions either side of the change (those of the same
+// building direction as the one next to it), each less its direction: the
+// two means within tol_rad of each other. 'supported' counts the changes
+// that are such a step, 'unsupported' those whose walls turned by less or
+// more (a slow wander of the odometry's heading split at an arbitrary
+// point: the walls either side of it lie half-way between the directions).
+struct WingSteps {
+  int supported = 0, unsupported = 0;
+};
+WingSteps CountWingSteps(const std::vector<double>& world, const std::vector<int>& node,
+                         const std::vector<int>& family, const std::vector<double>& directions, double tol_rad,
+                         int run = 3);
 
 class MapOptimizer {
  public:
@@ -428,6 +497,9 @@ class MapOptimizer {
       std::vector<Pose2> poses;
     };
     std::vector<Hypothesis> hypotheses;
+    // The graph solved with the rates free (its robust cost) and held.
+    PoseGraph::State free_state, held_state;
+    double free_cost = 0.0;
   };
   // The minima of the graph's cost over a common change of every rate
   // (TestDrift): the one of 'rate' first (cost 'cost', state 'state'), then
@@ -443,6 +515,14 @@ class MapOptimizer {
   // alone (detected: the rates lower the cost beyond the quantile), without
   // the aliases' search.
   DriftDecision TestDrift(bool likelihood_ratio_only = false);
+  // Wings turned against the rest of the building: building directions
+  // for groups of wall directions that agree with each other but not with
+  // the first (BuildingDirections, along the odometry), kept when the
+  // likelihood and the map's consistency say so
+  // (MapOptimizerOptions::max_building_directions); '*drift' is decided
+  // again under the directions kept, '*chi2' what they lowered the cost by.
+  // Returns the number added.
+  int TryBuildingDirections(DriftDecision* drift, double* chi2);
   // The groups in place of their ASRs' whole direction (true) or not.
   void SetSplitsEnabled(bool on);
   std::vector<Pose2> CurrentPoses() const;

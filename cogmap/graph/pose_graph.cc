@@ -144,7 +144,9 @@ struct PoseGraph::Impl {
   std::deque<double> rates;
   std::vector<double> offsets;  // per node: the drift rate its measurements already had removed
   std::vector<bool> fixed;
-  double phi = 0.0;
+  // The building directions: the first (phi[0]) and any turned wing's
+  // (AddBuildingDirection); a deque, so that the factors' pointers stay.
+  std::deque<double> phi{0.0};
   bool has_phi = false;
   struct Factor {
     FactorKind kind;
@@ -162,6 +164,7 @@ struct PoseGraph::Impl {
     double* part_scale = nullptr;
     const OdometryMeasurement* odometry = nullptr;  // kOdometry: the measurement
     costs::DirectionCost* direction = nullptr;            // kDirection: the functor
+    int family = 0;                                       // kDirection: its building direction
     // Relative factors (AddRelative), for DirectionProfile: the measured
     // heading (of the middle, between the bends), the marginal variance of
     // its heading, and each bent end's path length and rate offset (0: not bent).
@@ -184,6 +187,17 @@ struct PoseGraph::Impl {
   std::unique_ptr<Symbolic> symbolic;
 
   bool Free(int node, int first_free) const { return node >= first_free && !fixed[node]; }
+
+  // Each node's heading change per unit of a common change of every drift
+  // rate, the nodes following by dead reckoning: the distance driven from
+  // the chain's fixed start to it, negated (BentPathEnd turns a path's end
+  // by -rate x its length).
+  std::vector<double> TurnPerRate() const {
+    std::vector<double> turn(nodes.size(), 0.0);
+    for (const auto& f : factors)
+      if (f.kind == FactorKind::kOdometry && f.odometry && !fixed[f.j]) turn[f.j] = turn[f.i] - f.odometry->distance_m;
+    return turn;
+  }
 
   void Build(ceres::Problem* problem, int first_free, bool all) {
     auto at = [](const double* block) { return const_cast<double*>(block); };  // Factor::params are const
@@ -272,7 +286,7 @@ int PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, doub
                             double s_spread_m) {
   if (!impl_->has_phi) {
     // The building direction starts at this first room's wall direction.
-    impl_->phi = impl_->nodes[i][2] + d;
+    impl_->phi[0] = impl_->nodes[i][2] + d;
     impl_->has_phi = true;
   }
   Impl::Factor f;
@@ -286,7 +300,7 @@ int PoseGraph::AddDirection(int i, double d, double sigma, double s_mean_m, doub
   f.cost.reset(new costs::Analytic<costs::DirectionCost, 1, 3, 1, 1>(c));
   f.loss.reset(new ceres::CauchyLoss(cauchy_scale));
   f.cauchy_scale = cauchy_scale;
-  f.params = {impl_->nodes[i].data(), &impl_->phi, &impl_->rates[i]};
+  f.params = {impl_->nodes[i].data(), &impl_->phi[0], &impl_->rates[i]};
   impl_->factors.push_back(std::move(f));
   return static_cast<int>(impl_->factors.size()) - 1;
 }
@@ -412,12 +426,7 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
   std::vector<double> out(deltas.size(), 0.0);
   const Impl& m = *impl_;
   if (!m.has_phi) return out;
-  // Each node's heading change per unit of delta: the distance driven from
-  // the chain's fixed start to it, negated (BentPathEnd turns a path's end
-  // by -rate x its length).
-  std::vector<double> turn(m.nodes.size(), 0.0);
-  for (const auto& f : m.factors)
-    if (f.kind == FactorKind::kOdometry && f.odometry && !m.fixed[f.j]) turn[f.j] = turn[f.i] - f.odometry->distance_m;
+  const std::vector<double> turn = m.TurnPerRate();
   // Each enabled direction factor's residual angle at delta = 0 (before
   // the branch is chosen), its change per unit of delta, its sigma and loss.
   // A factor's Cauchy loss, evaluated here as ceres::CauchyLoss does (the
@@ -440,15 +449,16 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
   struct Term {
     double v0, slope, inv_sigma2;
     Cauchy loss;
+    int family = 0;
   };
   std::vector<Term> terms;
   for (const auto& f : m.factors) {
     if (!f.enabled || f.kind != FactorKind::kDirection || !f.direction) continue;
     const costs::DirectionCost& d = *f.direction;
     const double rate = m.rates[f.i] - d.offset;
-    const double v0 = m.nodes[f.i][2] + d.d - rate * d.s_mean - m.phi;
+    const double v0 = m.nodes[f.i][2] + d.d - rate * d.s_mean - m.phi[f.family];
     const double sigma = d.Sigma();
-    terms.push_back({v0, turn[f.i] - d.s_mean, 1.0 / (sigma * sigma), Cauchy(f.loss ? f.cauchy_scale : 0.0)});
+    terms.push_back({v0, turn[f.i] - d.s_mean, 1.0 / (sigma * sigma), Cauchy(f.loss ? f.cauchy_scale : 0.0), f.family});
   }
   // The registrations and loop closures: a common rate change turns node j
   // against node i by delta x the distance driven between them, and each
@@ -473,45 +483,53 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
   }
   if (terms.empty()) return out;
   auto fold = [](double a) { return a - kQuarter * std::round(a / kQuarter); };
+  const int families = static_cast<int>(m.phi.size());
   std::vector<double> a(terms.size());
   for (size_t k = 0; k < deltas.size(); ++k) {
     for (size_t t = 0; t < terms.size(); ++t) a[t] = terms[t].v0 + deltas[k] * terms[t].slope;
-    // The building direction: the weighted mean of the angles on the
-    // quarter-turn circle (4 x angle), then re-weighted least squares on the
-    // nearest branches; the lower of that and the unmoved direction.
-    double sx = 0.0, sy = 0.0;
-    for (size_t t = 0; t < terms.size(); ++t) {
-      sx += terms[t].inv_sigma2 * std::cos(4.0 * a[t]);
-      sy += terms[t].inv_sigma2 * std::sin(4.0 * a[t]);
-    }
-    auto cost_at = [&](double phi) {
-      double c = 0.0;
+    // Each building direction: the weighted mean of its factors' angles on
+    // the quarter-turn circle (4 x angle), then re-weighted least squares
+    // on the nearest branches; the lower of that and the unmoved direction.
+    double walls = 0.0;
+    for (int family = 0; family < families; ++family) {
+      double sx = 0.0, sy = 0.0;
       for (size_t t = 0; t < terms.size(); ++t) {
-        const double e = fold(a[t] - phi);
-        c += terms[t].loss.Rho(e * e * terms[t].inv_sigma2);
+        if (terms[t].family != family) continue;
+        sx += terms[t].inv_sigma2 * std::cos(4.0 * a[t]);
+        sy += terms[t].inv_sigma2 * std::sin(4.0 * a[t]);
       }
-      return 0.5 * c;
-    };
-    auto refit = [&](double phi) {
-      for (int it = 0; it < 4; ++it) {
-        double num = 0.0, den = 0.0;
+      auto cost_at = [&](double phi) {
+        double c = 0.0;
         for (size_t t = 0; t < terms.size(); ++t) {
+          if (terms[t].family != family) continue;
           const double e = fold(a[t] - phi);
-          const double w = terms[t].inv_sigma2 * terms[t].loss.Weight(e * e * terms[t].inv_sigma2);
-          num += w * e;
-          den += w;
+          c += terms[t].loss.Rho(e * e * terms[t].inv_sigma2);
         }
-        if (den <= 0.0) break;
-        phi += num / den;
-      }
-      return cost_at(phi);
-    };
+        return 0.5 * c;
+      };
+      auto refit = [&](double phi) {
+        for (int it = 0; it < 4; ++it) {
+          double num = 0.0, den = 0.0;
+          for (size_t t = 0; t < terms.size(); ++t) {
+            if (terms[t].family != family) continue;
+            const double e = fold(a[t] - phi);
+            const double w = terms[t].inv_sigma2 * terms[t].loss.Weight(e * e * terms[t].inv_sigma2);
+            num += w * e;
+            den += w;
+          }
+          if (den <= 0.0) break;
+          phi += num / den;
+        }
+        return cost_at(phi);
+      };
+      walls += std::min(refit(0.0), refit(0.25 * std::atan2(sy, sx)));
+    }
     double rest = 0.0;
     for (const Heading& h : headings) {
       const double e = NormalizeAngle(h.e0 + deltas[k] * h.slope);
       rest += h.loss.Rho(e * e * h.inv_sigma2);
     }
-    out[k] = std::min(refit(0.0), refit(0.25 * std::atan2(sy, sx))) + 0.5 * rest;
+    out[k] = walls + 0.5 * rest;
   }
   return out;
 }
@@ -530,14 +548,14 @@ PoseGraph::State PoseGraph::Save() const {
   State s;
   for (int i = 0; i < size(); ++i) s.poses.push_back(pose(i));
   s.rates.assign(impl_->rates.begin(), impl_->rates.end());
-  s.phi = impl_->phi;
+  s.phi.assign(impl_->phi.begin(), impl_->phi.end());
   return s;
 }
 
 void PoseGraph::Restore(const State& s) {
   for (size_t i = 0; i < s.poses.size(); ++i) set_pose(static_cast<int>(i), s.poses[i]);
   for (size_t i = 0; i < s.rates.size(); ++i) impl_->rates[i] = s.rates[i];
-  impl_->phi = s.phi;
+  for (size_t k = 0; k < s.phi.size() && k < impl_->phi.size(); ++k) impl_->phi[k] = s.phi[k];
 }
 
 Pose2 PoseGraph::pose(int i) const {
@@ -547,7 +565,74 @@ Pose2 PoseGraph::pose(int i) const {
 void PoseGraph::set_pose(int i, const Pose2& p) { impl_->nodes[i] = {p.x, p.y, p.theta}; }
 double PoseGraph::rate(int i) const { return impl_->rates[i]; }
 bool PoseGraph::has_direction() const { return impl_->has_phi; }
-double PoseGraph::building_direction() const { return impl_->phi; }
+double PoseGraph::building_direction(int family) const { return impl_->phi[family]; }
+int PoseGraph::building_directions() const { return static_cast<int>(impl_->phi.size()); }
+
+int PoseGraph::AddBuildingDirection(double initial_rad) {
+  impl_->phi.push_back(initial_rad);
+  return static_cast<int>(impl_->phi.size()) - 1;
+}
+
+void PoseGraph::SetBuildingDirection(int family, double rad) { impl_->phi[family] = rad; }
+
+void PoseGraph::SetDirectionFamily(int handle, int family) {
+  Impl::Factor& f = impl_->factors[handle];
+  f.family = family;
+  f.params[1] = &impl_->phi[family];
+}
+
+int PoseGraph::DirectionFamily(int handle) const { return impl_->factors[handle].family; }
+
+void PoseGraph::RemoveBuildingDirections() {
+  for (size_t k = 0; k < impl_->factors.size(); ++k)
+    if (impl_->factors[k].kind == FactorKind::kDirection) SetDirectionFamily(static_cast<int>(k), 0);
+  impl_->phi.resize(1);
+}
+
+std::vector<PoseGraph::DirectionResidual> PoseGraph::DirectionResiduals() const {
+  std::vector<DirectionResidual> out;
+  for (size_t k = 0; k < impl_->factors.size(); ++k) {
+    const Impl::Factor& f = impl_->factors[k];
+    if (!f.enabled || f.kind != FactorKind::kDirection || !f.direction) continue;
+    double r = 0.0;
+    f.cost->Evaluate(f.params.data(), &r, nullptr);
+    const double sigma = f.direction->Sigma();
+    out.push_back({static_cast<int>(k), f.i, f.family, r * sigma, sigma});
+  }
+  return out;
+}
+
+std::vector<PoseGraph::DirectionTerm> PoseGraph::DirectionTerms() const {
+  const Impl& m = *impl_;
+  const std::vector<double> turn = m.TurnPerRate();
+  std::vector<DirectionTerm> out;
+  for (size_t k = 0; k < m.factors.size(); ++k) {
+    const Impl::Factor& f = m.factors[k];
+    if (!f.enabled || f.kind != FactorKind::kDirection || !f.direction) continue;
+    const costs::DirectionCost& d = *f.direction;
+    const double world = m.nodes[f.i][2] + d.d - (m.rates[f.i] - d.offset) * d.s_mean;
+    out.push_back({static_cast<int>(k), f.i, world, turn[f.i] - d.s_mean, d.Sigma()});
+  }
+  return out;
+}
+
+double PoseGraph::Cost() const {
+  double cost = 0.0;
+  for (const Impl::Factor& f : impl_->factors) {
+    if (!f.enabled) continue;
+    double r[3] = {0, 0, 0};
+    f.cost->Evaluate(f.params.data(), r, nullptr);
+    double chi2 = 0.0;
+    for (int a = 0; a < f.dof; ++a) chi2 += r[a] * r[a];
+    if (f.loss) {
+      double rho[3];
+      f.loss->Evaluate(chi2, rho);
+      chi2 = rho[0];
+    }
+    cost += 0.5 * chi2;
+  }
+  return cost;
+}
 
 // The enabled factors linearised at the graph's values: each factor's
 // weighted whitened Jacobian over its free columns (the loss's weight
@@ -727,12 +812,12 @@ PoseGraph::Linearized PoseGraph::Linearize(bool rates_free) const {
   // The free parameter blocks: nodes not held, rates unless held at zero, phi
   // (by address, sorted: one allocation, not one per block).
   std::vector<std::pair<const double*, bool>> is_free;
-  is_free.reserve(2 * impl_->nodes.size() + 1);
+  is_free.reserve(2 * impl_->nodes.size() + impl_->phi.size());
   for (size_t n = 0; n < impl_->nodes.size(); ++n) {
     is_free.emplace_back(impl_->nodes[n].data(), !impl_->fixed[n]);
     is_free.emplace_back(&impl_->rates[n], rates_free);
   }
-  is_free.emplace_back(&impl_->phi, true);
+  for (const double& p : impl_->phi) is_free.emplace_back(&p, true);
   std::sort(is_free.begin(), is_free.end());
   auto free_block = [&](const double* p) {
     auto it = std::lower_bound(is_free.begin(), is_free.end(), p,

@@ -66,8 +66,9 @@ const char* FactorKindName(FactorKind k);
 //    drift rate re-integrating the measured path);
 //  - wall-direction factors: the dominant wall direction of an ASR is known
 //    only modulo a quarter turn, so the factor ties theta_i + d_i (+ the
-//    node's drift rate x the mean distance driven while the walls were seen) to one
-//    building direction phi (a variable) modulo 90 degrees: a max-mixture over
+//    node's drift rate x the mean distance driven while the walls were seen) to a
+//    building direction phi (a variable; one, unless a wing is turned
+//    against the rest: AddBuildingDirection) modulo 90 degrees: a max-mixture over
 //    the four branches (the nearest branch at every evaluation) with a Cauchy
 //    tail for rooms whose walls are not the building's;
 //  - relative-pose factors from registration (consecutive ASRs and loop
@@ -178,7 +179,7 @@ class PoseGraph {
   struct State {
     std::vector<Pose2> poses;
     std::vector<double> rates;
-    double phi = 0.0;
+    std::vector<double> phi;  // the building directions
   };
   State Save() const;
   void Restore(const State& s);
@@ -187,7 +188,42 @@ class PoseGraph {
   void set_pose(int i, const Pose2& p);
   double rate(int i) const;
   bool has_direction() const;
-  double building_direction() const;
+  double building_direction(int family = 0) const;
+  int building_directions() const;
+
+  // More than one building direction: a wing of the building turned
+  // against the rest (by 30 or 45 degrees, say) has walls square among
+  // themselves but not to the first direction's. AddBuildingDirection adds
+  // one (a variable, started at 'initial_rad') and returns its index;
+  // SetDirectionFamily ties a direction factor (AddDirection's handle) to
+  // it (0: the first, where every factor starts); RemoveBuildingDirections
+  // ties every factor back to the first and drops the others.
+  int AddBuildingDirection(double initial_rad);
+  void SetBuildingDirection(int family, double rad);
+  void SetDirectionFamily(int handle, int family);
+  int DirectionFamily(int handle) const;
+  void RemoveBuildingDirections();
+  // Every enabled direction factor's residual at the current estimate: the
+  // angle (radians, on the nearest quarter-turn branch, before its sigma),
+  // its sigma, its node, building direction and handle.
+  struct DirectionResidual {
+    int handle = -1, node = -1, family = 0;
+    double angle = 0.0, sigma = 0.0;
+  };
+  std::vector<DirectionResidual> DirectionResiduals() const;
+  // Every enabled direction factor's walls in the map frame (radians,
+  // modulo a quarter turn: the node's heading plus the measured direction,
+  // less the lean of its drift rate) at the current estimate, and how that
+  // changes per unit of a common change of every drift rate with the nodes
+  // following by dead reckoning (as in DirectionProfile); its sigma.
+  struct DirectionTerm {
+    int handle = -1, node = -1;
+    double world = 0.0, slope = 0.0, sigma = 0.0;
+  };
+  std::vector<DirectionTerm> DirectionTerms() const;
+  // The robust cost of every enabled factor at the current estimate
+  // (Ceres' convention: half the robust chi^2), held parameters included.
+  double Cost() const;
 
   // Marginal covariances of every node's (x, y, theta), the fixed nodes held
   // (zero for them). Empty when the computation fails (rank deficient).

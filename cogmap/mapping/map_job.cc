@@ -583,6 +583,21 @@ std::string MapSummaryText(const MapJobSummary& s, const MapJob& job) {
     AppendF(&out, "pose graph: %s, %d loop closures (%zu candidates), %d rooms, drift %.3f%s deg/m%s\n",
             r.graph.solution.c_str(), accepted, r.graph.closures.size(), s.rooms,
             RadToDeg(r.graph.drift_rate_rad_per_m), sigma.c_str(), r.graph.drift_detected ? "" : " (none found)");
+    // A wing turned against the rest (docs/pose-graph.md): its directions,
+    // each modulo a quarter turn, and how many ASRs follow each.
+    const auto& dirs = r.graph.building_directions_rad;
+    if (dirs.size() > 1) {
+      std::vector<int> count(dirs.size(), 0);
+      for (const auto& e : r.graph.asrs)
+        if (e.direction_factor && e.building_direction >= 0 && e.building_direction < static_cast<int>(dirs.size()))
+          ++count[e.building_direction];
+      AppendF(&out, "building directions (a wing turned against the rest):");
+      for (size_t k = 0; k < dirs.size(); ++k) {
+        const double deg = RadToDeg(dirs[k]) - 90.0 * std::floor(RadToDeg(dirs[k]) / 90.0);
+        AppendF(&out, "%s %.1f deg (%d ASRs)", k ? "," : "", deg, count[k]);
+      }
+      AppendF(&out, "\n");
+    }
   } else if (r.correction == Correction::kDriftFilter) {
     AppendF(&out, "estimated heading drift: %.3f +- %.3f deg/m\n", RadToDeg(r.drift_rate_rad_per_m),
             RadToDeg(r.drift_rate_sigma_rad_per_m));

@@ -25,7 +25,8 @@ nlohmann::json ClosureJson(const graph::LoopClosure& c) {
 }
 
 nlohmann::json PlacementJson(const graph::AsrEstimate& e) {
-  nlohmann::json j = {{"id", e.asr_id}, {"room", e.room_id}, {"uncertain", e.uncertain}};
+  nlohmann::json j = {{"id", e.asr_id}, {"room", e.room_id}, {"uncertain", e.uncertain},
+                      {"building_direction", e.building_direction}};
   if (e.has_covariance) {
     j["sigma_x_m"] = std::sqrt(std::max(0.0, e.covariance(0, 0)));
     j["sigma_y_m"] = std::sqrt(std::max(0.0, e.covariance(1, 1)));
@@ -69,6 +70,12 @@ nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStr
   nlohmann::json hypotheses = nlohmann::json::array();
   for (const auto& h : g.drift_hypotheses)
     hypotheses.push_back({{"rate_deg_per_m", RadToDeg(h.rate_rad_per_m)}, {"weight", h.weight}});
+  // Modulo a quarter turn, in [0, 90).
+  nlohmann::json directions = nlohmann::json::array();
+  for (double d : g.building_directions_rad) {
+    const double deg = RadToDeg(d);
+    directions.push_back(deg - 90.0 * std::floor(deg / 90.0));
+  }
   const nlohmann::json closures = streams->Add([&g, k = size_t{0}](nlohmann::json* out) mutable {
     if (k >= g.closures.size()) return false;
     *out = ClosureJson(g.closures[k++]);
@@ -99,6 +106,8 @@ nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStr
           {"drift_detected", g.drift_detected},
           {"drift_alias_risk", g.drift_alias_risk},
           {"drift_hypotheses", hypotheses},
+          {"building_directions_deg", directions},
+          {"building_direction_chi2", g.building_direction_chi2},
           {"direction_split_asrs", g.split_asrs},
           {"direction_split_used", g.split_used},
           {"drift_test_chi2", g.drift_test_chi2},

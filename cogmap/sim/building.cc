@@ -1,6 +1,7 @@
 #include "cogmap/sim/building.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <random>
 
@@ -8,7 +9,101 @@
 
 namespace cogmap::sim {
 
+namespace {
+FloorPlan OneWing(const BuildingOptions& o);
+
+// Two wings: 'a' along x from 0 to its corridor's length, 'b' turned by
+// wing_deg about the far end of a joining corridor.
+FloorPlan TwoWings(const BuildingOptions& o) {
+  BuildingOptions one = o;
+  one.wing_deg = 0.0;
+  FloorPlan plan = OneWing(one);
+  one.seed = o.seed + 1;
+  const FloorPlan b = OneWing(one);
+  const double L = o.corridor_m, W = o.corridor_width_m, D = o.room_depth_m;
+  const double th = DegToRad(o.wing_deg), c = std::cos(th), s = std::sin(th);
+  // The joint is long enough that the turned wing's rooms on the inside of
+  // the turn clear the first wing's.
+  const double J = (0.5 * W + D) * std::abs(s) + 1.0;
+  const Vec2 pivot(L + J, 0.5 * W);
+  auto turned = [&](const Vec2& p) {
+    const Vec2 q(p.x(), p.y() - 0.5 * W);
+    return Vec2(pivot.x() + c * q.x() - s * q.y(), pivot.y() + s * q.x() + c * q.y());
+  };
+  auto near = [](double a, double b) { return std::abs(a - b) < 1e-9; };
+  // The first wing's east end and the second's west end stay only where
+  // they close rooms.
+  std::vector<Segment2> walls;
+  for (const Segment2& w : plan.walls) {
+    if (near(w.a.x(), L) && near(w.b.x(), L) && std::min(w.a.y(), w.b.y()) < 0.0 && std::max(w.a.y(), w.b.y()) > W) {
+      walls.push_back({{L, -D}, {L, 0.0}});
+      walls.push_back({{L, W}, {L, W + D}});
+    } else {
+      walls.push_back(w);
+    }
+  }
+  // The joint: the inside of the turn straight on to where the turned
+  // corridor's wall meets it, the outside to the pivot and round.
+  const double inner = o.wing_deg > 0 ? W : 0.0, outer = o.wing_deg > 0 ? 0.0 : W;
+  const double t = 0.5 * W * std::tan(0.5 * std::abs(th));
+  walls.push_back({{L, inner}, {turned(Vec2(t, inner)).x(), inner}});
+  walls.push_back({{L, outer}, {pivot.x(), outer}});
+  walls.push_back({{pivot.x(), outer}, turned(Vec2(0.0, outer))});
+  for (Segment2 w : b.walls) {
+    if (near(w.a.x(), 0.0) && near(w.b.x(), 0.0) && std::min(w.a.y(), w.b.y()) < 0.0 &&
+        std::max(w.a.y(), w.b.y()) > W) {
+      // The room on the inside of the turn: its west wall reaches the
+      // joint's wall before the corridor's, and stops there.
+      for (const auto& [far, edge] : {std::pair{Vec2(0.0, -D), Vec2(0.0, 0.0)}, std::pair{Vec2(0.0, W + D), Vec2(0.0, W)}}) {
+        const Vec2 p = turned(far);
+        Vec2 q = turned(edge);
+        if ((p.y() - inner) * (q.y() - inner) < 0.0) q = p + (q - p) * ((inner - p.y()) / (q.y() - p.y()));
+        walls.push_back({p, q});
+      }
+      continue;
+    }
+    if (near(w.a.y(), inner) && near(w.b.y(), inner)) {
+      if (near(w.a.x(), 0.0)) w.a.x() = t;
+      if (near(w.b.x(), 0.0)) w.b.x() = t;
+    }
+    walls.push_back({turned(w.a), turned(w.b)});
+  }
+  plan.walls = std::move(walls);
+  for (const NamedSegment& d : b.doorways)
+    plan.doorways.push_back({d.name + "b", {turned(d.line.a), turned(d.line.b)}});
+  // The route on through the joint and round the turned wing.
+  std::vector<Pose2> route;
+  for (const Waypoint& w : plan.route) route.push_back(w.pose);
+  route.push_back(Pose2{L + 0.5 * J, 0.5 * W, 0.0});
+  route.push_back(Pose2{pivot.x(), pivot.y(), th});
+  for (const Waypoint& w : b.route) {
+    const Vec2 p = turned(w.pose.translation());
+    route.push_back(Pose2{p.x(), p.y(), NormalizeAngle(w.pose.theta + th)});
+  }
+  plan.route.clear();
+  for (size_t k = 0; k < route.size(); ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "wp%04zu", k + 1);
+    plan.route.push_back({name, route[k]});
+  }
+  plan.min = plan.max = plan.walls.front().a;
+  for (const Segment2& w : plan.walls)
+    for (const Vec2& p : {w.a, w.b}) {
+      plan.min = plan.min.cwiseMin(p);
+      plan.max = plan.max.cwiseMax(p);
+    }
+  return plan;
+}
+}  // namespace
+
 FloorPlan GenerateBuilding(const BuildingOptions& o) {
+  if (!std::isfinite(o.wing_deg) || std::abs(o.wing_deg) > 60.0)
+    throw InputError("gen-building: a wing turned by at most 60 degrees either way");
+  return o.wing_deg != 0.0 ? TwoWings(o) : OneWing(o);
+}
+
+namespace {
+FloorPlan OneWing(const BuildingOptions& o) {
   if (o.rooms < 1) throw InputError("gen-building: need at least 1 room");
   if (!(o.corridor_width_m >= 1.0) || !(o.room_depth_m >= 2.0) || !(o.door_width_m >= 0.7))
     throw InputError("gen-building: corridor width >= 1 m, room depth >= 2 m and door width >= 0.7 m needed");
@@ -85,5 +180,6 @@ FloorPlan GenerateBuilding(const BuildingOptions& o) {
   plan.max = Vec2(L, W + D);
   return plan;
 }
+}  // namespace
 
 }  // namespace cogmap::sim

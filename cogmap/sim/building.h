@@ -15,6 +15,12 @@ struct BuildingOptions {
   double door_width_m = 0.9;
   double width_jitter = 0.2;      // room widths vary by up to +-20 % of the mean
   uint64_t seed = 1;
+  // Not 0: a second wing, generated alike (seed + 1), turned by this many
+  // degrees (CCW, at most 60 either way) and joined to the east end of the
+  // first by a straight stretch of corridor, as buildings whose wings meet
+  // at an angle are. Its rooms have no truth boxes (a 2D-Map's room extents
+  // are axis-aligned); its walls, doors and route are turned with it.
+  double wing_deg = 0.0;
 };
 
 // Walls, Room and Doorway truth (the corridor is a room named "corridor"),

@@ -58,6 +58,40 @@ TEST(Building, SurvivesTwoDMapRoundTrip) {
   EXPECT_EQ(back.doorways.size(), plan.doorways.size());
 }
 
+// A second wing turned by 30 or 45 degrees either way: the simulated robot
+// drives the whole route (through the joint and every room of both wings),
+// no leg of the route crosses a wall, and the turned wing's walls are
+// square to its own direction, not the first's.
+TEST(Building, ASecondWingTurnedAgainstTheFirstIsDrivable) {
+  for (double wing : {30.0, -45.0}) {
+    BuildingOptions o;
+    o.rooms = 6;
+    o.corridor_m = 15;
+    o.wing_deg = wing;
+    const FloorPlan plan = GenerateBuilding(o);
+    EXPECT_EQ(plan.rooms.size(), 7u) << wing;         // the first wing's rooms and corridor
+    EXPECT_EQ(plan.doorways.size(), 12u) << wing;     // both wings' doors
+    EXPECT_EQ(plan.route.size(), 2u * 18u + 2u) << wing;
+    for (size_t k = 1; k < plan.route.size(); ++k)
+      for (const Segment2& w : plan.walls)
+        EXPECT_FALSE(SegmentsCross(plan.route[k - 1].pose.translation(), plan.route[k].pose.translation(), w.a, w.b))
+            << wing << " leg " << k;
+    int turned = 0, square = 0;
+    for (const Segment2& w : plan.walls) {
+      const Vec2 d = w.b - w.a;
+      const double a = std::remainder(std::atan2(d.y(), d.x()) - DegToRad(wing), kPi / 2.0);
+      (std::abs(a) < 1e-6 ? turned : square) += 1;
+    }
+    EXPECT_GE(turned, 16) << wing;  // the second wing's walls
+    EXPECT_GE(square, 16) << wing;  // the first's (and the joint's)
+    const SimStats s = Simulate(plan, sensors::BuiltinRobot("laser"), {}, {});
+    EXPECT_EQ(s.waypoints_reached, static_cast<int>(plan.route.size())) << wing;
+  }
+  BuildingOptions steep;
+  steep.wing_deg = 75.0;
+  EXPECT_THROW(GenerateBuilding(steep), InputError);
+}
+
 TEST(Building, TooManyRoomsForCorridorIsAnError) {
   BuildingOptions o;
   o.rooms = 100;
