@@ -949,6 +949,116 @@ Region FillRegion(int x0, int y0, int x1, int y1, In&& in_lattice, bool fill_hol
       fill_holes);
 }
 
+// Douglas-Peucker on 'chain' (its ends kept): the vertices kept.
+void KeepFarthest(const std::vector<Vec2>& chain, size_t a, size_t b, double tol, std::vector<char>* keep) {
+  double worst = 0.0;
+  size_t at = a;
+  for (size_t k = a + 1; k < b; ++k) {
+    const double d = PointSegmentDistance(chain[k], chain[a], chain[b]);
+    if (d > worst) worst = d, at = k;
+  }
+  if (worst <= tol) return;
+  (*keep)[at] = 1;
+  KeepFarthest(chain, a, at, tol, keep);
+  KeepFarthest(chain, at, b, tol, keep);
+}
+
+// Straightens traced outlines (each a ring of lattice corners, counter-
+// clockwise, with 'anchors' marking the corners where three or more labels
+// meet): every stretch between two anchors (the whole ring from its least
+// vertex when it has none) is simplified by Douglas-Peucker within
+// 'tol_m', walked in one canonical direction (from its lesser end) so that
+// a border two rooms share comes out the same in both and they neither
+// overlap nor part. Both ends of an edge at least 'long_m' long are
+// anchors too: a wall square to the lattice stays exactly so, and only the
+// staircases of short steps between such edges are straightened (a notch
+// of a cell at a corner no longer tilts the walls either side of it). A
+// room whose outline would no longer be a simple polygon keeps its
+// stretches as traced, and so do its neighbours' along them. tol_m <= 0:
+// nothing changes.
+void SimplifyOutlines(std::vector<std::vector<Vec2>>* rings, const std::vector<std::vector<char>>& anchors,
+                      double tol_m, double long_m) {
+  if (!(tol_m > 0.0)) return;
+  using Key = std::pair<long long, long long>;
+  auto key = [](const Vec2& v) { return Key{std::llround(v.x() * 1e6), std::llround(v.y() * 1e6)}; };
+  // A stretch by its canonical first two vertices.
+  std::set<std::pair<Key, Key>> traced;  // stretches left as traced
+  auto simplified = [&](const std::vector<Vec2>& ring, const std::vector<char>& anchor,
+                        std::vector<std::pair<Key, Key>>* stretches) {
+    const size_t n = ring.size();
+    std::vector<size_t> ends;
+    for (size_t k = 0; k < n; ++k)
+      if (anchor[k] || (ring[k] - ring[(k + 1) % n]).norm() >= long_m || (ring[k] - ring[(k + n - 1) % n]).norm() >= long_m)
+        ends.push_back(k);
+    if (ends.empty()) {
+      size_t least = 0;
+      for (size_t k = 1; k < n; ++k)
+        if (key(ring[k]) < key(ring[least])) least = k;
+      ends.push_back(least);
+    }
+    std::vector<char> keep(n, 0);
+    for (size_t e : ends) keep[e] = 1;
+    std::vector<Vec2> chain;
+    std::vector<size_t> index;
+    for (size_t s = 0; s < ends.size(); ++s) {
+      const size_t a = ends[s], b = ends[(s + 1) % ends.size()];
+      chain.clear();
+      index.clear();
+      for (size_t k = a;; k = (k + 1) % n) {
+        chain.push_back(ring[k]);
+        index.push_back(k);
+        if (chain.size() > 1 && k == b) break;
+      }
+      if (chain.size() < 3) continue;
+      const size_t m = chain.size();
+      // Canonical direction: from the end whose first step is the lesser.
+      const bool reverse = std::pair(key(chain[m - 1]), key(chain[m - 2])) < std::pair(key(chain[0]), key(chain[1]));
+      if (reverse) {
+        std::reverse(chain.begin(), chain.end());
+        std::reverse(index.begin(), index.end());
+      }
+      const std::pair<Key, Key> id{key(chain[0]), key(chain[1])};
+      stretches->push_back(id);
+      if (traced.count(id)) {
+        for (size_t k : index) keep[k] = 1;
+        continue;
+      }
+      std::vector<char> kept(m, 0);
+      KeepFarthest(chain, 0, m - 1, tol_m, &kept);
+      for (size_t k = 0; k < m; ++k)
+        if (kept[k]) keep[index[k]] = 1;
+    }
+    std::vector<Vec2> out;
+    for (size_t k = 0; k < n; ++k)
+      if (keep[k]) out.push_back(ring[k]);
+    return out;
+  };
+  std::vector<std::vector<Vec2>> out(rings->size());
+  bool again = true;
+  for (int round = 0; again && round < 8; ++round) {
+    again = false;
+    for (size_t r = 0; r < rings->size(); ++r) {
+      const std::vector<Vec2>& ring = (*rings)[r];
+      if (ring.size() < 3) continue;
+      std::vector<std::pair<Key, Key>> stretches;
+      out[r] = simplified(ring, anchors[r], &stretches);
+      bool simple = out[r].size() >= 3 && RingArea(out[r]) > 0.0;
+      if (simple) {
+        BPoly p;
+        for (const Vec2& v : out[r]) p.outer().push_back(BPoint(v.x(), v.y()));
+        simple = bg::is_valid(p);
+      }
+      if (!simple) {
+        for (const auto& id : stretches) again = traced.insert(id).second || again;
+        out[r] = ring;
+      }
+    }
+  }
+  if (again) return;  // (not settled: every outline as traced)
+  for (size_t r = 0; r < rings->size(); ++r)
+    if ((*rings)[r].size() >= 3) (*rings)[r] = std::move(out[r]);
+}
+
 // The outline of a filled region, counter-clockwise, collinear vertices merged,
 // in the frame where lattice site (i, j) is the square origin + step * [i, i+1] x [j, j+1].
 // 'inner_point': the centre of the site deepest inside (4-distance to the outline).
@@ -2668,6 +2778,8 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   }
   // The outlines, traced on the labels; the labels go once they are traced.
   std::vector<BPoly> polys(n_plan);
+  std::vector<std::vector<Vec2>> rings(n_plan);  // traced outlines, world frame
+  std::vector<std::vector<char>> anchors(n_plan);
   std::vector<Vec2> inner(n_plan, Vec2(0, 0));
   {
     Labels label = std::move(*label2);
@@ -2750,6 +2862,8 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
           rooms.push_back(Room{});
           is_corridor.push_back(kind);
           polys.emplace_back();
+          rings.emplace_back();
+          anchors.emplace_back();
           inner.push_back(Vec2(0, 0));
         }
     }
@@ -2857,13 +2971,27 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         }
         return distinct >= 3;
       };
-      std::vector<Vec2> ring = TraceRegion(reg, g.lo, 0.5 * g.cell, &in_frame, junction);
+      const double step = 0.5 * g.cell;
+      std::vector<Vec2> ring = TraceRegion(reg, g.lo, step, &in_frame, junction);
       if (ring.size() < 3) return;
+      // Where the outline meets two other labels: the ends of the borders
+      // it shares (SimplifyOutlines keeps them).
+      anchors[r].resize(ring.size());
+      for (size_t k = 0; k < ring.size(); ++k)
+        anchors[r][k] = junction(static_cast<int>(std::lround((ring[k].x() - g.lo.x()) / step)),
+                                 static_cast<int>(std::lround((ring[k].y() - g.lo.y()) / step)));
       for (auto& v : ring) v = g.FromFrame(v);
-      polys[r] = ToBoost(ring);
+      rings[r] = std::move(ring);
       inner[r] = g.FromFrame(in_frame);
     };
     ForEachShared(static_cast<size_t>(n_plan), o.threads, [&](size_t r) { trace(static_cast<int>(r)); });
+    // The lattice's staircases along walls that are not square to it (a
+    // wing turned against the rest) straightened, each border alike for the
+    // two rooms it divides.
+    SimplifyOutlines(&rings, anchors, o.outline_tolerance_cells * g.cell, 5.0 * g.cell);
+    for (int r = 0; r < n_plan; ++r)
+      if (rings[r].size() >= 3) polys[r] = ToBoost(rings[r]);
+    std::vector<std::vector<Vec2>>().swap(rings);
   }
 
   // ---------------------------------------------------------------- assemble rooms

@@ -100,6 +100,14 @@ struct PlanOptions {
   double max_door_m = 2.5;
   // Rooms: a flood fill of a grid from each room's path, walls and doors blocking.
   double cell_m = 0.1;
+  // Room outlines are traced on a lattice of half cells square to the
+  // dominant direction; each stretch of an outline between the corners where
+  // three rooms (or none) meet is then straightened within this many cells
+  // (Douglas-Peucker), alike for the two rooms either side: a border turned
+  // against the lattice (a wing at 30 degrees) is a straight line, not the
+  // cells' staircase (which strays from the line by up to a cell). 0: as
+  // traced.
+  double outline_tolerance_cells = 1.0;
   double max_cells = 3.0e7;            // the cell grows beyond cell_m when the map would need more
   double seed_door_clearance_m = 0.8;  // path poses this close to an exit do not seed its room
   double corridor_max_width_m = 3.0;   // a corridor piece: at most this wide ...

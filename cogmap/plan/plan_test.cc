@@ -775,6 +775,56 @@ TEST(BuildPlan, RoomsOfACorridorBuildingPlacedWithSmallErrorsDoNotOverlap) {
   }
 }
 
+// A building of two wings (docs/pose-graph.md, "Wings turned against the
+// rest"): three rooms a side square to the lattice, and 40 m away two a
+// side turned by 30 degrees. The turned wing's outlines, traced on the
+// lattice, are staircases; straightened (SimplifyOutlines), they keep their
+// area, share their borders exactly (no overlap) and have a third of the
+// vertices at most.
+TEST(BuildPlan, OutlinesTurnedAgainstTheLatticeAreStraightened) {
+  std::vector<asr::Asr> asrs = CorridorBuilding(3, 0.0, 1);
+  const int first = static_cast<int>(asrs.size());
+  const Pose2 turn{40.0, 10.0, DegToRad(30.0)};
+  for (asr::Asr a : CorridorBuilding(2, 0.0, 1)) {
+    a.id += first;
+    a.start_time_s += 1000.0;
+    for (auto& l : a.walls_local)
+      for (auto& p : l) p = turn * p;
+    for (auto& q : a.path) {
+      const Vec2 r = turn * q.translation();
+      q.x = r.x(), q.y = r.y();
+    }
+    for (auto& e : a.exits) {
+      e.center_m = turn * e.center_m;
+      e.from_asr += first;
+      e.to_asr += first;
+    }
+    asrs.push_back(a);
+  }
+  PlanOptions traced;
+  traced.outline_tolerance_cells = 0.0;
+  const Plan as_traced = BuildPlan(asrs, {}, traced), plan = BuildPlan(asrs, {});
+  ASSERT_EQ(plan.rooms.size(), as_traced.rooms.size());
+  ASSERT_EQ(plan.rooms.size(), 12u);  // 6 + 1 and 4 + 1
+  EXPECT_EQ(SampledOverlap(plan, 0.02), 0.0);
+  size_t turned_before = 0, turned_after = 0;
+  for (size_t r = 0; r < plan.rooms.size(); ++r) {
+    std::string why;
+    EXPECT_TRUE(bg::is_valid(Poly(plan.rooms[r].polygon), why)) << plan.rooms[r].name << ": " << why;
+    EXPECT_NEAR(plan.rooms[r].area_m2, as_traced.rooms[r].area_m2, 0.02 * as_traced.rooms[r].area_m2) << r;
+    if (plan.rooms[r].label.x() > 30.0) {
+      turned_before += as_traced.rooms[r].polygon.size();
+      turned_after += plan.rooms[r].polygon.size();
+    } else {
+      // Square to the lattice: the long edges as traced, a cell's notch at
+      // a corner cut.
+      EXPECT_LE(plan.rooms[r].polygon.size(), as_traced.rooms[r].polygon.size()) << r;
+    }
+  }
+  EXPECT_GT(turned_before, 0u);
+  EXPECT_LT(3 * turned_after, turned_before);
+}
+
 TEST(BuildPlan, CorridorInThreePiecesIsOneCorridorRoom) {
   std::vector<asr::Asr> asrs;
   for (int k = 0; k < 3; ++k) {
