@@ -1222,19 +1222,29 @@ constexpr int kWingStepRun = 3;
 
 namespace {
 // Greedily: the widest group of angles (folded into a quarter turn) within
-// a window min_rad wide (of equal counts, the narrowest), by a sliding
-// window over them sorted (n log n); then the same among those at least
-// min_rad from every group's direction, while a group of min_count or more
-// is left. Each direction is its group's mean weighted by 'weights' (none:
-// equal); the total count and squared spread are what the scan ranks by.
+// a window 'width' wide (of equal counts, the narrowest), by a sliding
+// window over them sorted (n log n); then the same among the rest, a group
+// whose direction lies nearer than min_rad to one taken dropped, while a
+// group of min_count or more is left. Each direction is its group's mean
+// weighted by 'weights' (none: equal); a group takes the angles within
+// min_rad less the window's half-width of it, so that one min_rad away
+// keeps its own. The total count and squared spread are what the scan
+// ranks by.
+// The window a group of wall directions is gathered in: as given, between
+// half of min_rad and min_rad (0: half).
+double GroupWidth(double min_rad, double width_rad) {
+  return width_rad > 0.0 ? std::clamp(width_rad, 0.5 * min_rad, min_rad) : 0.5 * min_rad;
+}
+
 struct Gathering {
   int count = 0;
   double spread = 0.0;
   std::vector<double> directions;
 };
 Gathering Gather(const std::vector<double>& angles, const std::vector<double>* weights, double min_rad,
-                 int min_count, int most) {
+                 int min_count, int most, double width) {
   auto fold = [](double a) { return a - kQuarterTurn * std::round(a / kQuarterTurn); };
+  const double reach = min_rad - 0.5 * width;
   Gathering g;
   std::vector<std::pair<double, double>> u;  // (folded angle, weight)
   for (size_t k = 0; k < angles.size(); ++k) u.emplace_back(fold(angles[k]), weights ? (*weights)[k] : 1.0);
@@ -1248,7 +1258,7 @@ Gathering Gather(const std::vector<double>& angles, const std::vector<double>* w
     double best_span = 0.0;
     for (size_t a = 0, b = 0; a < n; ++a) {
       b = std::max(b, a);
-      while (b + 1 < a + n && ring[b + 1].first - ring[a].first <= min_rad) ++b;
+      while (b + 1 < a + n && ring[b + 1].first - ring[a].first <= width) ++b;
       const size_t count = b - a + 1;
       const double span = ring[b].first - ring[a].first;
       if (count > best_count || (count == best_count && span < best_span)) {
@@ -1264,13 +1274,25 @@ Gathering Gather(const std::vector<double>& angles, const std::vector<double>* w
       wsum += ring[k].second;
     }
     const double mean = wsum > 0.0 ? sum / wsum : ring[best_first].first;
+    bool apart = true;
+    for (double d : g.directions) apart = apart && std::abs(fold(mean - d)) >= min_rad;
+    std::vector<std::pair<double, double>> rest;
+    if (!apart) {
+      // The tail of a group taken: its window's angles go, nothing is kept.
+      const double lo = ring[best_first].first, hi = ring[best_first + best_count - 1].first;
+      for (const auto& x : u) {
+        const double e = fold(x.first - lo);
+        if (e < 0.0 || e > hi - lo) rest.push_back(x);
+      }
+      u.swap(rest);
+      continue;
+    }
     for (size_t k = best_first; k < best_first + best_count; ++k)
       g.spread += (ring[k].first - mean) * (ring[k].first - mean);
     g.count += static_cast<int>(best_count);
     g.directions.push_back(fold(mean));
-    std::vector<std::pair<double, double>> rest;
     for (const auto& x : u)
-      if (std::abs(fold(x.first - mean)) >= min_rad) rest.push_back(x);
+      if (std::abs(fold(x.first - mean)) >= reach) rest.push_back(x);
     u.swap(rest);
   }
   return g;
@@ -1278,13 +1300,14 @@ Gathering Gather(const std::vector<double>& angles, const std::vector<double>* w
 }  // namespace
 
 std::vector<double> BuildingDirections(const std::vector<double>& directions, const std::vector<double>& weights,
-                                       double min_rad, int min_count, int most) {
-  return Gather(directions, &weights, min_rad, min_count, most).directions;
+                                       double min_rad, int min_count, int most, double width_rad) {
+  return Gather(directions, &weights, min_rad, min_count, most, GroupWidth(min_rad, width_rad)).directions;
 }
 
 std::optional<WingScan> ScanBuildingDirections(const std::vector<PoseGraph::DirectionTerm>& terms, double lo,
                                                double hi, double step, double min_rad, int min_count, int most,
-                                               const std::vector<double>& reference_rates) {
+                                               const std::vector<double>& reference_rates, double width_rad) {
+  const double width = GroupWidth(min_rad, width_rad);
   if (terms.empty() || !(step > 0.0) || !(hi >= lo)) return std::nullopt;
   auto fold = [](double a) { return a - kQuarterTurn * std::round(a / kQuarterTurn); };
   std::vector<double> u(terms.size());
@@ -1295,7 +1318,7 @@ std::optional<WingScan> ScanBuildingDirections(const std::vector<PoseGraph::Dire
   int single = 0;
   for (double r : reference_rates) {
     at(r);
-    single = std::max(single, Gather(u, nullptr, min_rad, 1, 1).count);
+    single = std::max(single, Gather(u, nullptr, min_rad, 1, 1, width).count);
   }
   Gathering best;
   double best_rate = 0.0;
@@ -1303,7 +1326,7 @@ std::optional<WingScan> ScanBuildingDirections(const std::vector<PoseGraph::Dire
   for (int k = 0; k < samples; ++k) {
     const double r = lo + k * step;
     at(r);
-    Gathering g = Gather(u, nullptr, min_rad, min_count, most);
+    Gathering g = Gather(u, nullptr, min_rad, min_count, most, width);
     if (g.directions.size() >= 2 && (g.count > best.count || (g.count == best.count && g.spread < best.spread))) {
       best = std::move(g);
       best_rate = r;
@@ -1371,6 +1394,20 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
   sources.emplace_back(&drift->free_state, MeanRate());
   graph_.Restore(drift->held_state);
   graph_.ChainWithRate(0.0);
+  // How far apart the walls of one direction are read: within two of their
+  // measured sigmas either way (the median factor's, before the variance
+  // components, which a wing's misfit inflates), a quarter and a half of
+  // the least separation at least and at most (a laser's rooms: 7.5 degrees
+  // wide; a sonar ring's: 10-15).
+  double width = 0.0;
+  {
+    std::vector<double> measured;
+    for (const PoseGraph::DirectionTerm& t : graph_.DirectionTerms()) measured.push_back(t.measured_sigma);
+    if (!measured.empty()) {
+      std::nth_element(measured.begin(), measured.begin() + measured.size() / 2, measured.end());
+      width = GroupWidth(options_.building_direction_min_rad, 4.0 * measured[measured.size() / 2]);
+    }
+  }
   {
     const std::vector<PoseGraph::DirectionTerm> terms = graph_.DirectionTerms();
     double s = 0.0;
@@ -1382,7 +1419,7 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
       const double step = std::max((kQuarterTurn / s) / 16.0, 2.0 * limit / budget);
       const std::optional<WingScan> scan = ScanBuildingDirections(
           terms, -limit, limit, step, options_.building_direction_min_rad, options_.building_direction_min_asrs,
-          options_.max_building_directions, {0.0, sources[1].second});
+          options_.max_building_directions, {0.0, sources[1].second}, width);
       if (scan) sources.emplace_back(&drift->held_state, scan->rate_rad_per_m);
     }
   }
@@ -1397,9 +1434,9 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
       world.push_back(graph_.building_direction(0) + r.angle);
       weight.push_back(1.0 / std::max(1e-12, r.sigma * r.sigma));
     }
-    const std::vector<double> dirs = BuildingDirections(world, weight, options_.building_direction_min_rad,
-                                                        options_.building_direction_min_asrs,
-                                                        options_.max_building_directions);
+    const std::vector<double> dirs =
+        BuildingDirections(world, weight, options_.building_direction_min_rad, options_.building_direction_min_asrs,
+                           options_.max_building_directions, width);
     if (dirs.size() < 2) continue;
     Candidate c;
     c.directions = dirs;
@@ -1439,12 +1476,12 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
   }
   // Of the candidates, the one whose likelihood ratio clears its quantile
   // (its directions beyond the first are parameters of their own) by the
-  // most, at the drift test's level divided among those tried.
+  // most, at building_direction_test_probability divided among those tried.
   double chi2 = 0.0, margin = -std::numeric_limits<double>::infinity();
   const Candidate* chosen = nullptr;
   for (const Candidate& c : candidates) {
     const int extra = static_cast<int>(c.directions.size()) - 1;
-    const double q = ChiSquareQuantile(1.0 - (1.0 - options_.drift_test_probability) / tried, extra);
+    const double q = ChiSquareQuantile(1.0 - (1.0 - options_.building_direction_test_probability) / tried, extra);
     const double x = 2.0 * (cost_before - c.cost);
     if (x - q > margin) {
       margin = x - q;

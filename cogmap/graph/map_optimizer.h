@@ -151,21 +151,29 @@ struct MapOptimizerOptions {
   // untested, fhw at 1 deg/m cut every 8 m slid to an alias at -2.48 deg/m.
   bool drift_known = false;
   // A wing of the building turned against the rest (Finish,
-  // TryBuildingDirections): the walls of at least building_direction_min_asrs
-  // ASRs agree with each other within half building_direction_min_rad but
-  // lie at least that far off every building direction so far (modulo a
-  // quarter turn). A drift rate fits such a step in the wall directions
-  // badly, as a ramp that turns the rooms on both sides of it (a 30-degree
-  // wing: 0.31 +- 0.05 deg/m "found" with no drift, heading errors up to 19
-  // degrees); a second building direction fits it exactly. It is kept when
-  // it lowers the graph's robust cost (the rates free on both sides) by more
-  // than the drift test's chi-square quantile (Bonferroni over the
-  // directions tried) and leaves the map at least as consistent. Wings meet
-  // at 15 degrees or more in real buildings; a room's direction misread by a
-  // few degrees (sonar) is what the Cauchy tail is for, and several misread
-  // alike is what the 10 degrees keep out. At most max_building_directions
-  // in all (1: the first only, as before the thirty-sixth session).
+  // TryBuildingDirections; docs/pose-graph.md, "Wings turned against the
+  // rest"): the walls of at least building_direction_min_asrs ASRs, read
+  // along the odometry, agree with each other (within two of their measured
+  // sigmas either way, a quarter to a half of building_direction_min_rad)
+  // and their direction lies at least building_direction_min_rad off every
+  // other group's (modulo a quarter turn), and wherever the run passes from
+  // one group to another the walls step between them. A drift rate fits
+  // such a step badly, as a ramp that turns the rooms on both sides of it (a
+  // 30-degree wing: 0.31 +- 0.05 deg/m "found" with no drift, heading
+  // errors up to 19 degrees); a building direction per group fits it. They
+  // are kept when they lower the graph's robust cost (the rates free on
+  // both sides) by more than the chi-square quantile of
+  // building_direction_test_probability (Bonferroni over the candidates
+  // tried) and leave the map at least as consistent. The level is stricter
+  // than the drift test's: the groups are searched for (over the drift
+  // rate, and from the data), and at 99 % a 16-sonar run at 2 deg/m on a
+  // building with no wing took one (chi2 7.9: wall p95 0.84 -> 2.05 m).
+  // Wings meet at 15 degrees or more in real buildings; a room's direction
+  // misread by a few degrees (sonar) is what the Cauchy tail is for. At most
+  // max_building_directions in all (1: the first only, as before the
+  // thirty-sixth session).
   int max_building_directions = 3;
+  double building_direction_test_probability = 0.999;
   double building_direction_min_rad = DegToRad(15.0);
   int building_direction_min_asrs = 3;
   // The aliases tried (TestDrift): at most this many of the lowest minima
@@ -333,12 +341,13 @@ struct OptimizerResult {
 
 // The building directions (radians, modulo a quarter turn) that wall
 // directions agree on: greedily, the widest group of 'directions' within a
-// window min_rad wide (their mean weighted by 'weights'), then the same
-// among those at least min_rad from every direction taken, while min_count
-// or more agree; at most 'most', largest first.
-// Two or more: a wing of the building turned against the rest.
+// window 'width_rad' wide (between min_rad / 2 and min_rad; 0: min_rad / 2;
+// their mean weighted by 'weights'), then the same among the rest, each at
+// least min_rad from every direction taken, while min_count or more agree;
+// at most 'most', largest first. Two or more: a wing of the building turned
+// against the rest.
 std::vector<double> BuildingDirections(const std::vector<double>& directions, const std::vector<double>& weights,
-                                       double min_rad, int min_count, int most);
+                                       double min_rad, int min_count, int most, double width_rad = 0.0);
 
 // The common drift rate, among lo, lo + step, ... hi, at which the wall
 // directions, each dead-reckoned as term.world + rate x term.slope, gather
@@ -356,7 +365,7 @@ struct WingScan {
 };
 std::optional<WingScan> ScanBuildingDirections(const std::vector<PoseGraph::DirectionTerm>& terms, double lo,
                                                double hi, double step, double min_rad, int min_count, int most,
-                                               const std::vector<double>& reference_rates);
+                                               const std::vector<double>& reference_rates, double width_rad = 0.0);
 
 // Where two wall directions that follow each other along the run (the
 // ASRs by node order; 'world' each one's walls along the odometry, 'family'

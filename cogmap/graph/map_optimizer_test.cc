@@ -650,6 +650,11 @@ TEST(BuildingDirections, GroupsAWingAndNotAFewOutliers) {
                                DegToRad(15.0), 3, 3)
                 .size(),
             1u);
+  // A wing at the least separation, its walls read to a few tenths (a laser).
+  EXPECT_EQ(BuildingDirections({0.1 * d, -0.2 * d, 0.3 * d, 15.1 * d, 14.8 * d, 15.3 * d}, std::vector<double>(6, 1.0),
+                               DegToRad(15.0), 3, 3)
+                .size(),
+            2u);
   // Directions either side of 45 degrees are one direction (modulo a quarter turn).
   const std::vector<double> diagonal = {44.0 * d, -44.5 * d, 45.0 * d, 0.0, 0.2 * d, -0.3 * d};
   const std::vector<double> both = BuildingDirections(diagonal, std::vector<double>(6, 1.0), DegToRad(15.0), 3, 3);

@@ -611,7 +611,7 @@ std::vector<PoseGraph::DirectionTerm> PoseGraph::DirectionTerms() const {
     if (!f.enabled || f.kind != FactorKind::kDirection || !f.direction) continue;
     const costs::DirectionCost& d = *f.direction;
     const double world = m.nodes[f.i][2] + d.d - (m.rates[f.i] - d.offset) * d.s_mean;
-    out.push_back({static_cast<int>(k), f.i, world, turn[f.i] - d.s_mean, d.Sigma()});
+    out.push_back({static_cast<int>(k), f.i, world, turn[f.i] - d.s_mean, d.Sigma(), std::max(d.floor, d.sigma)});
   }
   return out;
 }

@@ -219,6 +219,7 @@ class PoseGraph {
   struct DirectionTerm {
     int handle = -1, node = -1;
     double world = 0.0, slope = 0.0, sigma = 0.0;
+    double measured_sigma = 0.0;  // its measurement's sigma, at least the floor (no variance components)
   };
   std::vector<DirectionTerm> DirectionTerms() const;
   // The robust cost of every enabled factor at the current estimate
