@@ -1389,7 +1389,10 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
   // a wing on top of a drift, which pulls the rates found with one
   // direction away from the truth (a 30-degree wing at 1 deg/m, 16 sonars:
   // 1.27 deg/m found).
-  std::vector<std::pair<const PoseGraph::State*, double>> sources = {{&drift->held_state, 0.0}};
+  // (Held rates are zero, or the drift removed while mapping: the rates a
+  // second pass holds them at.)
+  graph_.Restore(drift->held_state);
+  std::vector<std::pair<const PoseGraph::State*, double>> sources = {{&drift->held_state, MeanRate()}};
   graph_.Restore(drift->free_state);
   sources.emplace_back(&drift->free_state, MeanRate());
   graph_.Restore(drift->held_state);
@@ -1419,7 +1422,7 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
       const double step = std::max((kQuarterTurn / s) / 16.0, 2.0 * limit / budget);
       const std::optional<WingScan> scan = ScanBuildingDirections(
           terms, -limit, limit, step, options_.building_direction_min_rad, options_.building_direction_min_asrs,
-          options_.max_building_directions, {0.0, sources[1].second}, width);
+          options_.max_building_directions, {sources[0].second, sources[1].second}, width);
       if (scan) sources.emplace_back(&drift->held_state, scan->rate_rad_per_m);
     }
   }
