@@ -313,13 +313,7 @@ class Mapper {
       d["drift_rate_sigma_deg_per_m"] = RadToDeg(r.graph.drift_rate_sigma_rad_per_m);
     else
       d["drift_rate_sigma_deg_per_m"] = py::none();
-    // Modulo a quarter turn, in [0, 90), as report.json's pose_graph has them.
-    std::vector<double> directions;
-    for (double a : r.graph.building_directions_rad) {
-      const double deg = RadToDeg(a);
-      directions.push_back(deg - 90.0 * std::floor(deg / 90.0));
-    }
-    d["building_directions_deg"] = directions;
+    d["building_directions_deg"] = graph::BuildingDirectionsDeg(r.graph);
     d["warnings"] = r.graph.warnings;
     return d;
   }

@@ -1037,7 +1037,6 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift(bool likelihood_ratio_only) 
   const PoseGraph::State no_drift_state = graph_.Save();
   out.free_state = drift_state;
   out.held_state = no_drift_state;
-  out.free_cost = with_drift.final_cost;
   out.chi2 = 2.0 * (no_drift.final_cost - with_drift.final_cost);
   const double quantile = ChiSquareQuantile(options_.drift_test_probability, 1);
   out.detected = out.chi2 > quantile;
@@ -1221,6 +1220,12 @@ constexpr double kQuarterTurn = kPi / 2.0;
 constexpr int kWingStepRun = 3;
 
 namespace {
+// The window a group of wall directions is gathered in: as given, between
+// half of min_rad and min_rad (0: half).
+double GroupWidth(double min_rad, double width_rad) {
+  return width_rad > 0.0 ? std::clamp(width_rad, 0.5 * min_rad, min_rad) : 0.5 * min_rad;
+}
+
 // Greedily: the widest group of angles (folded into a quarter turn) within
 // a window 'width' wide (of equal counts, the narrowest), by a sliding
 // window over them sorted (n log n); then the same among the rest, a group
@@ -1230,12 +1235,6 @@ namespace {
 // min_rad less the window's half-width of it, so that one min_rad away
 // keeps its own. The total count and squared spread are what the scan
 // ranks by.
-// The window a group of wall directions is gathered in: as given, between
-// half of min_rad and min_rad (0: half).
-double GroupWidth(double min_rad, double width_rad) {
-  return width_rad > 0.0 ? std::clamp(width_rad, 0.5 * min_rad, min_rad) : 0.5 * min_rad;
-}
-
 struct Gathering {
   int count = 0;
   double spread = 0.0;
@@ -1243,11 +1242,10 @@ struct Gathering {
 };
 Gathering Gather(const std::vector<double>& angles, const std::vector<double>* weights, double min_rad,
                  int min_count, int most, double width) {
-  auto fold = [](double a) { return a - kQuarterTurn * std::round(a / kQuarterTurn); };
   const double reach = min_rad - 0.5 * width;
   Gathering g;
   std::vector<std::pair<double, double>> u;  // (folded angle, weight)
-  for (size_t k = 0; k < angles.size(); ++k) u.emplace_back(fold(angles[k]), weights ? (*weights)[k] : 1.0);
+  for (size_t k = 0; k < angles.size(); ++k) u.emplace_back(FoldQuarter(angles[k]), weights ? (*weights)[k] : 1.0);
   std::vector<std::pair<double, double>> ring;
   while (static_cast<int>(g.directions.size()) < most && static_cast<int>(u.size()) >= min_count) {
     std::sort(u.begin(), u.end());
@@ -1275,13 +1273,13 @@ Gathering Gather(const std::vector<double>& angles, const std::vector<double>* w
     }
     const double mean = wsum > 0.0 ? sum / wsum : ring[best_first].first;
     bool apart = true;
-    for (double d : g.directions) apart = apart && std::abs(fold(mean - d)) >= min_rad;
+    for (double d : g.directions) apart = apart && std::abs(FoldQuarter(mean - d)) >= min_rad;
     std::vector<std::pair<double, double>> rest;
     if (!apart) {
       // The tail of a group taken: its window's angles go, nothing is kept.
       const double lo = ring[best_first].first, hi = ring[best_first + best_count - 1].first;
       for (const auto& x : u) {
-        const double e = fold(x.first - lo);
+        const double e = FoldQuarter(x.first - lo);
         if (e < 0.0 || e > hi - lo) rest.push_back(x);
       }
       u.swap(rest);
@@ -1290,9 +1288,9 @@ Gathering Gather(const std::vector<double>& angles, const std::vector<double>* w
     for (size_t k = best_first; k < best_first + best_count; ++k)
       g.spread += (ring[k].first - mean) * (ring[k].first - mean);
     g.count += static_cast<int>(best_count);
-    g.directions.push_back(fold(mean));
+    g.directions.push_back(FoldQuarter(mean));
     for (const auto& x : u)
-      if (std::abs(fold(x.first - mean)) >= reach) rest.push_back(x);
+      if (std::abs(FoldQuarter(x.first - mean)) >= reach) rest.push_back(x);
     u.swap(rest);
   }
   return g;
@@ -1309,10 +1307,9 @@ std::optional<WingScan> ScanBuildingDirections(const std::vector<PoseGraph::Dire
                                                const std::vector<double>& reference_rates, double width_rad) {
   const double width = GroupWidth(min_rad, width_rad);
   if (terms.empty() || !(step > 0.0) || !(hi >= lo)) return std::nullopt;
-  auto fold = [](double a) { return a - kQuarterTurn * std::round(a / kQuarterTurn); };
   std::vector<double> u(terms.size());
   auto at = [&](double r) {
-    for (size_t t = 0; t < terms.size(); ++t) u[t] = fold(terms[t].world + r * terms[t].slope);
+    for (size_t t = 0; t < terms.size(); ++t) u[t] = FoldQuarter(terms[t].world + r * terms[t].slope);
   };
   // What one direction gathers at the rates found with one.
   int single = 0;
@@ -1339,13 +1336,12 @@ std::optional<WingScan> ScanBuildingDirections(const std::vector<PoseGraph::Dire
 WingSteps CountWingSteps(const std::vector<double>& world, const std::vector<int>& node,
                          const std::vector<int>& family, const std::vector<double>& directions, double tol_rad,
                          int run) {
-  auto fold = [](double a) { return a - kQuarterTurn * std::round(a / kQuarterTurn); };
   std::vector<size_t> order(world.size());
   for (size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return node[a] < node[b]; });
   // Each factor's walls less its building direction.
   std::vector<double> off(order.size());
-  for (size_t k = 0; k < order.size(); ++k) off[k] = fold(world[order[k]] - directions[family[order[k]]]);
+  for (size_t k = 0; k < order.size(); ++k) off[k] = FoldQuarter(world[order[k]] - directions[family[order[k]]]);
   auto fam = [&](size_t k) { return family[order[k]]; };
   WingSteps out;
   for (size_t k = 1; k < order.size(); ++k) {
@@ -1361,9 +1357,17 @@ WingSteps CountWingSteps(const std::vector<double>& world, const std::vector<int
   return out;
 }
 
+std::vector<double> BuildingDirectionsDeg(const OptimizerResult& r) {
+  std::vector<double> out;
+  for (double a : r.building_directions_rad) {
+    const double deg = RadToDeg(a);
+    out.push_back(deg - 90.0 * std::floor(deg / 90.0));
+  }
+  return out;
+}
+
 int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) {
   if (options_.max_building_directions < 2 || graph_.building_directions() != 1) return 0;
-  auto fold = [](double a) { return a - kQuarterTurn * std::round(a / kQuarterTurn); };
   // The one building direction, with the rates free: the cost more must
   // lower; and the map as decided: the consistency they must keep.
   const PoseGraph::State decided = graph_.Save();
@@ -1371,11 +1375,12 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
   graph_.SetRatesFixedAtZero(false);
   graph_.Restore(drift->free_state);
   const double cost_before = graph_.Cost();
-  // The walls' directions along the odometry, dead-reckoned without drift
-  // and with the drift the rates found: a wing's step stands out there,
-  // while a solved graph has already spread it over the odometry's heading
-  // noise (a 30-degree wing, 16 sonars: every residual within 10 degrees).
-  // Each grouping of two or more directions is a candidate, solved with the
+  // The walls' directions along the odometry, dead-reckoned at the held
+  // rates (no drift; with a second pass the drift removed while mapping)
+  // and at the drift the rates found: a wing's step stands out there, while
+  // a solved graph has already spread it over the odometry's heading noise
+  // (a 30-degree wing, 16 sonars: every residual within 10 degrees). Each
+  // grouping of two or more directions is a candidate, solved with the
   // rates free from there, each factor tied to its nearest direction.
   struct Candidate {
     double cost = std::numeric_limits<double>::infinity();
@@ -1383,58 +1388,52 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
     std::vector<std::pair<int, int>> family;  // (factor handle, building direction)
     PoseGraph::State state;
   };
-  // And at the rate at which the walls, dead-reckoned, gather best into
-  // two or more directions (ScanBuildingDirections, over the rates within
-  // the prior's 3 sigma every sixteenth of a quarter turn over the path):
-  // a wing on top of a drift, which pulls the rates found with one
-  // direction away from the truth (a 30-degree wing at 1 deg/m, 16 sonars:
-  // 1.27 deg/m found).
-  // (Held rates are zero, or the drift removed while mapping: the rates a
-  // second pass holds them at.)
   graph_.Restore(drift->held_state);
   std::vector<std::pair<const PoseGraph::State*, double>> sources = {{&drift->held_state, MeanRate()}};
   graph_.Restore(drift->free_state);
   sources.emplace_back(&drift->free_state, MeanRate());
   graph_.Restore(drift->held_state);
   graph_.ChainWithRate(0.0);
+  const std::vector<PoseGraph::DirectionTerm> terms = graph_.DirectionTerms();
   // How far apart the walls of one direction are read: within two of their
   // measured sigmas either way (the median factor's, before the variance
   // components, which a wing's misfit inflates), a quarter and a half of
   // the least separation at least and at most (a laser's rooms: 7.5 degrees
   // wide; a sonar ring's: 10-15).
   double width = 0.0;
-  {
+  if (!terms.empty()) {
     std::vector<double> measured;
-    for (const PoseGraph::DirectionTerm& t : graph_.DirectionTerms()) measured.push_back(t.measured_sigma);
-    if (!measured.empty()) {
-      std::nth_element(measured.begin(), measured.begin() + measured.size() / 2, measured.end());
-      width = GroupWidth(options_.building_direction_min_rad, 4.0 * measured[measured.size() / 2]);
-    }
+    for (const PoseGraph::DirectionTerm& t : terms) measured.push_back(t.measured_sigma);
+    std::nth_element(measured.begin(), measured.begin() + measured.size() / 2, measured.end());
+    width = GroupWidth(options_.building_direction_min_rad, 4.0 * measured[measured.size() / 2]);
   }
-  {
-    const std::vector<PoseGraph::DirectionTerm> terms = graph_.DirectionTerms();
-    double s = 0.0;
-    for (const PoseGraph::DirectionTerm& t : terms) s = std::max(s, std::abs(t.slope));
-    if (s > 0.0 && static_cast<int>(terms.size()) >= 2 * options_.building_direction_min_asrs) {
-      const double limit = 3.0 * options_.odometry.rate_prior_sigma_rad_per_m;
-      // Some 4 million angle evaluations at most (the finest step kept).
-      const double budget = std::max(2000.0, 4e6 / static_cast<double>(terms.size()));
-      const double step = std::max((kQuarterTurn / s) / 16.0, 2.0 * limit / budget);
-      const std::optional<WingScan> scan = ScanBuildingDirections(
-          terms, -limit, limit, step, options_.building_direction_min_rad, options_.building_direction_min_asrs,
-          options_.max_building_directions, {sources[0].second, sources[1].second}, width);
-      if (scan) sources.emplace_back(&drift->held_state, scan->rate_rad_per_m);
-    }
+  // And at the rate at which the walls, dead-reckoned, gather best into
+  // two or more directions (ScanBuildingDirections, over the rates within
+  // the prior's 3 sigma every sixteenth of a quarter turn over the path):
+  // a wing on top of a drift, which pulls the rates found with one
+  // direction away from the truth (a 30-degree wing at 1 deg/m, 16 sonars:
+  // 1.27 deg/m found).
+  double s = 0.0;
+  for (const PoseGraph::DirectionTerm& t : terms) s = std::max(s, std::abs(t.slope));
+  if (s > 0.0 && static_cast<int>(terms.size()) >= 2 * options_.building_direction_min_asrs) {
+    const double limit = 3.0 * options_.odometry.rate_prior_sigma_rad_per_m;
+    // Some 4 million angle evaluations at most (the finest step kept).
+    const double budget = std::max(2000.0, 4e6 / static_cast<double>(terms.size()));
+    const double step = std::max((kQuarterTurn / s) / 16.0, 2.0 * limit / budget);
+    const std::optional<WingScan> scan = ScanBuildingDirections(
+        terms, -limit, limit, step, options_.building_direction_min_rad, options_.building_direction_min_asrs,
+        options_.max_building_directions, {sources[0].second, sources[1].second}, width);
+    if (scan) sources.emplace_back(&drift->held_state, scan->rate_rad_per_m);
   }
   std::vector<Candidate> candidates;
   int tried = 0;
   for (const auto& [source, rate] : sources) {
     graph_.Restore(*source);
     graph_.ChainWithRate(rate);
-    const std::vector<PoseGraph::DirectionResidual> rs = graph_.DirectionResiduals();
+    const std::vector<PoseGraph::DirectionTerm> rs = graph_.DirectionTerms();
     std::vector<double> world, weight;
-    for (const PoseGraph::DirectionResidual& r : rs) {
-      world.push_back(graph_.building_direction(0) + r.angle);
+    for (const PoseGraph::DirectionTerm& r : rs) {
+      world.push_back(r.world);
       weight.push_back(1.0 / std::max(1e-12, r.sigma * r.sigma));
     }
     const std::vector<double> dirs =
@@ -1448,7 +1447,7 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
     std::vector<int> family(rs.size(), 0), node(rs.size());
     for (size_t f = 0; f < rs.size(); ++f) {
       for (size_t k = 1; k < dirs.size(); ++k)
-        if (std::abs(fold(world[f] - dirs[k])) < std::abs(fold(world[f] - dirs[family[f]])))
+        if (std::abs(FoldQuarter(world[f] - dirs[k])) < std::abs(FoldQuarter(world[f] - dirs[family[f]])))
           family[f] = static_cast<int>(k);
       node[f] = rs[f].node;
     }
@@ -1848,7 +1847,7 @@ OptimizerResult MapOptimizer::Finish() {
   res.variance_factor = inflate;
   std::vector<double> dir_resid(N, 0.0);
   std::vector<int> family(N, 0);
-  for (const PoseGraph::DirectionResidual& r : graph_.DirectionResiduals()) family[r.node] = r.family;
+  for (const PoseGraph::DirectionTerm& t : graph_.DirectionTerms()) family[t.node] = t.family;
   for (const auto& r : final_residuals)
     if (r.kind == FactorKind::kDirection && r.enabled) dir_resid[r.i] = std::max(dir_resid[r.i], std::sqrt(r.chi2));
   int uncertain = 0;

@@ -385,6 +385,10 @@ WingSteps CountWingSteps(const std::vector<double>& world, const std::vector<int
                          const std::vector<int>& family, const std::vector<double>& directions, double tol_rad,
                          int run = 3);
 
+// r.building_directions_rad in degrees modulo a quarter turn, in [0, 90)
+// (report.json, the terminal and Python give them so).
+std::vector<double> BuildingDirectionsDeg(const OptimizerResult& r);
+
 class MapOptimizer {
  public:
   explicit MapOptimizer(const MapOptimizerOptions& options = {});
@@ -506,9 +510,8 @@ class MapOptimizer {
       std::vector<Pose2> poses;
     };
     std::vector<Hypothesis> hypotheses;
-    // The graph solved with the rates free (its robust cost) and held.
+    // The graph solved with the rates free and held.
     PoseGraph::State free_state, held_state;
-    double free_cost = 0.0;
   };
   // The minima of the graph's cost over a common change of every rate
   // (TestDrift): the one of 'rate' first (cost 'cost', state 'state'), then

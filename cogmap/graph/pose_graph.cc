@@ -482,7 +482,6 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
     headings.push_back({e0, slope, scale * scale / f.rel_heading_var, Cauchy(f.loss ? f.cauchy_scale : 0.0)});
   }
   if (terms.empty()) return out;
-  auto fold = [](double a) { return a - kQuarter * std::round(a / kQuarter); };
   const int families = static_cast<int>(m.phi.size());
   std::vector<double> a(terms.size());
   for (size_t k = 0; k < deltas.size(); ++k) {
@@ -502,7 +501,7 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
         double c = 0.0;
         for (size_t t = 0; t < terms.size(); ++t) {
           if (terms[t].family != family) continue;
-          const double e = fold(a[t] - phi);
+          const double e = FoldQuarter(a[t] - phi);
           c += terms[t].loss.Rho(e * e * terms[t].inv_sigma2);
         }
         return 0.5 * c;
@@ -512,7 +511,7 @@ std::vector<double> PoseGraph::DirectionProfile(const std::vector<double>& delta
           double num = 0.0, den = 0.0;
           for (size_t t = 0; t < terms.size(); ++t) {
             if (terms[t].family != family) continue;
-            const double e = fold(a[t] - phi);
+            const double e = FoldQuarter(a[t] - phi);
             const double w = terms[t].inv_sigma2 * terms[t].loss.Weight(e * e * terms[t].inv_sigma2);
             num += w * e;
             den += w;
@@ -589,19 +588,6 @@ void PoseGraph::RemoveBuildingDirections() {
   impl_->phi.resize(1);
 }
 
-std::vector<PoseGraph::DirectionResidual> PoseGraph::DirectionResiduals() const {
-  std::vector<DirectionResidual> out;
-  for (size_t k = 0; k < impl_->factors.size(); ++k) {
-    const Impl::Factor& f = impl_->factors[k];
-    if (!f.enabled || f.kind != FactorKind::kDirection || !f.direction) continue;
-    double r = 0.0;
-    f.cost->Evaluate(f.params.data(), &r, nullptr);
-    const double sigma = f.direction->Sigma();
-    out.push_back({static_cast<int>(k), f.i, f.family, r * sigma, sigma});
-  }
-  return out;
-}
-
 std::vector<PoseGraph::DirectionTerm> PoseGraph::DirectionTerms() const {
   const Impl& m = *impl_;
   const std::vector<double> turn = m.TurnPerRate();
@@ -611,7 +597,8 @@ std::vector<PoseGraph::DirectionTerm> PoseGraph::DirectionTerms() const {
     if (!f.enabled || f.kind != FactorKind::kDirection || !f.direction) continue;
     const costs::DirectionCost& d = *f.direction;
     const double world = m.nodes[f.i][2] + d.d - (m.rates[f.i] - d.offset) * d.s_mean;
-    out.push_back({static_cast<int>(k), f.i, world, turn[f.i] - d.s_mean, d.Sigma(), std::max(d.floor, d.sigma)});
+    out.push_back(
+        {static_cast<int>(k), f.i, world, turn[f.i] - d.s_mean, d.Sigma(), std::max(d.floor, d.sigma), f.family});
   }
   return out;
 }

@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -203,23 +204,17 @@ class PoseGraph {
   void SetDirectionFamily(int handle, int family);
   int DirectionFamily(int handle) const;
   void RemoveBuildingDirections();
-  // Every enabled direction factor's residual at the current estimate: the
-  // angle (radians, on the nearest quarter-turn branch, before its sigma),
-  // its sigma, its node, building direction and handle.
-  struct DirectionResidual {
-    int handle = -1, node = -1, family = 0;
-    double angle = 0.0, sigma = 0.0;
-  };
-  std::vector<DirectionResidual> DirectionResiduals() const;
   // Every enabled direction factor's walls in the map frame (radians,
   // modulo a quarter turn: the node's heading plus the measured direction,
   // less the lean of its drift rate) at the current estimate, and how that
   // changes per unit of a common change of every drift rate with the nodes
-  // following by dead reckoning (as in DirectionProfile); its sigma.
+  // following by dead reckoning (as in DirectionProfile); its sigma; its
+  // building direction.
   struct DirectionTerm {
     int handle = -1, node = -1;
     double world = 0.0, slope = 0.0, sigma = 0.0;
     double measured_sigma = 0.0;  // its measurement's sigma, at least the floor (no variance components)
+    int family = 0;
   };
   std::vector<DirectionTerm> DirectionTerms() const;
   // The robust cost of every enabled factor at the current estimate
@@ -286,6 +281,10 @@ class PoseGraph {
   double SingularPivot(const Linearized& lin) const;
   std::unique_ptr<Impl> impl_;
 };
+
+// An angle modulo a quarter turn, in [-45, 45] degrees (radians): wall
+// directions, whose four branches are alike.
+inline double FoldQuarter(double a) { return a - (kPi / 2.0) * std::round(a / (kPi / 2.0)); }
 
 // Chi-square quantile (exact, by bisection on the regularised gamma), dof >= 1.
 double ChiSquareQuantile(double p, int dof);

@@ -585,7 +585,7 @@ std::string MapSummaryText(const MapJobSummary& s, const MapJob& job) {
             RadToDeg(r.graph.drift_rate_rad_per_m), sigma.c_str(), r.graph.drift_detected ? "" : " (none found)");
     // A wing turned against the rest (docs/pose-graph.md): its directions,
     // each modulo a quarter turn, and how many ASRs follow each.
-    const auto& dirs = r.graph.building_directions_rad;
+    const std::vector<double> dirs = graph::BuildingDirectionsDeg(r.graph);
     if (dirs.size() > 1) {
       std::vector<int> count(dirs.size(), 0);
       for (const auto& e : r.graph.asrs)
@@ -593,8 +593,7 @@ std::string MapSummaryText(const MapJobSummary& s, const MapJob& job) {
           ++count[e.building_direction];
       AppendF(&out, "building directions (a wing turned against the rest):");
       for (size_t k = 0; k < dirs.size(); ++k) {
-        const double deg = RadToDeg(dirs[k]) - 90.0 * std::floor(RadToDeg(dirs[k]) / 90.0);
-        AppendF(&out, "%s %.1f deg (%d ASRs)", k ? "," : "", deg, count[k]);
+        AppendF(&out, "%s %.1f deg (%d ASRs)", k ? "," : "", dirs[k], count[k]);
       }
       AppendF(&out, "\n");
     }

@@ -70,12 +70,7 @@ nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStr
   nlohmann::json hypotheses = nlohmann::json::array();
   for (const auto& h : g.drift_hypotheses)
     hypotheses.push_back({{"rate_deg_per_m", RadToDeg(h.rate_rad_per_m)}, {"weight", h.weight}});
-  // Modulo a quarter turn, in [0, 90).
-  nlohmann::json directions = nlohmann::json::array();
-  for (double d : g.building_directions_rad) {
-    const double deg = RadToDeg(d);
-    directions.push_back(deg - 90.0 * std::floor(deg / 90.0));
-  }
+  const nlohmann::json directions = graph::BuildingDirectionsDeg(g);
   const nlohmann::json closures = streams->Add([&g, k = size_t{0}](nlohmann::json* out) mutable {
     if (k >= g.closures.size()) return false;
     *out = ClosureJson(g.closures[k++]);
