@@ -10,6 +10,7 @@
 #include <memory>
 #include <numeric>
 #include <optional>
+#include <queue>
 #include <set>
 #include <unordered_map>
 
@@ -1233,6 +1234,60 @@ std::vector<Shape> RegionShapes(const RoomGrid& g, const Labels& label, int n) {
   return out;
 }
 
+// Each region's convex hull (lattice frame, not turned by phi): the
+// corners of its first and last cell in every row it spans.
+std::vector<std::vector<Vec2>> RegionHulls(const RoomGrid& g, const Labels& label, int n) {
+  std::vector<std::vector<Vec2>> pts(n);
+  std::vector<int> row(n, -1), x0(n, 0), x1(n, 0);
+  auto flush = [&](int r) {
+    const double ya = g.lo.y() + row[r] * g.cell, yb = ya + g.cell;
+    const double xa = g.lo.x() + x0[r] * g.cell, xb = g.lo.x() + (x1[r] + 1) * g.cell;
+    pts[r].insert(pts[r].end(), {Vec2(xa, ya), Vec2(xa, yb), Vec2(xb, ya), Vec2(xb, yb)});
+    if (pts[r].size() >= 256) pts[r] = ConvexHull(std::move(pts[r]));  // a few corners, not every row's
+  };
+  label.ForEachStored([&](int x, int y, int r) {  // row by row
+    if (r < 0) return;
+    if (row[r] != y) {
+      if (row[r] >= 0) flush(r);
+      row[r] = y;
+      x0[r] = x1[r] = x;
+    } else {
+      x0[r] = std::min(x0[r], x);
+      x1[r] = std::max(x1[r], x);
+    }
+  });
+  std::vector<std::vector<Vec2>> out(n);
+  for (int r = 0; r < n; ++r) {
+    if (row[r] >= 0) flush(r);
+    out[r] = ConvexHull(std::move(pts[r]));
+  }
+  return out;
+}
+
+// A convex polygon's least width (the least, over its edges, of the farthest
+// vertex from the edge's line) and its length across that (its extent along
+// that edge).
+std::pair<double, double> HullWidth(const std::vector<Vec2>& hull) {
+  double width = std::numeric_limits<double>::infinity(), length = 0.0;
+  for (size_t i = 0; i < hull.size(); ++i) {
+    const Vec2 a = hull[i], d = hull[(i + 1) % hull.size()] - a;
+    const double len = d.norm();
+    if (len < 1e-12) continue;
+    const Vec2 u = d / len, nrm(-u.y(), u.x());
+    double far = 0.0, lo = 0.0, hi = 0.0;
+    for (const Vec2& p : hull) {
+      far = std::max(far, std::abs(nrm.dot(p - a)));
+      lo = std::min(lo, u.dot(p - a));
+      hi = std::max(hi, u.dot(p - a));
+    }
+    if (far < width) {
+      width = far;
+      length = hi - lo;
+    }
+  }
+  return {std::isfinite(width) ? width : 0.0, length};
+}
+
 struct UnionFind {
   std::vector<int> p;
   explicit UnionFind(int n) : p(n) { std::iota(p.begin(), p.end(), 0); }
@@ -2363,6 +2418,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // below tell corridors from rooms.
   build_regions(unit_room, n1, {}, false, &seeds, &hulls);
   std::vector<Shape> shapes;
+  std::vector<std::vector<Vec2>> region_hulls;  // pass 1's regions' convex hulls (lattice frame)
   std::map<std::pair<int, int>, int> touching;  // pairs of units -> cell edges their regions share
   // The same contacts split by the direction of the step (x, y): a straight
   // border of slope dy/dx crosses about |dy| / cell x-steps and |dx| / cell
@@ -2372,6 +2428,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     const DoorMask blocked1 = door_mask(unit_room, true);
     const Labels label1 = Flood(g, blocked1, seeds, hulls, grow_steps, reach_steps);
     shapes = RegionShapes(g, label1, n1);
+    region_hulls = RegionHulls(g, label1, n1);
     // Two regions meet where a row or column of cells goes from one to the
     // other, directly or across unclaimed floor no wider than
     // corridor_touch_m (the hulls of two corridor pieces leave a wedge
@@ -2418,18 +2475,28 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   }
   UnionFind corr(n1);
   std::vector<char> in_corridor(n1, 0);
+  // Two narrow pieces, both elongated (a corridor cut along its length or
+  // at a corner), or one elongated and the two along one line (their hull
+  // as narrow as a corridor): a room entered straight from a short piece of
+  // corridor is a strip too, across the corridor's line.
+  auto pieces_of_one = [&](int ru, int rv) {
+    if (!narrow[ru] || !narrow[rv] || !(elongated[ru] || elongated[rv])) return false;
+    if (elongated[ru] && elongated[rv]) return true;
+    std::vector<Vec2> both = region_hulls[ru];
+    both.insert(both.end(), region_hulls[rv].begin(), region_hulls[rv].end());
+    return HullWidth(ConvexHull(std::move(both))).first <= o.corridor_max_width_m;
+  };
   for (int u = 0; u < n_units; ++u) {
     if (unit_room[u] < 0) continue;
     for (int v : unit_adj[u]) {
       const int ru = unit_room[unit_root(u)], rv = unit_room[unit_root(v)];
-      if (ru == rv || !narrow[ru] || !narrow[rv] || !(elongated[ru] || elongated[rv])) continue;
+      if (ru == rv || !pieces_of_one(ru, rv)) continue;
       if (corr.Unite(ru, rv)) in_corridor[ru] = in_corridor[rv] = 1;
     }
   }
   for (const auto& [pair, edges] : touching) {
     const auto [ru, rv] = pair;
-    if (edges * g.cell < o.corridor_touch_m || !narrow[ru] || !narrow[rv] || !(elongated[ru] || elongated[rv]))
-      continue;
+    if (edges * g.cell < o.corridor_touch_m || !pieces_of_one(ru, rv)) continue;
     if (corr.Unite(ru, rv)) in_corridor[ru] = in_corridor[rv] = 1;
   }
   // Corners. A corridor turning a corner is an L, whose principal moments
@@ -2558,6 +2625,67 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         in_corridor[r] = 1;
         joined = true;
       }
+    }
+  }
+  // Chains. A corridor the robot left into a room every few metres is cut into
+  // pieces no longer than a room is wide (2 x 2-3 m, and slivers between
+  // them: none elongated), whose grids saw through the doors into the rooms
+  // (floor wider than a corridor). They meet end to end without a wall or a
+  // door line between them, and a chain of them stays as narrow as each
+  // while it grows long: grown piece by piece along the borders they share
+  // (as long as the chain stays at most corridor_max_width_m wide), a chain
+  // corridor_min_aspect times longer than wide is one corridor. Rooms side
+  // by side meet across walls and door lines; a room beside a chain widens
+  // it.
+  {
+    UnionFind chain(n1);
+    std::vector<std::vector<Vec2>> chain_hull = region_hulls;
+    std::vector<int> members(n1, 1);
+    // The joins that keep a chain narrowest first (a corridor's pieces end
+    // to end before a room's strip across one): each candidate keyed by the
+    // width of the two chains' hull together, made again when either chain
+    // has grown since.
+    auto joined_hull = [&](int a, int b) {
+      std::vector<Vec2> both = chain_hull[a];
+      both.insert(both.end(), chain_hull[b].begin(), chain_hull[b].end());
+      return ConvexHull(std::move(both));
+    };
+    struct Join {
+      double width;
+      int a, b, size_a, size_b;
+      bool operator>(const Join& o) const { return width > o.width; }
+    };
+    std::priority_queue<Join, std::vector<Join>, std::greater<Join>> joins;
+    for (const auto& [pair, edges] : touching) {
+      const auto [ru, rv] = pair;
+      if (edges * g.cell < o.corridor_touch_m || region_hulls[ru].size() < 3 || region_hulls[rv].size() < 3) continue;
+      const double w = HullWidth(joined_hull(ru, rv)).first;
+      if (w <= o.corridor_max_width_m) joins.push({w, ru, rv, 1, 1});
+    }
+    while (!joins.empty()) {
+      const Join j = joins.top();
+      joins.pop();
+      const int a = chain.Find(j.a), b = chain.Find(j.b);
+      if (a == b) continue;
+      std::vector<Vec2> u = joined_hull(a, b);
+      if (members[a] != j.size_a || members[b] != j.size_b) {  // grown since: weighed again
+        const double w = HullWidth(u).first;
+        if (w <= o.corridor_max_width_m) joins.push({w, a, b, members[a], members[b]});
+        continue;
+      }
+      chain.Unite(a, b);
+      const int root = chain.Find(a), other = root == a ? b : a;
+      chain_hull[root] = std::move(u);
+      members[root] = members[a] + members[b];
+      std::vector<Vec2>().swap(chain_hull[other]);
+    }
+    for (int r = 0; r < n1; ++r) {
+      const int root = chain.Find(r);
+      if (members[root] < 2) continue;
+      const auto [width, length] = HullWidth(chain_hull[root]);
+      if (length < o.corridor_min_aspect * width) continue;
+      corr.Unite(r, root);
+      in_corridor[r] = in_corridor[root] = 1;
     }
   }
   // Open plan. Two rooms the robot drove between (an exit joins them),

@@ -892,16 +892,73 @@ TEST(BuildPlan, RoomLookedIntoFromACorridorIsARoomAndTheCorridorIsOne) {
   EXPECT_EQ(room.asr_ids, (std::vector<int>{1}));
   EXPECT_NEAR(room.area_m2, 3.8 * 3.8 + 0.5 * (3.8 + 3.0) * 0.1, 0.8);
   // Without the floor seen (a store older than schema 4) the fan reads as a
-  // corridor piece and joins the corridor, as before.
-  // The fan's floor beyond the door line, cut off from the corridor's, is
-  // kept as a piece of its own (it was dropped: 6 m2 of floor lost).
+  // narrow elongated piece, but it runs across the corridor's line (the two
+  // together are no narrower than the fan is long): a room still, not a
+  // piece of the corridor (until the thirty-seventh session it joined the
+  // corridor).
   const Plan fan = BuildPlan(CorridorWithARoomLookedInto(false), {});
   ASSERT_EQ(fan.rooms.size(), 2u);
   EXPECT_TRUE(fan.rooms[0].corridor);
-  EXPECT_EQ(fan.rooms[0].asr_ids, (std::vector<int>{0, 1, 2}));
-  EXPECT_TRUE(fan.rooms[1].asr_ids.empty());
+  EXPECT_EQ(fan.rooms[0].asr_ids, (std::vector<int>{0, 2}));
+  EXPECT_FALSE(fan.rooms[1].corridor);
+  EXPECT_EQ(fan.rooms[1].asr_ids, (std::vector<int>{1}));
   EXPECT_NEAR(fan.rooms[0].area_m2 + fan.rooms[1].area_m2, 40.0 + 6.4, 1.5);
   EXPECT_EQ(SampledOverlap(fan, 0.1), 0.0);
+}
+
+// A 2 m corridor the robot left into a room every 3 m (offices 3 m wide
+// along it, entered through 0.9 m doors): five pieces of corridor, each
+// 3 x 2 m (none twice as long as wide), and between them the offices.
+// Each piece's grid saw through the door into the office (floor 4 m deep).
+std::vector<asr::Asr> CorridorInShortPieces() {
+  std::vector<asr::Asr> out;
+  for (int k = 0; k < 5; ++k) {
+    const double x0 = 3.0 * k, x1 = x0 + 3.0, door = x0 + 1.5;
+    asr::Asr piece = MakeAsr(2 * k, {{{x0, 0}, {x1, 0}}, {{x0, 2}, {door - 0.45, 2}}, {{door + 0.45, 2}, {x1, 2}}},
+                             Line({x0 + 0.1, 1}, {x1 - 0.1, 1}), 20.0 * k);
+    if (k == 0) piece.walls_local.push_back({{0, 0}, {0, 2}});
+    if (k == 4) piece.walls_local.push_back({{15, 0}, {15, 2}});
+    piece.free_hull_local = {{x0 + 0.1, 0.1}, {x1 - 0.1, 0.1}, {x1 - 0.1, 1.9}, {door + 1, 5.9}, {door - 1, 5.9},
+                             {x0 + 0.1, 1.9}};
+    if (k < 4) {
+      std::vector<Vec2> way = Line({door, 2.1}, {door, 4.5});
+      for (const Vec2& q : Line({door, 4.5}, {door, 2.1})) way.push_back(q);
+      asr::Asr office = MakeAsr(2 * k + 1, {{{x1 - 0.05, 2}, {x1 - 0.05, 6}, {x0 + 0.05, 6}, {x0 + 0.05, 2}}}, way,
+                                20.0 * k + 10.0);
+      office.free_hull_local = {{x0 + 0.1, 2.1}, {x1 - 0.1, 2.1}, {x1 - 0.1, 5.9}, {x0 + 0.1, 5.9}};
+      piece.exits.push_back({{door, 2}, 0.9, 2 * k, 2 * k + 1});
+      office.exits = {{{door, 2}, 0.9, 2 * k, 2 * k + 1}, {{door, 2}, 0.9, 2 * k + 1, 2 * k + 2}};
+      out.push_back(piece);
+      out.push_back(office);
+    } else {
+      out.push_back(piece);
+    }
+    if (k > 0) out[2 * k].exits.insert(out[2 * k].exits.begin(), {{x0 - 1.5, 2}, 0.9, 2 * k - 1, 2 * k});
+  }
+  return out;
+}
+
+TEST(BuildPlan, CorridorLeftEveryFewMetresIsOneCorridor) {
+  // The pieces meet end to end with no wall or door line between them;
+  // together they stay 2 m wide while they grow 15 m long: one corridor.
+  // Each office is a room of its own (until the thirty-seventh session the
+  // pieces, none elongated and each seeing an office's floor, were rooms).
+  const Plan plan = BuildPlan(CorridorInShortPieces(), {});
+  ASSERT_EQ(plan.rooms.size(), 5u);
+  int corridors = 0;
+  for (const Room& r : plan.rooms) {
+    if (r.corridor) {
+      ++corridors;
+      EXPECT_EQ(r.asr_ids, (std::vector<int>{0, 2, 4, 6, 8}));
+      EXPECT_NEAR(r.area_m2, 30.0, 1.5);
+    } else {
+      ASSERT_EQ(r.asr_ids.size(), 1u);
+      EXPECT_EQ(r.asr_ids[0] % 2, 1);
+      EXPECT_NEAR(r.area_m2, 12.0, 1.0);
+    }
+  }
+  EXPECT_EQ(corridors, 1);
+  EXPECT_EQ(SampledOverlap(plan, 0.1), 0.0);
 }
 
 TEST(BuildPlan, CorridorTurningACornerDoesNotFillTheCorner) {
