@@ -822,60 +822,71 @@ Region FillRegionMasked(int x0, int y0, int x1, int y1, MaskOf&& mask_of, bool f
   if (x1 < x0 || y1 < y0) return reg;
   const int W = x1 - x0 + 3, H = y1 - y0 + 3;
   reg.W = W, reg.H = H;
-  std::vector<int> comp(static_cast<size_t>(W) * H, -1);
-  // The lattice's answer for each site, asked once (the flood asks again for
-  // every neighbour it meets, and a look-up in the lattice is not free); the
-  // array is reused for the hole filling below.
+  // Two bytes a site in all (a long corridor's box is large): the lattice's
+  // answer for each site, asked once (the flood asks again for every
+  // neighbour it meets, and a look-up in the lattice is not free), which
+  // the flood marks as it goes and the hole filling below reuses; and the
+  // room's piece, 'filled'.
   std::vector<uint8_t> mask(static_cast<size_t>(W) * H, 0);
   mask_of(&mask, W);
-  auto in = [&](int x, int y) { return mask[static_cast<size_t>(y) * W + x] != 0; };
-  int best = -1, best_size = 0, ncomp = 0;
+  constexpr uint8_t kSeen = 2;  // a site of the room a flood has reached
+  // Site j's 4-neighbours inside the frame.
+  auto neighbours = [&](size_t j, auto&& f) {
+    const int cx = static_cast<int>(j % W), cy = static_cast<int>(j / W);
+    const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+    for (int k = 0; k < 4; ++k)
+      if (nx[k] >= 0 && ny[k] >= 0 && nx[k] < W && ny[k] < H) f(static_cast<size_t>(ny[k]) * W + nx[k]);
+  };
+  // Each 4-connected piece, flooded from its first site in row order; the
+  // largest (the first of equal ones) is flooded again into 'filled'.
+  auto flood = [&](size_t from, auto&& visit) {
+    std::vector<size_t> st{from};
+    visit(from);
+    while (!st.empty()) {
+      const size_t j = st.back();
+      st.pop_back();
+      neighbours(j, [&](size_t q) {
+        const int qx = static_cast<int>(q % W), qy = static_cast<int>(q / W);
+        if (qx < 1 || qy < 1 || qx >= W - 1 || qy >= H - 1 || mask[q] != 1) return;
+        visit(q);
+        st.push_back(q);
+      });
+    }
+  };
+  int64_t best_size = 0;
+  size_t best_seed = 0;
   for (int y = 1; y < H - 1; ++y)
     for (int x = 1; x < W - 1; ++x) {
-      if (comp[static_cast<size_t>(y) * W + x] >= 0 || !in(x, y)) continue;
-      int size = 0;
-      std::vector<std::pair<int, int>> st{{x, y}};
-      comp[static_cast<size_t>(y) * W + x] = ncomp;
-      while (!st.empty()) {
-        auto [cx, cy] = st.back();
-        st.pop_back();
-        ++size;
-        const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
-        for (int k = 0; k < 4; ++k) {
-          if (nx[k] < 1 || ny[k] < 1 || nx[k] >= W - 1 || ny[k] >= H - 1) continue;
-          const size_t j = static_cast<size_t>(ny[k]) * W + nx[k];
-          if (comp[j] >= 0 || !in(nx[k], ny[k])) continue;
-          comp[j] = ncomp;
-          st.push_back({nx[k], ny[k]});
-        }
-      }
-      if (size > best_size) best_size = size, best = ncomp;
-      ++ncomp;
+      const size_t j0 = static_cast<size_t>(y) * W + x;
+      if (mask[j0] != 1) continue;
+      int64_t size = 0;
+      flood(j0, [&](size_t j) { mask[j] = kSeen, ++size; });
+      if (size > best_size) best_size = size, best_seed = j0;
     }
   reg.filled.assign(static_cast<size_t>(W) * H, 0);
-  if (best < 0) return reg;
+  if (best_size == 0) return reg;
+  for (uint8_t& m : mask) m = m == kSeen ? 1 : m;
+  flood(best_seed, [&](size_t j) { mask[j] = kSeen, reg.filled[j] = 1; });
   if (!fill_holes) {
-    for (size_t j = 0; j < comp.size(); ++j)
-      if (comp[j] == best) reg.filled[j] = 1, ++reg.count;
+    reg.count = best_size;
     return reg;
   }
-  // Fill holes: sites not reachable from the frame without crossing the component.
+  // Fill holes: sites not reachable from the frame without crossing the
+  // piece (reg.filled, 1 while it is the piece alone). The mask is reused:
+  // 1 outside, 2 in a hole (below), 0 neither.
   std::vector<uint8_t>& outside = mask;
   auto flood_outside = [&] {
     std::fill(outside.begin(), outside.end(), 0);
-    std::vector<std::pair<int, int>> st{{0, 0}};
+    std::vector<size_t> st{0};
     outside[0] = 1;
     while (!st.empty()) {
-      auto [cx, cy] = st.back();
+      const size_t j = st.back();
       st.pop_back();
-      const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
-      for (int k = 0; k < 4; ++k) {
-        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
-        const size_t j = static_cast<size_t>(ny[k]) * W + nx[k];
-        if (outside[j] || comp[j] == best) continue;
-        outside[j] = 1;
-        st.push_back({nx[k], ny[k]});
-      }
+      neighbours(j, [&](size_t q) {
+        if (outside[q] || reg.filled[q]) return;
+        outside[q] = 1;
+        st.push_back(q);
+      });
     }
   };
   flood_outside();
@@ -886,54 +897,49 @@ Region FillRegionMasked(int x0, int y0, int x1, int y1, MaskOf&& mask_of, bool f
   // across it from that hole to the outside is left to no room (a slit one
   // site wide), and the hole stays outside. Smaller holes (walls and
   // furniture inside a room, a room wholly inside it) are filled.
-  // Site j's 4-neighbours inside the frame.
-  auto neighbours = [&](size_t j, auto&& f) {
-    const int cx = static_cast<int>(j % W), cy = static_cast<int>(j / W);
-    const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
-    for (int k = 0; k < 4; ++k)
-      if (nx[k] >= 0 && ny[k] >= 0 && nx[k] < W && ny[k] < H) f(static_cast<size_t>(ny[k]) * W + nx[k]);
-  };
-  std::vector<char> in_hole(static_cast<size_t>(W) * H, 0);
+  constexpr uint8_t kHole = 2;
   bool cut = false;
-  for (size_t j0 = 0; j0 < in_hole.size(); ++j0) {
-    if (outside[j0] || comp[j0] == best || in_hole[j0]) continue;
+  for (size_t j0 = 0; j0 < outside.size(); ++j0) {
+    if (outside[j0] || reg.filled[j0]) continue;
     std::vector<size_t> sites{j0};
-    in_hole[j0] = 1;
+    outside[j0] = kHole;
     for (size_t i = 0; i < sites.size(); ++i)
       neighbours(sites[i], [&](size_t j) {
-        if (outside[j] || comp[j] == best || in_hole[j]) return;
-        in_hole[j] = 1;
+        if (outside[j] || reg.filled[j]) return;
+        outside[j] = kHole;
         sites.push_back(j);
       });
     if (static_cast<int64_t>(sites.size()) <= best_size) continue;
     // Breadth first through the room from its sites beside this hole to the
     // first one beside the outside.
-    std::vector<int64_t> parent(in_hole.size(), -2);
+    std::vector<int64_t> parent(outside.size(), -2);
     std::vector<size_t> queue;
     for (size_t j : sites)
       neighbours(j, [&](size_t q) {
-        if (comp[q] == best && parent[q] == -2) parent[q] = -1, queue.push_back(q);
+        if (reg.filled[q] && parent[q] == -2) parent[q] = -1, queue.push_back(q);
       });
     std::sort(queue.begin(), queue.end());  // a deterministic order whatever the hole's flood
     int64_t exit = -1;
     for (size_t i = 0; i < queue.size() && exit < 0; ++i) {
       const size_t j = queue[i];
       bool beside_outside = false;
-      neighbours(j, [&](size_t q) { beside_outside = beside_outside || outside[q]; });
+      neighbours(j, [&](size_t q) { beside_outside = beside_outside || outside[q] == 1; });
       if (beside_outside) {
         exit = static_cast<int64_t>(j);
         break;
       }
       neighbours(j, [&](size_t q) {
-        if (comp[q] == best && parent[q] == -2) parent[q] = static_cast<int64_t>(j), queue.push_back(q);
+        if (reg.filled[q] && parent[q] == -2) parent[q] = static_cast<int64_t>(j), queue.push_back(q);
       });
     }
-    for (int64_t j = exit; j >= 0; j = parent[static_cast<size_t>(j)]) comp[static_cast<size_t>(j)] = -1;
+    for (int64_t j = exit; j >= 0; j = parent[static_cast<size_t>(j)]) reg.filled[static_cast<size_t>(j)] = 0;
     cut = cut || exit >= 0;
   }
   if (cut) flood_outside();
-  for (size_t j = 0; j < outside.size(); ++j)
-    if (!outside[j]) reg.filled[j] = 1, ++reg.count;
+  for (size_t j = 0; j < outside.size(); ++j) {
+    reg.filled[j] = outside[j] == 1 ? 0 : 1;
+    reg.count += reg.filled[j];
+  }
   return reg;
 }
 
@@ -1205,9 +1211,92 @@ double PolygonWidth(const std::vector<Vec2>& poly) {
   return std::sqrt(12.0 * std::max(0.0, mean - d));
 }
 
-std::vector<Shape> RegionShapes(const RoomGrid& g, const Labels& label, int n) {
+// A region's outline as its extreme points along kOutlineDirections
+// directions (a half turn's worth), lattice frame: its convex hull is the
+// hull of these points (exact for a box; for a room's shape within a few
+// centimetres). Fixed size, so a building's regions take one allocation,
+// and the outline of two regions together is the extremes of both.
+constexpr int kOutlineDirections = 16;
+struct Outline {
+  std::array<Vec2, 2 * kOutlineDirections> point;  // 2k: farthest along direction k, 2k + 1: against it
+  std::array<double, 2 * kOutlineDirections> reach;
+  Outline() { reach.fill(-std::numeric_limits<double>::infinity()); }
+  bool empty() const { return !std::isfinite(reach[0]); }
+  static const std::array<Vec2, kOutlineDirections>& Directions() {
+    static const std::array<Vec2, kOutlineDirections> d = [] {
+      std::array<Vec2, kOutlineDirections> out;
+      for (int k = 0; k < kOutlineDirections; ++k)
+        out[k] = Vec2(std::cos(kPi * k / kOutlineDirections), std::sin(kPi * k / kOutlineDirections));
+      return out;
+    }();
+    return d;
+  }
+  void Add(const Vec2& q) {
+    const auto& dirs = Directions();
+    for (int k = 0; k < kOutlineDirections; ++k) {
+      const double d = dirs[k].dot(q);
+      if (d > reach[2 * k]) reach[2 * k] = d, point[2 * k] = q;
+      if (-d > reach[2 * k + 1]) reach[2 * k + 1] = -d, point[2 * k + 1] = q;
+    }
+  }
+  void Add(const Outline& o) {
+    for (int i = 0; i < 2 * kOutlineDirections; ++i)
+      if (o.reach[i] > reach[i]) reach[i] = o.reach[i], point[i] = o.point[i];
+  }
+  // The least width of the points' convex hull (the least, over its edges,
+  // of the farthest point from the edge's line) and its length across that
+  // (its extent along that edge); 0, 0 when empty.
+  std::pair<double, double> WidthAndLength() const {
+    if (empty()) return {0.0, 0.0};
+    // Andrew's monotone chain on the 2k points (no allocation).
+    std::array<Vec2, 2 * kOutlineDirections> pts = point;
+    std::sort(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
+    std::array<Vec2, 4 * kOutlineDirections + 1> hull;
+    int h = 0;
+    auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
+      return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+    };
+    for (int i = 0; i < 2 * kOutlineDirections; ++i) {
+      while (h >= 2 && cross(hull[h - 2], hull[h - 1], pts[i]) <= 0) --h;
+      hull[h++] = pts[i];
+    }
+    for (int i = 2 * kOutlineDirections - 2, lower = h + 1; i >= 0; --i) {
+      while (h >= lower && cross(hull[h - 2], hull[h - 1], pts[i]) <= 0) --h;
+      hull[h++] = pts[i];
+    }
+    const int m = std::max(1, h - 1);  // the last point repeats the first
+    double width = std::numeric_limits<double>::infinity(), length = 0.0;
+    for (int i = 0; i < m; ++i) {
+      const Vec2 a = hull[i], d = hull[(i + 1) % m] - a;
+      const double len = d.norm();
+      if (len < 1e-12) continue;
+      const Vec2 u = d / len, nrm(-u.y(), u.x());
+      double far = 0.0, lo = 0.0, hi = 0.0;
+      for (int j = 0; j < m; ++j) {
+        far = std::max(far, std::abs(nrm.dot(hull[j] - a)));
+        lo = std::min(lo, u.dot(hull[j] - a));
+        hi = std::max(hi, u.dot(hull[j] - a));
+      }
+      if (far < width) width = far, length = hi - lo;
+    }
+    return {std::isfinite(width) ? width : 0.0, length};
+  }
+};
+
+std::vector<Shape> RegionShapes(const RoomGrid& g, const Labels& label, int n,
+                                std::vector<Outline>* outlines = nullptr) {
   std::vector<Moments> m(n);
   std::vector<double> cells(n, 0.0);
+  // With 'outlines': each region's (lattice frame, not turned by phi),
+  // from the corners of its first and last cell in every row it spans.
+  if (outlines) outlines->assign(n, Outline());
+  const int nd = outlines ? n : 0;
+  std::vector<int> row(nd, -1), x0(nd, 0), x1(nd, 0);
+  auto flush = [&](int r) {
+    const double ya = g.lo.y() + row[r] * g.cell, yb = ya + g.cell;
+    const double xa = g.lo.x() + x0[r] * g.cell, xb = g.lo.x() + (x1[r] + 1) * g.cell;
+    for (const Vec2& q : {Vec2(xa, ya), Vec2(xa, yb), Vec2(xb, ya), Vec2(xb, yb)}) (*outlines)[r].Add(q);
+  };
   label.ForEachStored([&](int x, int y, int r) {  // row-major: the sums' order is the dense lattice's
     if (r < 0) return;
     const Vec2 p(g.lo.x() + (x + 0.5) * g.cell, g.lo.y() + (y + 0.5) * g.cell);
@@ -1215,7 +1304,17 @@ std::vector<Shape> RegionShapes(const RoomGrid& g, const Labels& label, int n) {
     m[r].s += p;
     m[r].ss += p * p.transpose();
     cells[r] += 1.0;
+    if (!outlines) return;
+    if (row[r] != y) {
+      if (row[r] >= 0) flush(r);
+      row[r] = y;
+      x0[r] = x1[r] = x;
+    } else {
+      x1[r] = x;  // row-major: x grows along a row
+    }
   });
+  for (int r = 0; r < nd; ++r)
+    if (row[r] >= 0) flush(r);
   std::vector<Shape> out(n);
   for (int r = 0; r < n; ++r) {
     if (m[r].w < 1.0) continue;
@@ -1232,60 +1331,6 @@ std::vector<Shape> RegionShapes(const RoomGrid& g, const Labels& label, int n) {
     out[r].cov = rot * (m[r].Cov() + Eigen::Matrix2d::Identity() * (g.cell * g.cell / 12.0)) * rot.transpose();
   }
   return out;
-}
-
-// Each region's convex hull (lattice frame, not turned by phi): the
-// corners of its first and last cell in every row it spans.
-std::vector<std::vector<Vec2>> RegionHulls(const RoomGrid& g, const Labels& label, int n) {
-  std::vector<std::vector<Vec2>> pts(n);
-  std::vector<int> row(n, -1), x0(n, 0), x1(n, 0);
-  auto flush = [&](int r) {
-    const double ya = g.lo.y() + row[r] * g.cell, yb = ya + g.cell;
-    const double xa = g.lo.x() + x0[r] * g.cell, xb = g.lo.x() + (x1[r] + 1) * g.cell;
-    pts[r].insert(pts[r].end(), {Vec2(xa, ya), Vec2(xa, yb), Vec2(xb, ya), Vec2(xb, yb)});
-    if (pts[r].size() >= 256) pts[r] = ConvexHull(std::move(pts[r]));  // a few corners, not every row's
-  };
-  label.ForEachStored([&](int x, int y, int r) {  // row by row
-    if (r < 0) return;
-    if (row[r] != y) {
-      if (row[r] >= 0) flush(r);
-      row[r] = y;
-      x0[r] = x1[r] = x;
-    } else {
-      x0[r] = std::min(x0[r], x);
-      x1[r] = std::max(x1[r], x);
-    }
-  });
-  std::vector<std::vector<Vec2>> out(n);
-  for (int r = 0; r < n; ++r) {
-    if (row[r] >= 0) flush(r);
-    out[r] = ConvexHull(std::move(pts[r]));
-  }
-  return out;
-}
-
-// A convex polygon's least width (the least, over its edges, of the farthest
-// vertex from the edge's line) and its length across that (its extent along
-// that edge).
-std::pair<double, double> HullWidth(const std::vector<Vec2>& hull) {
-  double width = std::numeric_limits<double>::infinity(), length = 0.0;
-  for (size_t i = 0; i < hull.size(); ++i) {
-    const Vec2 a = hull[i], d = hull[(i + 1) % hull.size()] - a;
-    const double len = d.norm();
-    if (len < 1e-12) continue;
-    const Vec2 u = d / len, nrm(-u.y(), u.x());
-    double far = 0.0, lo = 0.0, hi = 0.0;
-    for (const Vec2& p : hull) {
-      far = std::max(far, std::abs(nrm.dot(p - a)));
-      lo = std::min(lo, u.dot(p - a));
-      hi = std::max(hi, u.dot(p - a));
-    }
-    if (far < width) {
-      width = far;
-      length = hi - lo;
-    }
-  }
-  return {std::isfinite(width) ? width : 0.0, length};
 }
 
 struct UnionFind {
@@ -2418,7 +2463,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // below tell corridors from rooms.
   build_regions(unit_room, n1, {}, false, &seeds, &hulls);
   std::vector<Shape> shapes;
-  std::vector<std::vector<Vec2>> region_hulls;  // pass 1's regions' convex hulls (lattice frame)
+  std::vector<Outline> outlines;  // pass 1's regions' outlines
   std::map<std::pair<int, int>, int> touching;  // pairs of units -> cell edges their regions share
   // The same contacts split by the direction of the step (x, y): a straight
   // border of slope dy/dx crosses about |dy| / cell x-steps and |dx| / cell
@@ -2427,8 +2472,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   {  // pass 1's labels go before pass 2 floods
     const DoorMask blocked1 = door_mask(unit_room, true);
     const Labels label1 = Flood(g, blocked1, seeds, hulls, grow_steps, reach_steps);
-    shapes = RegionShapes(g, label1, n1);
-    region_hulls = RegionHulls(g, label1, n1);
+    shapes = RegionShapes(g, label1, n1, &outlines);
     // Two regions meet where a row or column of cells goes from one to the
     // other, directly or across unclaimed floor no wider than
     // corridor_touch_m (the hulls of two corridor pieces leave a wedge
@@ -2482,9 +2526,9 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   auto pieces_of_one = [&](int ru, int rv) {
     if (!narrow[ru] || !narrow[rv] || !(elongated[ru] || elongated[rv])) return false;
     if (elongated[ru] && elongated[rv]) return true;
-    std::vector<Vec2> both = region_hulls[ru];
-    both.insert(both.end(), region_hulls[rv].begin(), region_hulls[rv].end());
-    return HullWidth(ConvexHull(std::move(both))).first <= o.corridor_max_width_m;
+    Outline both = outlines[ru];
+    both.Add(outlines[rv]);
+    return both.WidthAndLength().first <= o.corridor_max_width_m;
   };
   for (int u = 0; u < n_units; ++u) {
     if (unit_room[u] < 0) continue;
@@ -2639,16 +2683,16 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // it.
   {
     UnionFind chain(n1);
-    std::vector<std::vector<Vec2>> chain_hull = region_hulls;
+    std::vector<Outline> chain_outline = outlines;
     std::vector<int> members(n1, 1);
     // The joins that keep a chain narrowest first (a corridor's pieces end
     // to end before a room's strip across one): each candidate keyed by the
-    // width of the two chains' hull together, made again when either chain
-    // has grown since.
-    auto joined_hull = [&](int a, int b) {
-      std::vector<Vec2> both = chain_hull[a];
-      both.insert(both.end(), chain_hull[b].begin(), chain_hull[b].end());
-      return ConvexHull(std::move(both));
+    // width of the two chains together, weighed again when either chain has
+    // grown since.
+    auto joined = [&](int a, int b) {
+      Outline u = chain_outline[a];
+      u.Add(chain_outline[b]);
+      return u;
     };
     struct Join {
       double width;
@@ -2658,8 +2702,8 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     std::priority_queue<Join, std::vector<Join>, std::greater<Join>> joins;
     for (const auto& [pair, edges] : touching) {
       const auto [ru, rv] = pair;
-      if (edges * g.cell < o.corridor_touch_m || region_hulls[ru].size() < 3 || region_hulls[rv].size() < 3) continue;
-      const double w = HullWidth(joined_hull(ru, rv)).first;
+      if (edges * g.cell < o.corridor_touch_m || outlines[ru].empty() || outlines[rv].empty()) continue;
+      const double w = joined(ru, rv).WidthAndLength().first;
       if (w <= o.corridor_max_width_m) joins.push({w, ru, rv, 1, 1});
     }
     while (!joins.empty()) {
@@ -2667,27 +2711,27 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       joins.pop();
       const int a = chain.Find(j.a), b = chain.Find(j.b);
       if (a == b) continue;
-      std::vector<Vec2> u = joined_hull(a, b);
+      const Outline u = joined(a, b);
       if (members[a] != j.size_a || members[b] != j.size_b) {  // grown since: weighed again
-        const double w = HullWidth(u).first;
+        const double w = u.WidthAndLength().first;
         if (w <= o.corridor_max_width_m) joins.push({w, a, b, members[a], members[b]});
         continue;
       }
       chain.Unite(a, b);
-      const int root = chain.Find(a), other = root == a ? b : a;
-      chain_hull[root] = std::move(u);
+      const int root = chain.Find(a);
+      chain_outline[root] = u;
       members[root] = members[a] + members[b];
-      std::vector<Vec2>().swap(chain_hull[other]);
     }
     for (int r = 0; r < n1; ++r) {
       const int root = chain.Find(r);
       if (members[root] < 2) continue;
-      const auto [width, length] = HullWidth(chain_hull[root]);
+      const auto [width, length] = chain_outline[root].WidthAndLength();
       if (length < o.corridor_min_aspect * width) continue;
       corr.Unite(r, root);
       in_corridor[r] = in_corridor[root] = 1;
     }
   }
+  std::vector<Outline>().swap(outlines);  // not kept beside the second pass's labels
   // Open plan. Two rooms the robot drove between (an exit joins them),
   // neither a corridor (nor a lone corridor piece), whose pass-1 regions
   // meet across open floor (never across a wall or a door line) along more
