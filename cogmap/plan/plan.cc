@@ -830,12 +830,14 @@ Region FillRegionMasked(int x0, int y0, int x1, int y1, MaskOf&& mask_of, bool f
   std::vector<uint8_t> mask(static_cast<size_t>(W) * H, 0);
   mask_of(&mask, W);
   constexpr uint8_t kSeen = 2;  // a site of the room a flood has reached
-  // Site j's 4-neighbours inside the frame.
+  // The 4-neighbours of a site off the frame (the room's sites, its holes:
+  // the frame is never the room's, and always outside).
+  const size_t row = static_cast<size_t>(W);
   auto neighbours = [&](size_t j, auto&& f) {
-    const int cx = static_cast<int>(j % W), cy = static_cast<int>(j / W);
-    const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
-    for (int k = 0; k < 4; ++k)
-      if (nx[k] >= 0 && ny[k] >= 0 && nx[k] < W && ny[k] < H) f(static_cast<size_t>(ny[k]) * W + nx[k]);
+    f(j + 1);
+    f(j - 1);
+    f(j + row);
+    f(j - row);
   };
   // Each 4-connected piece, flooded from its first site in row order; the
   // largest (the first of equal ones) is flooded again into 'filled'.
@@ -846,8 +848,7 @@ Region FillRegionMasked(int x0, int y0, int x1, int y1, MaskOf&& mask_of, bool f
       const size_t j = st.back();
       st.pop_back();
       neighbours(j, [&](size_t q) {
-        const int qx = static_cast<int>(q % W), qy = static_cast<int>(q / W);
-        if (qx < 1 || qy < 1 || qx >= W - 1 || qy >= H - 1 || mask[q] != 1) return;
+        if (mask[q] != 1) return;
         visit(q);
         st.push_back(q);
       });
@@ -877,16 +878,19 @@ Region FillRegionMasked(int x0, int y0, int x1, int y1, MaskOf&& mask_of, bool f
   std::vector<uint8_t>& outside = mask;
   auto flood_outside = [&] {
     std::fill(outside.begin(), outside.end(), 0);
-    std::vector<size_t> st{0};
+    std::vector<std::pair<int, int>> st{{0, 0}};
     outside[0] = 1;
     while (!st.empty()) {
-      const size_t j = st.back();
+      auto [cx, cy] = st.back();
       st.pop_back();
-      neighbours(j, [&](size_t q) {
-        if (outside[q] || reg.filled[q]) return;
+      const int nx[4] = {cx + 1, cx - 1, cx, cx}, ny[4] = {cy, cy, cy + 1, cy - 1};
+      for (int k = 0; k < 4; ++k) {
+        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= W || ny[k] >= H) continue;
+        const size_t q = static_cast<size_t>(ny[k]) * W + nx[k];
+        if (outside[q] || reg.filled[q]) continue;
         outside[q] = 1;
-        st.push_back(q);
-      });
+        st.push_back({nx[k], ny[k]});
+      }
     }
   };
   flood_outside();
