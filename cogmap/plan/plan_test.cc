@@ -904,6 +904,19 @@ TEST(BuildPlan, RoomLookedIntoFromACorridorIsARoomAndTheCorridorIsOne) {
   EXPECT_EQ(fan.rooms[1].asr_ids, (std::vector<int>{1}));
   EXPECT_NEAR(fan.rooms[0].area_m2 + fan.rooms[1].area_m2, 40.0 + 6.4, 1.5);
   EXPECT_EQ(SampledOverlap(fan, 0.1), 0.0);
+  // Taken for a corridor piece (corridors up to 8 m wide: the fan and the
+  // corridor together are about 6 m across), the fan joins the corridor, and its
+  // floor beyond the door line, cut off from the corridor's, is kept as a
+  // piece of its own (it was dropped: 6 m2 of floor lost).
+  PlanOptions wide;
+  wide.corridor_max_width_m = 8.0;
+  const Plan joined = BuildPlan(CorridorWithARoomLookedInto(false), {}, wide);
+  ASSERT_EQ(joined.rooms.size(), 2u);
+  EXPECT_TRUE(joined.rooms[0].corridor);
+  EXPECT_EQ(joined.rooms[0].asr_ids, (std::vector<int>{0, 1, 2}));
+  EXPECT_TRUE(joined.rooms[1].asr_ids.empty());
+  EXPECT_NEAR(joined.rooms[0].area_m2 + joined.rooms[1].area_m2, 40.0 + 6.4, 1.5);
+  EXPECT_EQ(SampledOverlap(joined, 0.1), 0.0);
 }
 
 // A 2 m corridor the robot left into a room every 3 m (offices 3 m wide
