@@ -1222,10 +1222,11 @@ double PolygonWidth(const std::vector<Vec2>& poly) {
 // and the outline of two regions together is the extremes of both.
 constexpr int kOutlineDirections = 16;
 struct Outline {
-  std::array<Vec2, 2 * kOutlineDirections> point;  // 2k: farthest along direction k, 2k + 1: against it
-  std::array<double, 2 * kOutlineDirections> reach;
-  Outline() { reach.fill(-std::numeric_limits<double>::infinity()); }
-  bool empty() const { return !std::isfinite(reach[0]); }
+  // 2k: the farthest point along direction k, 2k + 1: against it; all
+  // infinite while empty.
+  std::array<Vec2, 2 * kOutlineDirections> point;
+  Outline() { point.fill(Vec2::Constant(std::numeric_limits<double>::infinity())); }
+  bool empty() const { return !std::isfinite(point[0].x()); }
   static const std::array<Vec2, kOutlineDirections>& Directions() {
     static const std::array<Vec2, kOutlineDirections> d = [] {
       std::array<Vec2, kOutlineDirections> out;
@@ -1236,16 +1237,28 @@ struct Outline {
     return d;
   }
   void Add(const Vec2& q) {
+    if (empty()) {
+      point.fill(q);
+      return;
+    }
     const auto& dirs = Directions();
     for (int k = 0; k < kOutlineDirections; ++k) {
       const double d = dirs[k].dot(q);
-      if (d > reach[2 * k]) reach[2 * k] = d, point[2 * k] = q;
-      if (-d > reach[2 * k + 1]) reach[2 * k + 1] = -d, point[2 * k + 1] = q;
+      if (d > dirs[k].dot(point[2 * k])) point[2 * k] = q;
+      if (d < dirs[k].dot(point[2 * k + 1])) point[2 * k + 1] = q;
     }
   }
   void Add(const Outline& o) {
-    for (int i = 0; i < 2 * kOutlineDirections; ++i)
-      if (o.reach[i] > reach[i]) reach[i] = o.reach[i], point[i] = o.point[i];
+    if (o.empty()) return;
+    if (empty()) {
+      *this = o;
+      return;
+    }
+    const auto& dirs = Directions();
+    for (int k = 0; k < kOutlineDirections; ++k) {
+      if (dirs[k].dot(o.point[2 * k]) > dirs[k].dot(point[2 * k])) point[2 * k] = o.point[2 * k];
+      if (dirs[k].dot(o.point[2 * k + 1]) < dirs[k].dot(point[2 * k + 1])) point[2 * k + 1] = o.point[2 * k + 1];
+    }
   }
   // The least width of the points' convex hull (the least, over its edges,
   // of the farthest point from the edge's line) and its length across that
