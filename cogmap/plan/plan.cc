@@ -1250,38 +1250,15 @@ struct Outline {
   }
   void Add(const Outline& o) {
     if (o.empty()) return;
-    if (empty()) {
-      *this = o;
-      return;
-    }
-    const auto& dirs = Directions();
-    for (int k = 0; k < kOutlineDirections; ++k) {
-      if (dirs[k].dot(o.point[2 * k]) > dirs[k].dot(point[2 * k])) point[2 * k] = o.point[2 * k];
-      if (dirs[k].dot(o.point[2 * k + 1]) < dirs[k].dot(point[2 * k + 1])) point[2 * k + 1] = o.point[2 * k + 1];
-    }
+    for (const Vec2& q : o.point) Add(q);
   }
   // The least width of the points' convex hull (the least, over its edges,
   // of the farthest point from the edge's line) and its length across that
   // (its extent along that edge); 0, 0 when empty.
   std::pair<double, double> WidthAndLength() const {
     if (empty()) return {0.0, 0.0};
-    // Andrew's monotone chain on the 2k points (no allocation).
-    std::array<Vec2, 2 * kOutlineDirections> pts = point;
-    std::sort(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
-    std::array<Vec2, 4 * kOutlineDirections + 1> hull;
-    int h = 0;
-    auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
-      return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-    };
-    for (int i = 0; i < 2 * kOutlineDirections; ++i) {
-      while (h >= 2 && cross(hull[h - 2], hull[h - 1], pts[i]) <= 0) --h;
-      hull[h++] = pts[i];
-    }
-    for (int i = 2 * kOutlineDirections - 2, lower = h + 1; i >= 0; --i) {
-      while (h >= lower && cross(hull[h - 2], hull[h - 1], pts[i]) <= 0) --h;
-      hull[h++] = pts[i];
-    }
-    const int m = std::max(1, h - 1);  // the last point repeats the first
+    const std::vector<Vec2> hull = ConvexHull(std::vector<Vec2>(point.begin(), point.end()));
+    const int m = static_cast<int>(hull.size());
     double width = std::numeric_limits<double>::infinity(), length = 0.0;
     for (int i = 0; i < m; ++i) {
       const Vec2 a = hull[i], d = hull[(i + 1) % m] - a;
@@ -2700,7 +2677,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // it.
   {
     UnionFind chain(n1);
-    std::vector<Outline> chain_outline = outlines;
+    std::vector<Outline> chain_outline = std::move(outlines);  // each chain's, at its root
     std::vector<int> members(n1, 1);
     // The joins that keep a chain narrowest first (a corridor's pieces end
     // to end before a room's strip across one): each candidate keyed by the
@@ -2719,7 +2696,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     std::priority_queue<Join, std::vector<Join>, std::greater<Join>> joins;
     for (const auto& [pair, edges] : touching) {
       const auto [ru, rv] = pair;
-      if (edges * g.cell < o.corridor_touch_m || outlines[ru].empty() || outlines[rv].empty()) continue;
+      if (edges * g.cell < o.corridor_touch_m || chain_outline[ru].empty() || chain_outline[rv].empty()) continue;
       const double w = joined(ru, rv).WidthAndLength().first;
       if (w <= o.corridor_max_width_m) joins.push({w, ru, rv, 1, 1});
     }
@@ -2748,7 +2725,6 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       in_corridor[r] = in_corridor[root] = 1;
     }
   }
-  std::vector<Outline>().swap(outlines);  // not kept beside the second pass's labels
   // Open plan. Two rooms the robot drove between (an exit joins them),
   // neither a corridor (nor a lone corridor piece), whose pass-1 regions
   // meet across open floor (never across a wall or a door line) along more
