@@ -168,9 +168,14 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   const sensors::RobotDescription robot = io::RobotFor(log, job.robot_spec);
   if (!job.world.empty()) io::ReadWorld(job.world);  // a bad world fails before mapping
   const OutputChoice& o = job.outputs;
-  // The drawing stack and its fonts are loaded on a thread of their own while
-  // the log is mapped (with --threads 1, by the first picture drawn).
-  if (job.mapping.threads >= 2 && (o.svg || o.png || o.plan || o.plan_png || o.compare || o.heading))
+  // The drawing stack and its fonts (some 4 MB of fontconfig's and pango's
+  // tables, held to the end) are loaded on a thread of their own: while the
+  // log is mapped when a picture is drawn before the floor plan (the master
+  // map's); when all come after it, once the plan is built (its largest
+  // structures are gone by then), while its files are written: a 1000-room
+  // run's peak is then some 5 MB lower. With --threads 1, by the first picture
+  // drawn.
+  if (job.mapping.threads >= 2 && (o.svg || o.png || o.compare))
     draw::Drawing::PrepareFonts(draw::PageFonts());
 
   // The output folder (docs/store.md): locked for this run, everything written
@@ -476,6 +481,8 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   plan_options.threads = job.mapping.threads;
   const plan::Plan floor_plan = plan::BuildPlanReleasing(&all, room_of, plan_options, &placed_paths);
   if (octx.store_read) octx.store_read();  // the store is not read below
+  if (job.mapping.threads >= 2 && (job.outputs.plan || job.outputs.plan_png || job.outputs.heading))
+    draw::Drawing::PrepareFonts(draw::PageFonts());  // (a no-op when loaded before)
   for (auto& x : all) std::vector<asr::Exit>().swap(x.exits);
   io::WriteFileAtomically((fs::path(staging) / "plan.json").string(),
                           [&](std::ostream& o) { plan::WritePlanJson(o, floor_plan); });

@@ -511,7 +511,7 @@ int TightCells(const RoomGrid& g, Mask* walls, double radius_m, const std::vecto
 // beside its own floor (at most grow_steps deep): a room spreads through a
 // gap in its walls only if the robot could have driven through it, instead
 // of flooding whatever lies behind it within its hull.
-Labels Flood(const RoomGrid& g, const DoorMask& blocked, const std::vector<std::vector<size_t>>& seeds,
+Labels Flood(const RoomGrid& g, const DoorMask& blocked, const std::vector<std::vector<uint32_t>>& seeds,
              const std::vector<RoomHulls>& hulls_frame, int grow_steps = 0, int max_depth = 0) {
   Labels label(g.w, g.h, static_cast<int>(seeds.size()));
   std::deque<std::pair<int32_t, int32_t>> q;  // cells (x, y): no division per step
@@ -2379,18 +2379,18 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   }
   auto unit_root = [&](int u) { return absorb.Find(u); };
 
-  // Seeds and allowed regions per working room.
-  // 'free_floor' (per room; empty: none) lets a room reach the floor its
-  // ASRs' grids saw, not only the hull of its walls and path.
-  // 'per_asr_hulls': one hull per ASR instead of one per unit.
-  auto build_regions = [&](const std::vector<int>& room_of_unit, int n_rooms, const std::vector<char>& free_floor,
-                           bool per_asr_hulls, std::vector<std::vector<size_t>>* seeds,
-                           std::vector<RoomHulls>* hulls) {
-    seeds->assign(n_rooms, {});
-    hulls->assign(n_rooms, {});
-    std::vector<std::vector<Vec2>> hull_pts(n_units);
-    std::vector<RoomHulls> asr_hulls(n_units);  // per unit, one per ASR
-    std::vector<std::vector<size_t>> all_path(n_rooms);
+  // The paths, condensed for what follows (the floods' seeds and hulls, the
+  // width of two strips, the walls beside doors): each ASR's path as the
+  // cells it crossed, each tagged when within seed_door_clearance_m of one
+  // of its own exits (a cell repeated with the same tag next in line adds
+  // nothing to a flood's seeds), and its convex hull (the hulls below are
+  // hulls of walls, path and floor: the path's hull stands for the path).
+  // The paths themselves go before the floods: at 1000 rooms they were
+  // 5 MB of the plan's peak.
+  constexpr uint32_t kNearDoor = 1u << 31;  // a cell index's tag (cells: at most max_cells, 3e7)
+  std::vector<std::vector<uint32_t>> path_cells(asrs.size());
+  std::vector<std::vector<Vec2>> path_hull(asrs.size()), path_hull_frame(asrs.size());
+  {
     std::map<int, std::vector<const DoorCand*>> doors_of_asr;
     for (const auto& d : door_cands) {
       doors_of_asr[d.from_asr].push_back(&d);
@@ -2398,6 +2398,62 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     }
     for (size_t i = 0; i < asrs.size(); ++i) {
       const auto& own_doors = doors_of_asr[asrs[i].id];
+      std::vector<uint32_t>& cells = path_cells[i];
+      for (const auto& p : path[i]) {
+        int cx, cy;
+        if (!g.Cell(p, &cx, &cy)) continue;
+        bool near_door = false;
+        for (const DoorCand* d : own_doors)
+          if (PointSegmentDistance(p, d->a, d->b) < o.seed_door_clearance_m) near_door = true;
+        const uint32_t v = static_cast<uint32_t>(g.Idx(cx, cy)) | (near_door ? kNearDoor : 0u);
+        if (cells.empty() || cells.back() != v) cells.push_back(v);
+      }
+      cells.shrink_to_fit();
+      path_hull[i] = ConvexHull(path[i]);
+      std::vector<Vec2> frame;
+      frame.reserve(path[i].size());
+      for (const auto& p : path[i]) frame.push_back(g.ToFrame(p));
+      path_hull_frame[i] = ConvexHull(std::move(frame));
+    }
+  }
+  // The walls beside doors, after the rooms, ask how near the robot came to
+  // a corner: of the paths of the ASRs behind a diagonal wall (not squared,
+  // 15 degrees or more off the building's direction), the only ones those
+  // ask about in a squared building, a point every 2 cells is kept, in
+  // single precision. A diagonal whose ASRs' paths are not kept is left as
+  // it is.
+  std::vector<std::vector<Eigen::Vector2f>> sparse_path(tan_half > 0.0 ? path.size() : 0);
+  if (!sparse_path.empty())
+    for (const Seg& sg : segs) {
+      const Piece& pc = pieces[sg.piece];
+      const Vec2 d = sg.b - sg.a;
+      if (pc.squared || pc.two_sided ||
+          std::abs(QuarterOffset(std::atan2(d.y(), d.x()) - plan.dominant_direction_rad)) < Deg(15.0))
+        continue;
+      for (int id : pc.asrs) {
+        const size_t i = index_of.at(id);
+        if (!sparse_path[i].empty()) continue;
+        for (const Vec2& v : path[i])
+          if (sparse_path[i].empty() || (v.cast<float>() - sparse_path[i].back()).norm() >= 2.0 * o.cell_m)
+            sparse_path[i].push_back(v.cast<float>());
+        sparse_path[i].shrink_to_fit();
+      }
+    }
+  std::vector<std::vector<Vec2>>().swap(path);
+
+  // Seeds and allowed regions per working room.
+  // 'free_floor' (per room; empty: none) lets a room reach the floor its
+  // ASRs' grids saw, not only the hull of its walls and path.
+  // 'per_asr_hulls': one hull per ASR instead of one per unit.
+  auto build_regions = [&](const std::vector<int>& room_of_unit, int n_rooms, const std::vector<char>& free_floor,
+                           bool per_asr_hulls, std::vector<std::vector<uint32_t>>* seeds,
+                           std::vector<RoomHulls>* hulls) {
+    seeds->assign(n_rooms, {});
+    hulls->assign(n_rooms, {});
+    std::vector<std::vector<Vec2>> hull_pts(n_units);
+    std::vector<RoomHulls> asr_hulls(n_units);  // per unit, one per ASR
+    std::vector<std::vector<uint32_t>> all_path(n_rooms);
+    for (size_t i = 0; i < asrs.size(); ++i) {
       const int u = unit_root(unit_of[i]);
       const int r = room_of_unit[u];
       std::vector<Vec2> pts;
@@ -2405,22 +2461,17 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         for (const auto& p : l) pts.push_back(g.ToFrame(p));
       if (!free_floor.empty() && free_floor[r])
         for (const auto& p : free_hull[i]) pts.push_back(g.ToFrame(p));
-      for (const auto& p : path[i]) pts.push_back(g.ToFrame(p));
+      pts.insert(pts.end(), path_hull_frame[i].begin(), path_hull_frame[i].end());
       if (per_asr_hulls) {
         if (!pts.empty()) asr_hulls[u].push_back(ConvexHull(std::move(pts)));
       } else {
         hull_pts[u].insert(hull_pts[u].end(), pts.begin(), pts.end());
       }
-      for (const auto& p : path[i]) {
-        int cx, cy;
-        if (!g.Cell(p, &cx, &cy)) continue;
+      for (const uint32_t v : path_cells[i]) {
         // A cell repeated next in one room's list would flood nothing more: once.
-        const size_t idx = g.Idx(cx, cy);
+        const uint32_t idx = v & ~kNearDoor;
         if (all_path[r].empty() || all_path[r].back() != idx) all_path[r].push_back(idx);
-        bool near_door = false;
-        for (const DoorCand* d : own_doors)
-          if (PointSegmentDistance(p, d->a, d->b) < o.seed_door_clearance_m) near_door = true;
-        if (!near_door && ((*seeds)[r].empty() || (*seeds)[r].back() != idx)) (*seeds)[r].push_back(idx);
+        if (!(v & kNearDoor) && ((*seeds)[r].empty() || (*seeds)[r].back() != idx)) (*seeds)[r].push_back(idx);
       }
     }
     for (int u = 0; u < n_units; ++u) {
@@ -2450,7 +2501,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   int n1 = 0;
   for (int u = 0; u < n_units; ++u)
     if (unit_root(u) == u) unit_room[u] = n1++;
-  std::vector<std::vector<size_t>> seeds;
+  std::vector<std::vector<uint32_t>> seeds;
   std::vector<RoomHulls> hulls;
   // Pass 1 bounds every unit by its walls and path: a corridor's grid sees
   // through doors and wall gaps into the rooms beside it, and the shapes
@@ -2774,7 +2825,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     for (size_t i = 0; i < asrs.size(); ++i) {
       const int r = unit_room[unit_root(unit_of[i])];
       if (r != ru && r != rv) continue;
-      pts.insert(pts.end(), path[i].begin(), path[i].end());
+      pts.insert(pts.end(), path_hull[i].begin(), path_hull[i].end());
       for (const auto& l : walls[i]) pts.insert(pts.end(), l.begin(), l.end());
     }
     if (PolygonWidth(ConvexHull(std::move(pts))) > o.corridor_max_width_m) in_corridor[ru] = in_corridor[rv] = 0;
@@ -2905,34 +2956,14 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     label2.reset();
     label2 = Flood(g, door_mask(plan_of_unit), seeds, hulls, grow_steps, reach_steps);
   }
-  // The paths and walls have served (the seeds and hulls carry what the flood
-  // needs), then the seeds and hulls: freed before the polygons are traced.
-  // (The walls beside doors, after the rooms, ask how near the robot came
-  // to a corner: of the paths of the ASRs behind a diagonal wall (not
-  // squared, 15 degrees or more off the building's direction), the only
-  // ones those ask about in a squared building, a point every 2 cells is
-  // kept, in single precision. A diagonal whose ASRs' paths are not kept is
-  // left as it is.)
-  std::vector<std::vector<Eigen::Vector2f>> sparse_path(tan_half > 0.0 ? path.size() : 0);
-  if (!sparse_path.empty())
-    for (const Seg& sg : segs) {
-      const Piece& pc = pieces[sg.piece];
-      const Vec2 d = sg.b - sg.a;
-      if (pc.squared || pc.two_sided ||
-          std::abs(QuarterOffset(std::atan2(d.y(), d.x()) - plan.dominant_direction_rad)) < Deg(15.0))
-        continue;
-      for (int id : pc.asrs) {
-        const size_t i = index_of.at(id);
-        if (!sparse_path[i].empty()) continue;
-        for (const Vec2& v : path[i])
-          if (sparse_path[i].empty() || (v.cast<float>() - sparse_path[i].back()).norm() >= 2.0 * o.cell_m)
-            sparse_path[i].push_back(v.cast<float>());
-        sparse_path[i].shrink_to_fit();
-      }
-    }
-  std::vector<std::vector<Vec2>>().swap(path);
+  // The walls, floor and condensed paths have served (the seeds and hulls
+  // carry what the flood needs), then the seeds and hulls: freed before the
+  // polygons are traced.
   std::vector<std::vector<Polyline>>().swap(walls);
   std::vector<std::vector<Vec2>>().swap(free_hull);
+  std::vector<std::vector<uint32_t>>().swap(path_cells);
+  std::vector<std::vector<Vec2>>().swap(path_hull);
+  std::vector<std::vector<Vec2>>().swap(path_hull_frame);
 
   // ---------------------------------------------------------------- room polygons
   std::vector<Room> rooms(n_plan);
@@ -2949,7 +2980,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   {
     Labels label = std::move(*label2);
     label2.reset();
-    std::vector<std::vector<size_t>>().swap(seeds);
+    std::vector<std::vector<uint32_t>>().swap(seeds);
     std::vector<RoomHulls>().swap(hulls);
     // Each room is a set of sites of the half-cell lattice (HalfCells: disjoint
     // by construction). First every room, in order, becomes one piece without
