@@ -2555,8 +2555,44 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     const int r = unit_room[unit_root(unit_of[i])];
     floor_pts[r].insert(floor_pts[r].end(), free_hull[i].begin(), free_hull[i].end());
   }
+  // A piece the robot entered through a door and left through the same door
+  // (every exit between its ASRs and the others' is a door between jambs the
+  // robot went through, all in one doorway) is a room, whatever its shape: a
+  // room the robot stepped into and backed out of is a strip of path and the
+  // few walls near it, as narrow and elongated as a piece of corridor, and
+  // across a corridor's line as a corridor's corner is (gen-building, a 1.4 m
+  // corridor, a laser: three offices of 6 x 6 m entered 2.8 m deep went to the
+  // corridor, by its corners and its pieces of one). A corridor is left at
+  // its ends; a dead-end stub behind a door is a room of the room graph too.
+  std::vector<char> behind_door(n1, 0);
+  {
+    std::vector<std::vector<const DoorCand*>> doors_of(n1);
+    std::vector<char> other_exit(n1, 0), entered(n1, 0), left(n1, 0);
+    for (const DoorCand& d : door_cands) {
+      auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
+      if (a == index_of.end() || b == index_of.end()) continue;
+      const int ra = unit_room[unit_root(unit_of[a->second])], rb = unit_room[unit_root(unit_of[b->second])];
+      if (ra == rb) continue;
+      const bool through = d.jambs && PointSegmentDistance(d.centre, d.a, d.b) <= o.robot_radius_m;
+      for (const int r : {ra, rb}) {
+        if (through) doors_of[r].push_back(&d);
+        else other_exit[r] = 1;
+      }
+      left[ra] = entered[rb] = 1;
+    }
+    for (int r = 0; r < n1; ++r) {
+      if (other_exit[r] || doors_of[r].empty() || !entered[r] || !left[r]) continue;
+      const DoorCand& first = *doors_of[r].front();
+      bool one = true;
+      for (const DoorCand* d : doors_of[r])
+        one = one && PointSegmentDistance(0.5 * (d->a + d->b), first.a, first.b) <= o.robot_radius_m &&
+              PointSegmentDistance(0.5 * (first.a + first.b), d->a, d->b) <= o.robot_radius_m;
+      behind_door[r] = one;
+    }
+  }
   std::vector<char> narrow(n1, 0), elongated(n1, 0);
   for (int r = 0; r < n1; ++r) {
+    if (behind_door[r]) continue;
     narrow[r] = shapes[r].area_m2 > 0 && shapes[r].width_m <= o.corridor_max_width_m;
     elongated[r] = narrow[r] && shapes[r].length_m >= o.corridor_min_aspect * shapes[r].width_m;
     if (narrow[r] && !elongated[r] && PolygonWidth(ConvexHull(floor_pts[r])) > o.corridor_max_width_m)
@@ -2639,7 +2675,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     };
     // First the corners.
     for (int r = 0; r < n1; ++r) {
-      if (in_corridor[r] || (narrow[r] && elongated[r]) || piece_path[r] <= 0) continue;
+      if (in_corridor[r] || (narrow[r] && elongated[r]) || piece_path[r] <= 0 || behind_door[r]) continue;
       std::vector<int> pieces;
       double sum = 0.0;
       for (int q : nb[r])
@@ -2671,7 +2707,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     for (bool joined = true; joined;) {
       joined = false;
       for (int r = 0; r < n1; ++r) {
-        if (in_corridor[r] || (narrow[r] && elongated[r]) || piece_path[r] <= 0) continue;
+        if (in_corridor[r] || (narrow[r] && elongated[r]) || piece_path[r] <= 0 || behind_door[r]) continue;
         std::vector<int> pieces;
         for (int q : nb[r])
           if (in_corridor[q] || (narrow[q] && elongated[q])) pieces.push_back(q);
@@ -2747,7 +2783,9 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     std::priority_queue<Join, std::vector<Join>, std::greater<Join>> joins;
     for (const auto& [pair, edges] : touching) {
       const auto [ru, rv] = pair;
-      if (edges * g.cell < o.corridor_touch_m || chain_outline[ru].empty() || chain_outline[rv].empty()) continue;
+      if (edges * g.cell < o.corridor_touch_m || chain_outline[ru].empty() || chain_outline[rv].empty() ||
+          behind_door[ru] || behind_door[rv])
+        continue;
       const double w = joined(ru, rv).WidthAndLength().first;
       if (w <= o.corridor_max_width_m) joins.push({w, ru, rv, 1, 1});
     }

@@ -904,19 +904,64 @@ TEST(BuildPlan, RoomLookedIntoFromACorridorIsARoomAndTheCorridorIsOne) {
   EXPECT_EQ(fan.rooms[1].asr_ids, (std::vector<int>{1}));
   EXPECT_NEAR(fan.rooms[0].area_m2 + fan.rooms[1].area_m2, 40.0 + 6.4, 1.5);
   EXPECT_EQ(SampledOverlap(fan, 0.1), 0.0);
-  // Taken for a corridor piece (corridors up to 8 m wide: the fan and the
-  // corridor together are about 6 m across), the fan joins the corridor, and its
-  // floor beyond the door line, cut off from the corridor's, is kept as a
-  // piece of its own (it was dropped: 6 m2 of floor lost).
+  // Nor with corridors up to 8 m wide (the fan and the corridor together
+  // are about 6 m across): the robot went in through the door and came out
+  // through it, so the fan is a room, whatever its shape.
   PlanOptions wide;
   wide.corridor_max_width_m = 8.0;
-  const Plan joined = BuildPlan(CorridorWithARoomLookedInto(false), {}, wide);
+  const Plan behind = BuildPlan(CorridorWithARoomLookedInto(false), {}, wide);
+  ASSERT_EQ(behind.rooms.size(), 2u);
+  EXPECT_EQ(behind.rooms[0].asr_ids, (std::vector<int>{0, 2}));
+  EXPECT_EQ(behind.rooms[1].asr_ids, (std::vector<int>{1}));
+  // The run ending in the fan (entered, never left): taken for a corridor
+  // piece at 8 m, the fan joins the corridor, and its floor beyond the door
+  // line, cut off from the corridor's, is kept as a piece of its own (it was
+  // dropped: 6 m2 of floor lost).
+  std::vector<asr::Asr> ends_in_it = CorridorWithARoomLookedInto(false);
+  ends_in_it.pop_back();
+  ends_in_it[1].exits.pop_back();
+  const Plan joined = BuildPlan(ends_in_it, {}, wide);
   ASSERT_EQ(joined.rooms.size(), 2u);
   EXPECT_TRUE(joined.rooms[0].corridor);
-  EXPECT_EQ(joined.rooms[0].asr_ids, (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(joined.rooms[0].asr_ids, (std::vector<int>{0, 1}));
   EXPECT_TRUE(joined.rooms[1].asr_ids.empty());
-  EXPECT_NEAR(joined.rooms[0].area_m2 + joined.rooms[1].area_m2, 40.0 + 6.4, 1.5);
+  EXPECT_NEAR(joined.rooms[0].area_m2 + joined.rooms[1].area_m2, 20.0 + 6.4, 1.5);
   EXPECT_EQ(SampledOverlap(joined, 0.1), 0.0);
+}
+
+// A 1.4 m corridor along y = 0..1.4 with a 0.9 m door in its top wall at
+// x = 10, into a 6 x 6 m office. The robot drives the corridor to the door
+// (ASR 0), steps 3.5 m into the office and backs out (ASR 1), and drives on
+// (ASR 2). The office's grid held only what lay within its window: the door's
+// jambs and the path, a strip 1.6 m wide and 3.6 m long across the corridor,
+// as narrow and elongated as the corridor's halves.
+std::vector<asr::Asr> NarrowCorridorWithAnOfficeSteppedInto() {
+  asr::Asr a = MakeAsr(0, {{{0, 1.4}, {0, 0}, {10, 0}}, {{0, 1.4}, {9.55, 1.4}}}, Line({0.5, 0.7}, {9.8, 0.7}));
+  std::vector<Vec2> way = Line({9.95, 1.5}, {9.95, 5.0});
+  for (const Vec2& q : Line({10.05, 5.0}, {10.05, 1.5})) way.push_back(q);
+  asr::Asr r = MakeAsr(1, {{{9.2, 1.4}, {9.55, 1.4}, {9.55, 1.5}}, {{10.45, 1.5}, {10.45, 1.4}, {10.8, 1.4}}}, way, 10.0);
+  asr::Asr b = MakeAsr(2, {{{10, 0}, {20, 0}, {20, 1.4}}, {{10.45, 1.4}, {20, 1.4}}}, Line({10.2, 0.7}, {19.5, 0.7}),
+                       20.0);
+  a.exits.push_back({{10, 1.4}, 0.9, 0, 1});
+  r.exits = {{{9.95, 1.45}, 0.9, 0, 1}, {{10.05, 1.45}, 0.9, 1, 2}};
+  b.exits.push_back({{10, 1.4}, 0.9, 1, 2});
+  return {a, r, b};
+}
+
+TEST(BuildPlan, OfficeSteppedIntoAndLeftByItsDoorIsARoom) {
+  // Entered through the door and left through it: a room, not a piece of
+  // the corridor its strip runs across (until the thirty-eighth session both
+  // strips, narrow and elongated, were taken for a corridor turning there:
+  // one corridor of all three).
+  const Plan plan = BuildPlan(NarrowCorridorWithAnOfficeSteppedInto(), {});
+  ASSERT_EQ(plan.rooms.size(), 2u);
+  EXPECT_TRUE(plan.rooms[0].corridor);
+  EXPECT_EQ(plan.rooms[0].asr_ids, (std::vector<int>{0, 2}));
+  EXPECT_FALSE(plan.rooms[1].corridor);
+  EXPECT_EQ(plan.rooms[1].asr_ids, (std::vector<int>{1}));
+  ASSERT_EQ(plan.doors.size(), 1u);
+  EXPECT_NEAR(0.5 * (plan.doors[0].a + plan.doors[0].b).x(), 10.0, 0.1);
+  EXPECT_EQ(SampledOverlap(plan, 0.1), 0.0);
 }
 
 // A 2 m corridor the robot left into a room every 3 m (offices 3 m wide
