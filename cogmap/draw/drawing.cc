@@ -85,6 +85,7 @@ struct Fonts {
   cairo_t* measure_cr = nullptr;
   PangoContext* measure[2] = {nullptr, nullptr};  // own, system
   std::thread warming;
+  std::thread loading;  // PrepareLibraries
   // With the lock held. The font map for 'text': the bundled faces when
   // they have every character of it, else the system's.
   bool Own(const std::string& text) {
@@ -174,6 +175,7 @@ Fonts& TheFonts() {
   static struct JoinAtExit {
     ~JoinAtExit() {
       if (fonts->warming.joinable()) fonts->warming.join();
+      if (fonts->loading.joinable()) fonts->loading.join();
     }
   } join_at_exit;
   return *fonts;
@@ -367,6 +369,19 @@ void Drawing::Rectangle(const Box& box, Colour fill, const Stroke& outline) {
       cairo_stroke(cr);
     } else {
       cairo_fill(cr);
+    }
+  });
+}
+
+void Drawing::PrepareLibraries() {
+  Fonts& f = TheFonts();
+  std::lock_guard<std::mutex> lock(f.mutex);
+  if (f.loading.joinable() || dl::loaded.load(std::memory_order_acquire)) return;
+  f.loading = std::thread([] {
+    try {
+      dl::Load();
+    } catch (const std::exception&) {
+      // The first picture drawn raises the same error on its own thread.
     }
   });
 }

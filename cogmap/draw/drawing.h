@@ -88,6 +88,12 @@ class Drawing {
   // does not wait for them (on nine_rooms' floor plan, 30 -> 11 ms for the
   // picture). Text measured or drawn meanwhile waits for that thread.
   static void PrepareFonts(const std::vector<Font>& fonts = {});
+  // Starts loading the drawing libraries (cairo, pango and theirs, some 15
+  // shared libraries bound at once) on a thread of their own, without
+  // reading any font: for a run whose pictures are drawn at its end, when
+  // the fonts' tables are better loaded late (PrepareFonts then finds the
+  // libraries loaded).
+  static void PrepareLibraries();
   // A raster drawn with its top-left corner at (x, y), each pixel a square of
   // 'scale' drawing pixels, without smoothing (cells stay crisp).
   void Image(const io::RgbImage& image, double x, double y, double scale);

@@ -177,6 +177,8 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   // drawn.
   if (job.mapping.threads >= 2 && (o.svg || o.png || o.compare))
     draw::Drawing::PrepareFonts(draw::PageFonts());
+  else if (job.mapping.threads >= 2 && (o.plan || o.plan_png || o.heading))
+    draw::Drawing::PrepareLibraries();  // the libraries now, their fonts after the plan
 
   // The output folder (docs/store.md): locked for this run, everything written
   // into its staging folder and moved into place at the end.
