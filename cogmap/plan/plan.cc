@@ -1253,13 +1253,19 @@ struct Outline {
     for (const Vec2& q : o.point) Add(q);
   }
   // The least width of the points' convex hull (the least, over its edges,
-  // of the farthest point from the edge's line) and its length across that
-  // (its extent along that edge); 0, 0 when empty.
-  std::pair<double, double> WidthAndLength() const {
-    if (empty()) return {0.0, 0.0};
+  // of the farthest point from the edge's line), its length across that
+  // (its extent along that edge) and the direction the width is measured
+  // along; 0, 0 (and x) when empty.
+  struct Calipers {
+    double width = 0.0, length = 0.0;
+    Vec2 across{1, 0};
+  };
+  Calipers Measure() const {
+    Calipers c;
+    if (empty()) return c;
     const std::vector<Vec2> hull = ConvexHull(std::vector<Vec2>(point.begin(), point.end()));
     const int m = static_cast<int>(hull.size());
-    double width = std::numeric_limits<double>::infinity(), length = 0.0;
+    double width = std::numeric_limits<double>::infinity();
     for (int i = 0; i < m; ++i) {
       const Vec2 a = hull[i], d = hull[(i + 1) % m] - a;
       const double len = d.norm();
@@ -1271,9 +1277,21 @@ struct Outline {
         lo = std::min(lo, u.dot(hull[j] - a));
         hi = std::max(hi, u.dot(hull[j] - a));
       }
-      if (far < width) width = far, length = hi - lo;
+      if (far < width) width = far, c.length = hi - lo, c.across = nrm;
     }
-    return {std::isfinite(width) ? width : 0.0, length};
+    c.width = std::isfinite(width) ? width : 0.0;
+    return c;
+  }
+  std::pair<double, double> WidthAndLength() const {
+    const Calipers c = Measure();
+    return {c.width, c.length};
+  }
+  // The points' extent along unit direction u (0 when empty).
+  double ExtentAlong(const Vec2& u) const {
+    if (empty()) return 0.0;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const Vec2& q : point) lo = std::min(lo, u.dot(q)), hi = std::max(hi, u.dot(q));
+    return hi - lo;
   }
 };
 
@@ -2758,60 +2776,86 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // (floor wider than a corridor). They meet end to end without a wall or a
   // door line between them, and a chain of them stays as narrow as each
   // while it grows long: grown piece by piece along the borders they share
-  // (as long as the chain stays at most corridor_max_width_m wide), a chain
-  // corridor_min_aspect times longer than wide is one corridor. Rooms side
-  // by side meet across walls and door lines; a room beside a chain widens
-  // it.
+  // (as long as the chain stays at most corridor_max_width_m wide, or up to
+  // corridor_chain_max_width_m while it grows no wider than its pieces), a
+  // chain corridor_min_aspect times longer than wide is one corridor. Rooms
+  // side by side meet across walls and door lines; a room beside a chain
+  // widens it.
   {
-    UnionFind chain(n1);
-    std::vector<Outline> chain_outline = std::move(outlines);  // each chain's, at its root
-    std::vector<int> members(n1, 1);
-    // The joins that keep a chain narrowest first (a corridor's pieces end
-    // to end before a room's strip across one): each candidate keyed by the
-    // width of the two chains together, weighed again when either chain has
-    // grown since.
-    auto joined = [&](int a, int b) {
-      Outline u = chain_outline[a];
-      u.Add(chain_outline[b]);
-      return u;
-    };
-    struct Join {
-      double width;
-      int a, b, size_a, size_b;
-      bool operator>(const Join& o) const { return width > o.width; }
-    };
-    std::priority_queue<Join, std::vector<Join>, std::greater<Join>> joins;
-    for (const auto& [pair, edges] : touching) {
-      const auto [ru, rv] = pair;
-      if (edges * g.cell < o.corridor_touch_m || chain_outline[ru].empty() || chain_outline[rv].empty() ||
-          behind_door[ru] || behind_door[rv])
-        continue;
-      const double w = joined(ru, rv).WidthAndLength().first;
-      if (w <= o.corridor_max_width_m) joins.push({w, ru, rv, 1, 1});
-    }
-    while (!joins.empty()) {
-      const Join j = joins.top();
-      joins.pop();
-      const int a = chain.Find(j.a), b = chain.Find(j.b);
-      if (a == b) continue;
-      const Outline u = joined(a, b);
-      if (members[a] != j.size_a || members[b] != j.size_b) {  // grown since: weighed again
-        const double w = u.WidthAndLength().first;
-        if (w <= o.corridor_max_width_m) joins.push({w, a, b, members[a], members[b]});
-        continue;
+    // Two rounds: the chains of corridors up to corridor_max_width_m, then,
+    // among the regions no corridor holds yet, those of wider corridors.
+    const std::vector<Outline> region_outline = std::move(outlines);
+    for (const bool wide : {false, true}) {
+      if (wide && o.corridor_chain_max_width_m <= o.corridor_max_width_m) break;
+      UnionFind chain(n1);
+      std::vector<Outline> chain_outline = region_outline;  // each chain's, at its root
+      std::vector<int> members(n1, 1);
+      std::vector<char> out(n1, 0);  // in no chain this round
+      for (int r = 0; r < n1; ++r) out[r] = behind_door[r] || (wide && in_corridor[r]);
+      // The joins that keep a chain narrowest first (a corridor's pieces end
+      // to end before a room's strip across one): each candidate keyed by the
+      // width of the two chains together, weighed again when either chain has
+      // grown since.
+      auto joined = [&](int a, int b) {
+        Outline u = chain_outline[a];
+        u.Add(chain_outline[b]);
+        return u;
+      };
+      struct Join {
+        double width;
+        int a, b, size_a, size_b;
+        bool operator>(const Join& o) const { return width > o.width; }
+      };
+      // A join keeps the chain a corridor's width: at most
+      // corridor_max_width_m; in the second round, when the wider of the two
+      // chains is already wider than that across the two together (a wide
+      // corridor's piece, which may be shorter than the corridor is wide),
+      // up to corridor_chain_max_width_m while the two together are no wider
+      // than it by more than corridor_chain_slack (its pieces end to end are
+      // as wide as each; a room beside it widens it).
+      auto allowed = [&](const Outline& u, int a, int b) {
+        const Outline::Calipers c = u.Measure();
+        if (c.width <= o.corridor_max_width_m) return true;
+        if (!wide || c.width > o.corridor_chain_max_width_m) return false;
+        const double wider = std::max(chain_outline[a].ExtentAlong(c.across), chain_outline[b].ExtentAlong(c.across));
+        return wider > o.corridor_max_width_m && c.width <= (1.0 + o.corridor_chain_slack) * wider;
+      };
+      std::priority_queue<Join, std::vector<Join>, std::greater<Join>> joins;
+      for (const auto& [pair, edges] : touching) {
+        const auto [ru, rv] = pair;
+        if (edges * g.cell < o.corridor_touch_m || chain_outline[ru].empty() || chain_outline[rv].empty() ||
+            out[ru] || out[rv])
+          continue;
+        const Outline u = joined(ru, rv);
+        if (allowed(u, ru, rv)) joins.push({u.WidthAndLength().first, ru, rv, 1, 1});
       }
-      chain.Unite(a, b);
-      const int root = chain.Find(a);
-      chain_outline[root] = u;
-      members[root] = members[a] + members[b];
-    }
-    for (int r = 0; r < n1; ++r) {
-      const int root = chain.Find(r);
-      if (members[root] < 2) continue;
-      const auto [width, length] = chain_outline[root].WidthAndLength();
-      if (length < o.corridor_min_aspect * width) continue;
-      corr.Unite(r, root);
-      in_corridor[r] = in_corridor[root] = 1;
+      while (!joins.empty()) {
+        const Join j = joins.top();
+        joins.pop();
+        const int a = chain.Find(j.a), b = chain.Find(j.b);
+        if (a == b) continue;
+        const Outline u = joined(a, b);
+        if (members[a] != j.size_a || members[b] != j.size_b) {  // grown since: weighed again
+          if (allowed(u, a, b)) joins.push({u.WidthAndLength().first, a, b, members[a], members[b]});
+          continue;
+        }
+        chain.Unite(a, b);
+        const int root = chain.Find(a);
+        chain_outline[root] = u;
+        members[root] = members[a] + members[b];
+      }
+      for (int r = 0; r < n1; ++r) {
+        const int root = chain.Find(r);
+        if (members[root] < 2) continue;
+        const auto [width, length] = chain_outline[root].WidthAndLength();
+        // Wider than corridor_max_width_m, twice as long again: two rooms
+        // side by side whose wall the sensor missed are a short wide chain
+        // (two 4 x 4 m offices: 8 x 4 m), a wide corridor is long.
+        const double aspect = o.corridor_min_aspect * (width > o.corridor_max_width_m ? 2.0 : 1.0);
+        if (length < aspect * width) continue;
+        corr.Unite(r, root);
+        in_corridor[r] = in_corridor[root] = 1;
+      }
     }
   }
   // Open plan. Two rooms the robot drove between (an exit joins them),

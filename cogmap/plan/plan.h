@@ -118,6 +118,18 @@ struct PlanOptions {
   // and comes back out into the next piece, so the pieces of one corridor
   // often share no exit.
   double corridor_touch_m = 1.0;
+  // A chain of corridor pieces met end to end along open floor (a corridor
+  // left into a room every few metres: docs/floor-plan.md) whose pieces are
+  // wider than corridor_max_width_m may be up to this wide while each join
+  // widens the wider of its two chains by at most corridor_chain_slack (a
+  // fraction): the corridors of hospitals and schools (2.4-3.6 m and more)
+  // are cut into pieces as wide as they are, and end to end those stay that
+  // wide, while a room beside a corridor widens it by its depth. Such a chain, wider than
+  // corridor_max_width_m, is a corridor when twice corridor_min_aspect times
+  // longer than wide (two offices side by side whose wall was missed are a
+  // short wide chain).
+  double corridor_chain_max_width_m = 4.0;
+  double corridor_chain_slack = 0.15;
   // A piece that is not a corridor piece but meets two corridor pieces that
   // turn (axes more than 45 degrees apart), with at most this many times
   // their floor per metre of the robot's path, is a corner of the corridor

@@ -968,30 +968,30 @@ TEST(BuildPlan, OfficeSteppedIntoAndLeftByItsDoorIsARoom) {
 // along it, entered through 0.9 m doors): five pieces of corridor, each
 // 3 x 2 m (none twice as long as wide), and between them the offices.
 // Each piece's grid saw through the door into the office (floor 4 m deep).
-std::vector<asr::Asr> CorridorInShortPieces() {
+std::vector<asr::Asr> CorridorInShortPieces(double w = 2.0) {
   std::vector<asr::Asr> out;
   for (int k = 0; k < 5; ++k) {
     const double x0 = 3.0 * k, x1 = x0 + 3.0, door = x0 + 1.5;
-    asr::Asr piece = MakeAsr(2 * k, {{{x0, 0}, {x1, 0}}, {{x0, 2}, {door - 0.45, 2}}, {{door + 0.45, 2}, {x1, 2}}},
-                             Line({x0 + 0.1, 1}, {x1 - 0.1, 1}), 20.0 * k);
-    if (k == 0) piece.walls_local.push_back({{0, 0}, {0, 2}});
-    if (k == 4) piece.walls_local.push_back({{15, 0}, {15, 2}});
-    piece.free_hull_local = {{x0 + 0.1, 0.1}, {x1 - 0.1, 0.1}, {x1 - 0.1, 1.9}, {door + 1, 5.9}, {door - 1, 5.9},
-                             {x0 + 0.1, 1.9}};
+    asr::Asr piece = MakeAsr(2 * k, {{{x0, 0}, {x1, 0}}, {{x0, w}, {door - 0.45, w}}, {{door + 0.45, w}, {x1, w}}},
+                             Line({x0 + 0.1, w / 2}, {x1 - 0.1, w / 2}), 20.0 * k);
+    if (k == 0) piece.walls_local.push_back({{0, 0}, {0, w}});
+    if (k == 4) piece.walls_local.push_back({{15, 0}, {15, w}});
+    piece.free_hull_local = {{x0 + 0.1, 0.1},       {x1 - 0.1, 0.1},        {x1 - 0.1, w - 0.1},
+                             {door + 1, w + 3.9}, {door - 1, w + 3.9}, {x0 + 0.1, w - 0.1}};
     if (k < 4) {
-      std::vector<Vec2> way = Line({door, 2.1}, {door, 4.5});
-      for (const Vec2& q : Line({door, 4.5}, {door, 2.1})) way.push_back(q);
-      asr::Asr office = MakeAsr(2 * k + 1, {{{x1 - 0.05, 2}, {x1 - 0.05, 6}, {x0 + 0.05, 6}, {x0 + 0.05, 2}}}, way,
-                                20.0 * k + 10.0);
-      office.free_hull_local = {{x0 + 0.1, 2.1}, {x1 - 0.1, 2.1}, {x1 - 0.1, 5.9}, {x0 + 0.1, 5.9}};
-      piece.exits.push_back({{door, 2}, 0.9, 2 * k, 2 * k + 1});
-      office.exits = {{{door, 2}, 0.9, 2 * k, 2 * k + 1}, {{door, 2}, 0.9, 2 * k + 1, 2 * k + 2}};
+      std::vector<Vec2> way = Line({door, w + 0.1}, {door, w + 2.5});
+      for (const Vec2& q : Line({door, w + 2.5}, {door, w + 0.1})) way.push_back(q);
+      asr::Asr office = MakeAsr(
+          2 * k + 1, {{{x1 - 0.05, w}, {x1 - 0.05, w + 4}, {x0 + 0.05, w + 4}, {x0 + 0.05, w}}}, way, 20.0 * k + 10.0);
+      office.free_hull_local = {{x0 + 0.1, w + 0.1}, {x1 - 0.1, w + 0.1}, {x1 - 0.1, w + 3.9}, {x0 + 0.1, w + 3.9}};
+      piece.exits.push_back({{door, w}, 0.9, 2 * k, 2 * k + 1});
+      office.exits = {{{door, w}, 0.9, 2 * k, 2 * k + 1}, {{door, w}, 0.9, 2 * k + 1, 2 * k + 2}};
       out.push_back(piece);
       out.push_back(office);
     } else {
       out.push_back(piece);
     }
-    if (k > 0) out[2 * k].exits.insert(out[2 * k].exits.begin(), {{x0 - 1.5, 2}, 0.9, 2 * k - 1, 2 * k});
+    if (k > 0) out[2 * k].exits.insert(out[2 * k].exits.begin(), {{x0 - 1.5, w}, 0.9, 2 * k - 1, 2 * k});
   }
   return out;
 }
@@ -1016,6 +1016,28 @@ TEST(BuildPlan, CorridorLeftEveryFewMetresIsOneCorridor) {
     }
   }
   EXPECT_EQ(corridors, 1);
+  EXPECT_EQ(SampledOverlap(plan, 0.1), 0.0);
+}
+
+TEST(BuildPlan, WideCorridorLeftEveryFewMetresIsOneCorridor) {
+  // The same with a hospital's 3.5 m corridor: each piece is 3 x 3.5 m, and
+  // the chain stays 3.5 m wide while it grows 15 m long: one corridor (until
+  // the thirty-eighth session, wider than corridor_max_width_m, five rooms).
+  const Plan plan = BuildPlan(CorridorInShortPieces(3.5), {});
+  ASSERT_EQ(plan.rooms.size(), 5u);
+  int corridors = 0;
+  for (const Room& r : plan.rooms)
+    if (r.corridor) {
+      ++corridors;
+      EXPECT_EQ(r.asr_ids, (std::vector<int>{0, 2, 4, 6, 8}));
+      EXPECT_NEAR(r.area_m2, 15.0 * 3.5, 2.0);
+    }
+  EXPECT_EQ(corridors, 1);
+  // Held to corridor_max_width_m, chains or not: five rooms of corridor.
+  PlanOptions narrow;
+  narrow.corridor_chain_max_width_m = narrow.corridor_max_width_m;
+  const Plan cut = BuildPlan(CorridorInShortPieces(3.5), {}, narrow);
+  EXPECT_EQ(cut.rooms.size(), 9u);
   EXPECT_EQ(SampledOverlap(plan, 0.1), 0.0);
 }
 
