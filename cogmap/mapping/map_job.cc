@@ -120,6 +120,10 @@ double SensorReach(const sensors::RobotDescription& robot, double window_m) {
   return reach > 0.0 ? reach : window_m;
 }
 
+// Pictures drawn once the floor plan is built: the plan's and the heading
+// error's.
+bool PicturesAfterPlan(const OutputChoice& o) { return o.plan || o.plan_png || o.heading; }
+
 }  // namespace
 
 OutputChoice OutputChoice::All() {
@@ -168,17 +172,17 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   const sensors::RobotDescription robot = io::RobotFor(log, job.robot_spec);
   if (!job.world.empty()) io::ReadWorld(job.world);  // a bad world fails before mapping
   const OutputChoice& o = job.outputs;
-  // The drawing stack and its fonts (some 4 MB of fontconfig's and pango's
-  // tables, held to the end) are loaded on a thread of their own: while the
-  // log is mapped when a picture is drawn before the floor plan (the master
-  // map's); when all come after it, once the plan is built (its largest
-  // structures are gone by then), while its files are written: a 1000-room
-  // run's peak is then some 5 MB lower. With --threads 1, by the first picture
-  // drawn.
+  // The drawing libraries load on a thread of their own while the log is
+  // mapped, and so do their fonts (some 5 MB of fontconfig's and pango's
+  // tables, held to the end) when a picture is drawn before the floor plan
+  // (the master map's); when all come after it, the fonts load once the plan
+  // is built (its largest structures are gone by then), while its files are
+  // written: a 1000-room run's peak is then some 5 MB lower. With --threads
+  // 1, all by the first picture drawn.
   if (job.mapping.threads >= 2 && (o.svg || o.png || o.compare))
     draw::Drawing::PrepareFonts(draw::PageFonts());
-  else if (job.mapping.threads >= 2 && (o.plan || o.plan_png || o.heading))
-    draw::Drawing::PrepareLibraries();  // the libraries now, their fonts after the plan
+  else if (job.mapping.threads >= 2 && PicturesAfterPlan(o))
+    draw::Drawing::PrepareLibraries();
 
   // The output folder (docs/store.md): locked for this run, everything written
   // into its staging folder and moved into place at the end.
@@ -483,7 +487,7 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   plan_options.threads = job.mapping.threads;
   const plan::Plan floor_plan = plan::BuildPlanReleasing(&all, room_of, plan_options, &placed_paths);
   if (octx.store_read) octx.store_read();  // the store is not read below
-  if (job.mapping.threads >= 2 && (job.outputs.plan || job.outputs.plan_png || job.outputs.heading))
+  if (job.mapping.threads >= 2 && PicturesAfterPlan(job.outputs))
     draw::Drawing::PrepareFonts(draw::PageFonts());  // (a no-op when loaded before)
   for (auto& x : all) std::vector<asr::Exit>().swap(x.exits);
   io::WriteFileAtomically((fs::path(staging) / "plan.json").string(),

@@ -2401,13 +2401,14 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   // width of two strips, the walls beside doors): each ASR's path as the
   // cells it crossed, each tagged when within seed_door_clearance_m of one
   // of its own exits (a cell repeated with the same tag next in line adds
-  // nothing to a flood's seeds), and its convex hull (the hulls below are
-  // hulls of walls, path and floor: the path's hull stands for the path).
+  // nothing to a flood's seeds), and its convex hull in the room grid's
+  // frame (the hulls below are hulls of walls, path and floor: the path's
+  // hull stands for the path).
   // The paths themselves go before the floods: at 1000 rooms they were
   // 5 MB of the plan's peak.
   constexpr uint32_t kNearDoor = 1u << 31;  // a cell index's tag (cells: at most max_cells, 3e7)
   std::vector<std::vector<uint32_t>> path_cells(asrs.size());
-  std::vector<std::vector<Vec2>> path_hull(asrs.size()), path_hull_frame(asrs.size());
+  std::vector<std::vector<Vec2>> path_hull_frame(asrs.size());
   {
     std::map<int, std::vector<const DoorCand*>> doors_of_asr;
     for (const auto& d : door_cands) {
@@ -2427,7 +2428,6 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         if (cells.empty() || cells.back() != v) cells.push_back(v);
       }
       cells.shrink_to_fit();
-      path_hull[i] = ConvexHull(path[i]);
       std::vector<Vec2> frame;
       frame.reserve(path[i].size());
       for (const auto& p : path[i]) frame.push_back(g.ToFrame(p));
@@ -2812,13 +2812,14 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       // corridor's piece, which may be shorter than the corridor is wide),
       // up to corridor_chain_max_width_m while the two together are no wider
       // than it by more than corridor_chain_slack (its pieces end to end are
-      // as wide as each; a room beside it widens it).
-      auto allowed = [&](const Outline& u, int a, int b) {
+      // as wide as each; a room beside it widens it). The width of the two
+      // together, or -1 when they may not join.
+      auto join_width = [&](const Outline& u, int a, int b) {
         const Outline::Calipers c = u.Measure();
-        if (c.width <= o.corridor_max_width_m) return true;
-        if (!wide || c.width > o.corridor_chain_max_width_m) return false;
+        if (c.width <= o.corridor_max_width_m) return c.width;
+        if (!wide || c.width > o.corridor_chain_max_width_m) return -1.0;
         const double wider = std::max(chain_outline[a].ExtentAlong(c.across), chain_outline[b].ExtentAlong(c.across));
-        return wider > o.corridor_max_width_m && c.width <= (1.0 + o.corridor_chain_slack) * wider;
+        return wider > o.corridor_max_width_m && c.width <= (1.0 + o.corridor_chain_slack) * wider ? c.width : -1.0;
       };
       std::priority_queue<Join, std::vector<Join>, std::greater<Join>> joins;
       for (const auto& [pair, edges] : touching) {
@@ -2826,8 +2827,8 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         if (edges * g.cell < o.corridor_touch_m || chain_outline[ru].empty() || chain_outline[rv].empty() ||
             out[ru] || out[rv])
           continue;
-        const Outline u = joined(ru, rv);
-        if (allowed(u, ru, rv)) joins.push({u.WidthAndLength().first, ru, rv, 1, 1});
+        const double w = join_width(joined(ru, rv), ru, rv);
+        if (w >= 0.0) joins.push({w, ru, rv, 1, 1});
       }
       while (!joins.empty()) {
         const Join j = joins.top();
@@ -2836,7 +2837,8 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
         if (a == b) continue;
         const Outline u = joined(a, b);
         if (members[a] != j.size_a || members[b] != j.size_b) {  // grown since: weighed again
-          if (allowed(u, a, b)) joins.push({u.WidthAndLength().first, a, b, members[a], members[b]});
+          const double w = join_width(u, a, b);
+          if (w >= 0.0) joins.push({w, a, b, members[a], members[b]});
           continue;
         }
         chain.Unite(a, b);
@@ -2907,7 +2909,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     for (size_t i = 0; i < asrs.size(); ++i) {
       const int r = unit_room[unit_root(unit_of[i])];
       if (r != ru && r != rv) continue;
-      pts.insert(pts.end(), path_hull[i].begin(), path_hull[i].end());
+      for (const Vec2& q : path_hull_frame[i]) pts.push_back(g.FromFrame(q));
       for (const auto& l : walls[i]) pts.insert(pts.end(), l.begin(), l.end());
     }
     if (PolygonWidth(ConvexHull(std::move(pts))) > o.corridor_max_width_m) in_corridor[ru] = in_corridor[rv] = 0;
@@ -3044,7 +3046,6 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   std::vector<std::vector<Polyline>>().swap(walls);
   std::vector<std::vector<Vec2>>().swap(free_hull);
   std::vector<std::vector<uint32_t>>().swap(path_cells);
-  std::vector<std::vector<Vec2>>().swap(path_hull);
   std::vector<std::vector<Vec2>>().swap(path_hull_frame);
 
   // ---------------------------------------------------------------- room polygons

@@ -124,10 +124,10 @@ struct PlanOptions {
   // widens the wider of its two chains by at most corridor_chain_slack (a
   // fraction): the corridors of hospitals and schools (2.4-3.6 m and more)
   // are cut into pieces as wide as they are, and end to end those stay that
-  // wide, while a room beside a corridor widens it by its depth. Such a chain, wider than
-  // corridor_max_width_m, is a corridor when twice corridor_min_aspect times
-  // longer than wide (two offices side by side whose wall was missed are a
-  // short wide chain).
+  // wide, while a room beside a corridor widens it by its depth. Such a
+  // chain is a corridor when twice corridor_min_aspect times longer than
+  // wide (two offices side by side whose wall was missed are a short wide
+  // chain).
   double corridor_chain_max_width_m = 4.0;
   double corridor_chain_slack = 0.15;
   // A piece that is not a corridor piece but meets two corridor pieces that
