@@ -313,7 +313,8 @@ struct OptimizerResult {
   // covariances hold their spread about the poses kept (Finish).
   struct DriftHypothesis {
     double rate_rad_per_m = 0.0;
-    double weight = 0.0;  // shares sum to 1
+    double weight = 0.0;          // shares sum to 1
+    int building_directions = 1;  // more than 1: a wing the test did not keep
   };
   std::vector<DriftHypothesis> drift_hypotheses;
   // The building directions (radians, modulo a quarter turn, in the map
@@ -508,8 +509,11 @@ class MapOptimizer {
       double rate = 0.0;
       double weight = 1.0;
       std::vector<Pose2> poses;
+      int building_directions = 1;  // 2 or 3: a wing the test did not keep (TryBuildingDirections)
     };
     std::vector<Hypothesis> hypotheses;
+    // A wing not kept that fits better than the map kept (TryBuildingDirections).
+    std::string wing_warning;
     // The graph solved with the rates free and held.
     PoseGraph::State free_state, held_state;
   };

@@ -69,7 +69,9 @@ nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStr
     if (e.uncertain) uncertain.push_back({{"id", e.asr_id}, {"why", e.why}});
   nlohmann::json hypotheses = nlohmann::json::array();
   for (const auto& h : g.drift_hypotheses)
-    hypotheses.push_back({{"rate_deg_per_m", RadToDeg(h.rate_rad_per_m)}, {"weight", h.weight}});
+    hypotheses.push_back({{"rate_deg_per_m", RadToDeg(h.rate_rad_per_m)},
+                          {"weight", h.weight},
+                          {"building_directions", h.building_directions}});
   const nlohmann::json directions = graph::BuildingDirectionsDeg(g);
   const nlohmann::json closures = streams->Add([&g, k = size_t{0}](nlohmann::json* out) mutable {
     if (k >= g.closures.size()) return false;
