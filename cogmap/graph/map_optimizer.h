@@ -161,10 +161,14 @@ struct MapOptimizerOptions {
   // such a step badly, as a ramp that turns the rooms on both sides of it (a
   // 30-degree wing: 0.31 +- 0.05 deg/m "found" with no drift, heading
   // errors up to 19 degrees); a building direction per group fits it. They
-  // are kept when they lower the graph's robust cost (the rates free on
-  // both sides) by more than the chi-square quantile of
+  // are kept when they lower the graph's -log likelihood (the rates free on
+  // both sides) by more than half the chi-square quantile of
   // building_direction_test_probability (Bonferroni over the candidates
-  // tried) and leave the map at least as consistent. The level is stricter
+  // tried), at the variance components as fitted or, when solved the
+  // directions stay building_direction_min_rad apart, at each model's own
+  // wall-direction variance, and leave the map at least as consistent; a
+  // wing not kept is held by the covariances (and keep_building_directions
+  // false keeps none: the covariances alone). The level is stricter
   // than the drift test's: the groups are searched for (over the drift
   // rate, and from the data), and at 99 % a 16-sonar run at 2 deg/m on a
   // building with no wing took one (chi2 7.9: wall p95 0.84 -> 2.05 m).
@@ -173,6 +177,7 @@ struct MapOptimizerOptions {
   // max_building_directions in all (1: the first only, as before the
   // thirty-sixth session).
   int max_building_directions = 3;
+  bool keep_building_directions = true;
   double building_direction_test_probability = 0.999;
   double building_direction_min_rad = DegToRad(15.0);
   int building_direction_min_asrs = 3;
@@ -607,7 +612,8 @@ class MapOptimizer {
   Consistency MapConsistency(const std::vector<Pose2>& poses, const std::vector<double>& rates) const;
   std::vector<Vec2> LocalCorrectedPath(const Node& n, double rate) const;
   static bool LessConsistent(const Consistency& a, const Consistency& b);
-  void FitVarianceComponents();
+  // directions_only: the wall directions' sigma factor alone, the others as they are.
+  void FitVarianceComponents(bool directions_only = false);
 
   MapOptimizerOptions options_;
   localize::HeadingCorrector estimator_;
