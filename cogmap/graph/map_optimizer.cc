@@ -1583,7 +1583,7 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
         char why[160];
         if (best->least_rad < options_.building_direction_min_rad)
           std::snprintf(why, sizeof why, "but solved, %s drew to %.1f degrees apart, under the %.0f a wing needs",
-                        two ? "two of its directions" : "its directions", RadToDeg(best->least_rad),
+                        two ? "two of their directions" : "its directions", RadToDeg(best->least_rad),
                         RadToDeg(options_.building_direction_min_rad));
         else if (margin > 0.0)
           std::snprintf(why, sizeof why, "wings are not kept (MapOptimizerOptions::keep_building_directions)");
