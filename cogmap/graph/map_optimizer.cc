@@ -1388,23 +1388,14 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
   // (a row per ASR) shrank under any extra freedom (a 16-sonar run at 2
   // deg/m on a building without a wing: 0.61 -> 0.34, which alone passed
   // a false wing that took its wall p95 from 0.84 to 2.05 m).
-  auto sigma_factors = [&]() {
-    std::vector<double> v;
-    for (FactorKind k : kSigmaKinds) v.push_back(graph_.SigmaFactor(k));
-    return v;
+  int direction_rows = 0;  // the same factors under every model, only their families differ
+  for (const PoseGraph::FactorResidual& r : graph_.Residuals())
+    if (r.enabled && r.kind == FactorKind::kDirection) direction_rows += r.dof;
+  auto neg_log_l = [&]() {
+    return graph_.Cost() + direction_rows * std::log(graph_.SigmaFactor(FactorKind::kDirection));
   };
-  auto set_sigma_factors = [&](const std::vector<double>& v) {
-    size_t i = 0;
-    for (FactorKind k : kSigmaKinds) graph_.SetSigmaFactor(k, v[i++]);
-  };
-  auto log_sigma_scale = [&]() {
-    double l = 0.0;
-    for (const PoseGraph::FactorResidual& r : graph_.Residuals())
-      if (r.enabled && r.kind == FactorKind::kDirection) l += r.dof * std::log(graph_.SigmaFactor(r.kind));
-    return l;
-  };
-  const std::vector<double> sigma_before = sigma_factors();
-  const double neg_log_l_before = cost_before + log_sigma_scale();
+  const double direction_sigma_before = graph_.SigmaFactor(FactorKind::kDirection);
+  const double neg_log_l_before = neg_log_l();
   // The walls' directions along the odometry, dead-reckoned at the held
   // rates (no drift; with a second pass the drift removed while mapping)
   // and at the drift the rates found: a wing's step stands out there, while
@@ -1523,8 +1514,8 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
     c.poses = CurrentPoses();
     c.rate = MeanRate();
     FitVarianceComponents(/*directions_only=*/true);
-    c.neg_log_l = graph_.Cost() + log_sigma_scale();
-    set_sigma_factors(sigma_before);
+    c.neg_log_l = neg_log_l();
+    graph_.SetSigmaFactor(FactorKind::kDirection, direction_sigma_before);
     graph_.RemoveBuildingDirections();
     candidates.push_back(std::move(c));
   }
