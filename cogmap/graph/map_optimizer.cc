@@ -1528,12 +1528,17 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
   // fitted with one direction (the test before the thirty-ninth session),
   // or at each model's own wall-direction variance when, solved, the
   // wing's directions are still a wing's apart.
-  for (const Candidate& c : candidates) {
+  // A candidate's statistic and the quantile it must clear.
+  const auto test = [&](const Candidate& c) {
     const int extra = static_cast<int>(c.directions.size()) - 1;
     const double q = ChiSquareQuantile(1.0 - (1.0 - options_.building_direction_test_probability) / tried, extra);
     const double x = std::max(2.0 * (cost_before - c.cost), c.least_rad >= options_.building_direction_min_rad
                                                                   ? 2.0 * (neg_log_l_before - c.neg_log_l)
                                                                   : -std::numeric_limits<double>::infinity());
+    return std::pair{x, q};
+  };
+  for (const Candidate& c : candidates) {
+    const auto [x, q] = test(c);
     if (x - q > margin) {
       margin = x - q;
       chi2 = x;
@@ -1578,8 +1583,13 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
                         RadToDeg(options_.building_direction_min_rad));
         else if (margin > 0.0)
           std::snprintf(why, sizeof why, "wings are not kept (MapOptimizerOptions::keep_building_directions)");
-        else
-          std::snprintf(why, sizeof why, "but not by the test's margin (chi2 %.1f, needed %.1f)", chi2, chi2 - margin);
+        else {
+          // The figures of the wing named, which need not be the one the
+          // test ranked first (that one's margin is the largest, this one's
+          // likelihood).
+          const auto [x, q] = test(*best);
+          std::snprintf(why, sizeof why, "but not by the test's margin (chi2 %.1f, needed %.1f)", x, q);
+        }
         char text[480];
         std::snprintf(text, sizeof text,
                       "%s %.0f degrees against the rest fit%s the walls better than one building direction "
