@@ -65,6 +65,15 @@ OptimizerResult PlaceAll(MapOptimizer& opt, const std::vector<asr::Asr>& asrs) {
   return opt.Finish();
 }
 
+// The same with one building direction only (no wings): what a wing's
+// tests compare against.
+OptimizerResult PlaceAllWithOneDirection(const std::vector<asr::Asr>& asrs) {
+  MapOptimizerOptions one;
+  one.max_building_directions = 1;
+  MapOptimizer opt(one);
+  return PlaceAll(opt, asrs);
+}
+
 // Eight 4 x 4 m rooms around a block, then room 0 again.
 std::vector<Visit> SquareLoop() {
   std::vector<Visit> v;
@@ -743,11 +752,8 @@ TEST(MapOptimizer, AWingTurnedAgainstTheRestIsABuildingDirectionNotADrift) {
     }
   }
   // One building direction (the graph before): the wing's step read as a drift.
-  MapOptimizerOptions one;
-  one.max_building_directions = 1;
   for (double rate_deg : {0.0, 1.0}) {
-    MapOptimizer opt(one);
-    const OptimizerResult r = PlaceAll(opt, Simulate(visits, DegToRad(rate_deg)));
+    const OptimizerResult r = PlaceAllWithOneDirection(Simulate(visits, DegToRad(rate_deg)));
     double worst = 0.0;
     for (size_t i = 0; i < visits.size(); ++i)
       worst = std::max(worst, std::abs(AngleDiff(r.asrs[i].pose.theta, visits[i].entry.theta)));
@@ -786,10 +792,7 @@ TEST(MapOptimizer, AWingThatNeedsNoDriftIsJudgedWithTheRatesHeld) {
   const auto asrs = Simulate(visits, DegToRad(0.5));
   MapOptimizer opt;
   const OptimizerResult r = PlaceAll(opt, asrs);
-  MapOptimizerOptions one;
-  one.max_building_directions = 1;
-  MapOptimizer opt1(one);
-  const OptimizerResult r1 = PlaceAll(opt1, asrs);
+  const OptimizerResult r1 = PlaceAllWithOneDirection(asrs);
   ASSERT_EQ(r.asrs.size(), visits.size());
   ASSERT_EQ(r1.asrs.size(), visits.size());
   EXPECT_EQ(r.building_directions_rad.size(), 2u);
@@ -814,10 +817,7 @@ TEST(MapOptimizer, AWingTheTestDoesNotKeepIsHeldByTheCovariances) {
   strict.keep_building_directions = false;
   MapOptimizer opt(strict);
   const OptimizerResult r = PlaceAll(opt, asrs);
-  MapOptimizerOptions one;
-  one.max_building_directions = 1;
-  MapOptimizer opt1(one);
-  const OptimizerResult r1 = PlaceAll(opt1, asrs);
+  const OptimizerResult r1 = PlaceAllWithOneDirection(asrs);
   ASSERT_EQ(r.asrs.size(), visits.size());
   ASSERT_EQ(r1.asrs.size(), visits.size());
   EXPECT_EQ(r.building_directions_rad.size(), 1u);
