@@ -1522,12 +1522,13 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
     // the rates held at zero, when the walls need no drift under the wing
     // (the rates lower its cost by less than the drift test's quantile)
     // and its directions stay farther apart there than a group of them is
-    // wide, the wing without drift is the candidate (Apart below). A 16-sonar run without drift on a building whose
-    // wing turns 15 degrees: 11.3 degrees apart with the rates free (at
-    // 0.03 deg/m), under the 15 a wing needs; the one direction kept
-    // straightened the wing and its wall p95 went from the odometry's 0.79
-    // to 5.76 m. A drift read as a wing (2 deg/m on a building without
-    // one) needs its rates under any grouping and is not taken this way.
+    // wide, the wing without drift is the candidate (apart, below). A
+    // 16-sonar run without drift on a building whose wing turns 15
+    // degrees: 11.3 degrees apart with the rates free (at 0.03 deg/m),
+    // under the 15 a wing needs; the one direction kept straightened the
+    // wing and its wall p95 went from the odometry's 0.79 to 5.76 m. A
+    // drift read as a wing (2 deg/m on a building without one) needs its
+    // rates under any grouping and is not taken this way.
     if (c.least_rad < options_.building_direction_min_rad && !options_.drift_known) {
       graph_.SetRatesFixedAtZero(true);
       graph_.Solve(0, options_.full_iterations);
@@ -1567,17 +1568,16 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
   // building_direction_min_rad, or, for a wing that needs no drift, by
   // more than a group of directions is wide (the drift's spread, which the
   // minimum guards against, is not there).
-  const auto Apart = [&](const Candidate& c) {
+  const auto apart = [&](const Candidate& c) {
     return c.least_rad >= (c.held ? width : options_.building_direction_min_rad);
   };
   // A candidate's statistic and the quantile it must clear.
   const auto test = [&](const Candidate& c) {
     const int extra = static_cast<int>(c.directions.size()) - 1;
     const double q = ChiSquareQuantile(1.0 - (1.0 - options_.building_direction_test_probability) / tried, extra);
-    const double x = std::max(2.0 * (cost_before - c.cost), Apart(c)
-                                                                  ? 2.0 * (neg_log_l_before - c.neg_log_l)
-                                                                  : -std::numeric_limits<double>::infinity());
-    return std::pair{x, q};
+    const double profile =
+        apart(c) ? 2.0 * (neg_log_l_before - c.neg_log_l) : -std::numeric_limits<double>::infinity();
+    return std::pair{std::max(2.0 * (cost_before - c.cost), profile), q};
   };
   for (const Candidate& c : candidates) {
     const auto [x, q] = test(c);
@@ -1619,7 +1619,7 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
         const double step = best->most_rad;
         const bool two = best->directions.size() > 2;
         char why[160];
-        if (!Apart(*best))
+        if (!apart(*best))
           std::snprintf(why, sizeof why, "but solved, %s drew to %.1f degrees apart, under the %.0f a wing needs",
                         two ? "two of their directions" : "its directions", RadToDeg(best->least_rad),
                         RadToDeg(best->held ? width : options_.building_direction_min_rad));
