@@ -297,6 +297,11 @@ struct OptimizerResult {
   int crossings_chosen = 0;
   double overlap_odometry_m = 0.0;  // path inside another ASR's box (the crossings' opportunity)
   double overlap_graph_m = 0.0;
+  // Share of the placed ASRs whose odometry pose lies within 3 sigma of the
+  // pose kept (position and heading, the covariances reported; -1 without
+  // covariances): how far the correction moved the map, against how sure
+  // it is. With no drift found, under 95 % is a warning.
+  double odometry_within_3sigma = -1.0;
   double chi2 = 0.0;
   int chi2_dof = 0;
   double chi2_p999 = 0.0;      // the 99.9 % quantile for chi2_dof

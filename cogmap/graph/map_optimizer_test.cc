@@ -805,6 +805,35 @@ TEST(MapOptimizer, AWingThatNeedsNoDriftIsJudgedWithTheRatesHeld) {
   EXPECT_GT(worst1, DegToRad(5.0));  // the case is the one it claims to be
 }
 
+// How far the correction moved the map, against how sure it is. Exact
+// odometry, one building direction and no drift allowed (the drift test
+// made unpassable): on a building whose second part is 4 degrees out of
+// square with the first, the graph turns that part's rooms toward the one
+// direction, beyond their 3 sigma of the odometry, and says so; on a
+// straight building the odometry lies within the map's sigmas and nothing
+// is said.
+TEST(MapOptimizer, AMapMovedBeyondItsSigmasWithoutADriftIsAWarning) {
+  MapOptimizerOptions held;
+  held.max_building_directions = 1;
+  held.drift_test_probability = 1.0 - 1e-12;
+  auto place = [&](double deg) {
+    MapOptimizer opt(held);
+    return PlaceAll(opt, Simulate(TwoWings(deg, 6, 6), 0.0));
+  };
+  auto said = [](const OptimizerResult& r) {
+    for (const std::string& w : r.warnings)
+      if (w.rfind("with no drift found, the map moved ", 0) == 0) return true;
+    return false;
+  };
+  const OptimizerResult skewed = place(4.0), straight = place(0.0);
+  ASSERT_FALSE(skewed.drift_detected);
+  EXPECT_LT(skewed.odometry_within_3sigma, 0.95);
+  EXPECT_TRUE(said(skewed));
+  ASSERT_FALSE(straight.drift_detected);
+  EXPECT_GE(straight.odometry_within_3sigma, 0.95);
+  EXPECT_FALSE(said(straight));
+}
+
 // A wing that is not kept (here by keep_building_directions) is still a
 // map the walls allow: the map keeps one building direction, exactly as
 // without wings, but the covariances hold the wing as one more hypothesis

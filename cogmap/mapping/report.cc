@@ -117,6 +117,7 @@ nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStr
           {"path_wall_crossings_chosen", g.crossings_chosen},
           {"path_overlap_odometry_m", g.overlap_odometry_m},
           {"path_overlap_graph_m", g.overlap_graph_m},
+          {"odometry_within_3sigma", g.odometry_within_3sigma},
           {"solve_seconds", g.solve_seconds},
           {"covariance_seconds", g.covariance_seconds},
           {"uncertain_asrs", uncertain},
