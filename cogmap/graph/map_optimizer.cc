@@ -1452,6 +1452,17 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
         options_.max_building_directions, {sources[0].second, sources[1].second}, width);
     if (scan) sources.emplace_back(&drift->held_state, scan->rate_rad_per_m);
   }
+  // The least and the most the building directions lie apart, as solved.
+  const auto spread = [&](double* least, double* most) {
+    *least = std::numeric_limits<double>::infinity();
+    *most = 0.0;
+    for (int k = 0; k < graph_.building_directions(); ++k)
+      for (int j = 0; j < k; ++j) {
+        const double d = std::abs(FoldQuarter(graph_.building_direction(k) - graph_.building_direction(j)));
+        *least = std::min(*least, d);
+        *most = std::max(*most, d);
+      }
+  };
   std::vector<Candidate> candidates;
   int tried = 0;
   for (const auto& [source, rate] : sources) {
@@ -1504,16 +1515,6 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
     // without a wing: grouped 15 degrees apart, solved 11, and kept it
     // took the wall p95 from 0.84 to 2.05 m). It is still a map the walls
     // allow, held by the covariances when no wing is kept.
-    const auto spread = [&](double* least, double* most) {
-      *least = std::numeric_limits<double>::infinity();
-      *most = 0.0;
-      for (int k = 0; k < graph_.building_directions(); ++k)
-        for (int j = 0; j < k; ++j) {
-          const double d = std::abs(FoldQuarter(graph_.building_direction(k) - graph_.building_direction(j)));
-          *least = std::min(*least, d);
-          *most = std::max(*most, d);
-        }
-    };
     spread(&c.least_rad, &c.most_rad);
     c.cost = graph_.Cost();
     c.state = graph_.Save();
@@ -1563,14 +1564,12 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
   // Either likelihood ratio may clear it: at the variance components as
   // fitted with one direction (the test before the thirty-ninth session),
   // or at each model's own wall-direction variance when, solved, the
-  // wing's directions are still a wing's apart.
-  // Solved, a candidate's directions are a wing's apart: by
+  // wing's directions are still a wing's apart: by
   // building_direction_min_rad, or, for a wing that needs no drift, by
   // more than a group of directions is wide (the drift's spread, which the
   // minimum guards against, is not there).
-  const auto apart = [&](const Candidate& c) {
-    return c.least_rad >= (c.held ? width : options_.building_direction_min_rad);
-  };
+  const auto wing_apart = [&](const Candidate& c) { return c.held ? width : options_.building_direction_min_rad; };
+  const auto apart = [&](const Candidate& c) { return c.least_rad >= wing_apart(c); };
   // A candidate's statistic and the quantile it must clear.
   const auto test = [&](const Candidate& c) {
     const int extra = static_cast<int>(c.directions.size()) - 1;
@@ -1622,7 +1621,7 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
         if (!apart(*best))
           std::snprintf(why, sizeof why, "but solved, %s drew to %.1f degrees apart, under the %.0f a wing needs",
                         two ? "two of their directions" : "its directions", RadToDeg(best->least_rad),
-                        RadToDeg(best->held ? width : options_.building_direction_min_rad));
+                        RadToDeg(wing_apart(*best)));
         else if (margin > 0.0)
           std::snprintf(why, sizeof why, "wings are not kept (MapOptimizerOptions::keep_building_directions)");
         else {
@@ -2011,6 +2010,21 @@ OptimizerResult MapOptimizer::Finish() {
   for (const PoseGraph::DirectionTerm& t : graph_.DirectionTerms()) family[t.node] = t.family;
   for (const auto& r : final_residuals)
     if (r.kind == FactorKind::kDirection && r.enabled) dir_resid[r.i] = std::max(dir_resid[r.i], std::sqrt(r.chi2));
+  // How far the correction moved the map from its odometry, against how
+  // sure it is: the share of placed ASRs whose odometry pose lies within 3
+  // sigma of the pose kept (as the calibration against the truth is
+  // counted, cogmap eval). A drift found moves them beyond it, as it
+  // should. Without one, the odometry is a map the graph itself allows
+  // only if it lies within those sigmas; a map moved beyond them with no
+  // drift to explain it is the walls or closures against the odometry, one
+  // of them wrong. On 720 runs of 120 random buildings (bench/never_worse
+  // --random, seeds 39-41) it fired on 12, each with the odometry the
+  // better map (8 of them counted worse than it: sonar rings on winged
+  // buildings, the wing turned by one building direction); on the bench,
+  // CARMEN and the real logs it never fired. It says so; the map is kept
+  // (the posterior sigmas are narrower than the odometry's own noise
+  // allows about them, so a fallback would need that covariance).
+  int placed = 0, within = 0;
   int uncertain = 0;
   int why_position = 0, why_heading = 0, why_walls = 0, why_other = 0;
   for (int i = 0; i < N; ++i) {
@@ -2030,6 +2044,11 @@ OptimizerResult MapOptimizer::Finish() {
       e.has_covariance = true;
       const double sp = std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1)));
       const double st = std::sqrt(std::max(0.0, e.covariance(2, 2)));
+      if (i > 0) {  // the first node is the frame: fixed
+        ++placed;
+        within += (Vec2(chosen[i].x, chosen[i].y) - Vec2(odo_poses[i].x, odo_poses[i].y)).norm() <= 3.0 * sp &&
+                  std::abs(NormalizeAngle(chosen[i].theta - odo_poses[i].theta)) <= 3.0 * st;
+      }
       if (sp > options_.uncertain_position_m) {
         e.why.push_back("position 1-sigma " + std::to_string(sp).substr(0, 5) + " m");
         ++why_position;
@@ -2053,31 +2072,6 @@ OptimizerResult MapOptimizer::Finish() {
     e.uncertain = !e.why.empty();
     uncertain += e.uncertain ? 1 : 0;
     res.asrs.push_back(e);
-  }
-  // How far the correction moved the map from its odometry, against how
-  // sure it is: the share of placed ASRs whose odometry pose lies within 3
-  // sigma of the pose kept (as the calibration against the truth is
-  // counted, cogmap eval). A drift found moves them beyond it, as it
-  // should. Without one, the odometry is a map the graph itself allows
-  // only if it lies within those sigmas; a map moved beyond them with no
-  // drift to explain it is the walls or closures against the odometry, one
-  // of them wrong. On 720 runs of 120 random buildings (bench/never_worse
-  // --random, seeds 39-41) it fired on 12, each with the odometry the
-  // better map (8 of them counted worse than it: sonar rings on winged
-  // buildings, the wing turned by one building direction); on the bench,
-  // CARMEN and the real logs it never fired. It says so; the map is kept
-  // (the posterior sigmas are narrower than the odometry's own noise
-  // allows about them, so a fallback would need that covariance).
-  int placed = 0, within = 0;
-  for (size_t k = 0; k < res.asrs.size(); ++k) {
-    const AsrEstimate& e = res.asrs[k];
-    const int i = node_of_asr_.at(e.asr_id);
-    if (!e.has_covariance || i == 0) continue;  // the first node is the frame: fixed
-    const double dp = (Vec2(e.pose.x, e.pose.y) - Vec2(odo_poses[i].x, odo_poses[i].y)).norm();
-    const double dt = std::abs(NormalizeAngle(e.pose.theta - odo_poses[i].theta));
-    ++placed;
-    within += dp <= 3.0 * std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1))) &&
-              dt <= 3.0 * std::sqrt(std::max(0.0, e.covariance(2, 2)));
   }
   if (placed > 0) res.odometry_within_3sigma = static_cast<double>(within) / placed;
   if (placed > 0 && res.solution != "odometry" && !res.drift_detected && !options_.drift_known &&
