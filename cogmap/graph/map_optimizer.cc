@@ -299,6 +299,10 @@ asr::Asr MapOptimizer::Place(asr::Asr a, std::unique_ptr<asr::PlacementWork> wor
     const Pose2 predicted = graph_.pose(idx - 1) * Pose2{t.x(), t.y(), m.delta.theta - r * m.distance_m};
     graph_.AddNode(predicted, /*fixed=*/false, node.pre_rate);
     graph_.AddOdometry(idx - 1, idx, m, options_.odometry);
+    node.odo_cov = m.covariance;
+    // d(delta)/d(rate) at rate 0: each step turned by -rate x the distance before it.
+    for (const auto& st : m.steps) node.odo_by_rate.head<2>() += st.z() * Eigen::Vector2d(st.y(), -st.x());
+    node.odo_by_rate.z() = -m.distance_m;
     // Uncertainty accumulated for the candidate search: the translation
     // variance of the odometry plus the heading uncertainty turned lateral.
     const double prev_sigma = DirectionSigma(prev.direction_sigma_measured);
@@ -2015,16 +2019,40 @@ OptimizerResult MapOptimizer::Finish() {
   // sigma of the pose kept (as the calibration against the truth is
   // counted, cogmap eval). A drift found moves them beyond it, as it
   // should. Without one, the odometry is a map the graph itself allows
-  // only if it lies within those sigmas; a map moved beyond them with no
-  // drift to explain it is the walls or closures against the odometry, one
-  // of them wrong. On 720 runs of 120 random buildings (bench/never_worse
-  // --random, seeds 39-41) it fired on 12, each with the odometry the
-  // better map (8 of them counted worse than it: sonar rings on winged
-  // buildings, the wing turned by one building direction); on the bench,
-  // CARMEN and the real logs it never fired. It says so; the map is kept
-  // (the posterior sigmas are narrower than the odometry's own noise
-  // allows about them, so a fallback would need that covariance).
-  int placed = 0, within = 0;
+  // only if it lies within those sigmas; a map moved beyond them is the
+  // walls or closures against the odometry. On 720 runs of 120 random
+  // buildings (bench/never_worse --random, seeds 39-41) it fired on 12,
+  // each with the odometry the better map (8 of them counted worse than
+  // it: sonar rings on winged buildings); but it also fires where the
+  // walls rightly took out a drift under the test's reach (nine_rooms, 16
+  // sonars, 0.1 deg/m, the simulator's default: ATE 0.33 -> 0.09 m). An
+  // undetected drift moves the map as a ramp along the path, a room turned
+  // by its walls alone as a step; a wing turned onto the rest reads as
+  // either. So the warning says which: the odometry is bent by the one
+  // drift rate that brings it nearest the map (least squares, the rate's
+  // prior its sigma with the rates free: the drift the test could not rule
+  // out), and when that brings 95 % within 3 sigma the warning names the
+  // rate (the odometry drifts that much, or the building turns along the
+  // way: nothing here tells which; docs/BENCHMARKS.md, "A map moved beyond
+  // its sigmas: a ramp or a step"). The map is kept (the posterior sigmas
+  // are narrower than the odometry's own noise allows about them, so a
+  // fallback would need that covariance).
+  // by_rate[i]: d(odometry pose i)/d(rate), world frame, from the frame
+  // node (or the last stored one).
+  std::vector<Eigen::Vector3d> by_rate(N, Eigen::Vector3d::Zero());
+  for (int i = 1; i < N; ++i) {
+    if (nodes_[i].stored) continue;
+    const Pose2& a = odo_poses[i - 1];
+    const Pose2& b = odo_poses[i];
+    const Eigen::Vector3d before = nodes_[i - 1].stored ? Eigen::Vector3d::Zero() : by_rate[i - 1];
+    const double c = std::cos(a.theta), sn = std::sin(a.theta);
+    const Eigen::Vector3d& j = nodes_[i].odo_by_rate;
+    by_rate[i] = before + Eigen::Vector3d(-(b.y - a.y) * before.z() + c * j.x() - sn * j.y(),
+                                          (b.x - a.x) * before.z() + sn * j.x() + c * j.y(), j.z());
+  }
+  std::vector<int> moved_nodes;              // placed, with a covariance
+  std::vector<Eigen::Vector3d> moved_by;     // pose kept - odometry pose (x, y, theta)
+  std::vector<Eigen::Matrix3d> moved_cov;    // the pose kept's covariance
   int uncertain = 0;
   int why_position = 0, why_heading = 0, why_walls = 0, why_other = 0;
   for (int i = 0; i < N; ++i) {
@@ -2045,9 +2073,10 @@ OptimizerResult MapOptimizer::Finish() {
       const double sp = std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1)));
       const double st = std::sqrt(std::max(0.0, e.covariance(2, 2)));
       if (i > 0) {  // the first node is the frame: fixed
-        ++placed;
-        within += (Vec2(chosen[i].x, chosen[i].y) - Vec2(odo_poses[i].x, odo_poses[i].y)).norm() <= 3.0 * sp &&
-                  std::abs(NormalizeAngle(chosen[i].theta - odo_poses[i].theta)) <= 3.0 * st;
+        moved_nodes.push_back(i);
+        moved_by.emplace_back(chosen[i].x - odo_poses[i].x, chosen[i].y - odo_poses[i].y,
+                              NormalizeAngle(chosen[i].theta - odo_poses[i].theta));
+        moved_cov.push_back(e.covariance);
       }
       if (sp > options_.uncertain_position_m) {
         e.why.push_back("position 1-sigma " + std::to_string(sp).substr(0, 5) + " m");
@@ -2073,14 +2102,48 @@ OptimizerResult MapOptimizer::Finish() {
     uncertain += e.uncertain ? 1 : 0;
     res.asrs.push_back(e);
   }
-  if (placed > 0) res.odometry_within_3sigma = static_cast<double>(within) / placed;
+  // Within 3 sigma of the pose kept: as cogmap eval counts the calibration.
+  auto within_3sigma = [](const Eigen::Vector3d& d, const Eigen::Matrix3d& C) {
+    return d.head<2>().norm() <= 3.0 * std::sqrt(std::max(0.0, C(0, 0) + C(1, 1))) &&
+           std::abs(NormalizeAngle(d.z())) <= 3.0 * std::sqrt(std::max(0.0, C(2, 2)));
+  };
+  int placed = static_cast<int>(moved_nodes.size()), within = 0, within_bent = 0;
+  for (size_t k = 0; k < moved_nodes.size(); ++k) within += within_3sigma(moved_by[k], moved_cov[k]);
+  // The rate that bends the odometry nearest the map: least squares over the
+  // placed ASRs (each weighed by its covariance), with the rate's prior.
+  const double sigma_r = res.drift_rate_sigma_rad_per_m;
+  double rate = 0.0;
+  if (sigma_r > 0.0 && placed > 0) {
+    double num = 0.0, den = 1.0 / (sigma_r * sigma_r);
+    for (size_t k = 0; k < moved_nodes.size(); ++k) {
+      const Eigen::Matrix3d W = (moved_cov[k] + 1e-9 * Eigen::Matrix3d::Identity()).inverse();
+      const Eigen::Vector3d& g = by_rate[moved_nodes[k]];
+      num += g.dot(W * moved_by[k]);
+      den += g.dot(W * g);
+    }
+    rate = num / den;
+  }
+  for (size_t k = 0; k < moved_nodes.size(); ++k)
+    within_bent += within_3sigma(moved_by[k] - rate * by_rate[moved_nodes[k]], moved_cov[k]);
+  if (placed > 0) {
+    res.odometry_within_3sigma = static_cast<double>(within) / placed;
+    res.odometry_within_3sigma_bent = static_cast<double>(within_bent) / placed;
+    res.moved_as_drift_rad_per_m = rate;
+  }
   if (placed > 0 && res.solution != "odometry" && !res.drift_detected && !options_.drift_known &&
       within < 0.95 * placed) {
-    res.warnings.push_back("with no drift found, the map moved " + std::to_string(placed - within) + " of " +
-                           std::to_string(placed) +
-                           " placed ASRs beyond 3 sigma of their odometry: the walls or closures disagree with the "
-                           "odometry, and one of them is wrong; compare with --no-correct "
-                           "(report.json: pose_graph.odometry_within_3sigma)");
+    std::string w = "with no drift found, the map moved " + std::to_string(placed - within) + " of " +
+                    std::to_string(placed) + " placed ASRs beyond 3 sigma of their odometry";
+    if (within_bent >= 0.95 * placed) {
+      char what[160];
+      std::snprintf(what, sizeof what, ", as a heading drift of %+.3f deg/m would (%.1f sigma of the drift the test "
+                    "could not rule out)", RadToDeg(rate), std::abs(rate) / sigma_r);
+      w += std::string(what) + ": the odometry drifts that much, or the building turns along the way (a wing)";
+    } else {
+      w += " by more than any one drift rate explains: the walls or closures disagree with the odometry, and one of "
+           "them is wrong";
+    }
+    res.warnings.push_back(w + "; compare with --no-correct (report.json: pose_graph.odometry_within_3sigma)");
   }
   if (uncertain > 0) {
     // Why, in one line: how many for each reason (an ASR may have several).

@@ -302,6 +302,15 @@ struct OptimizerResult {
   // covariances): how far the correction moved the map, against how sure
   // it is. With no drift found, under 95 % is a warning.
   double odometry_within_3sigma = -1.0;
+  // The same once the odometry is bent by the one drift rate that brings it
+  // nearest the map (moved_as_drift_rad_per_m: least squares over the placed
+  // ASRs, weighed by their covariances, the rate's prior its sigma with the
+  // rates free). With no drift found and the first share under 95 %, the
+  // warning says whether such a drift explains the move (this at 95 % or
+  // more: a ramp along the path, an undetected drift or walls that lean
+  // together) or not (a step: the walls or closures against the odometry).
+  double odometry_within_3sigma_bent = -1.0;
+  double moved_as_drift_rad_per_m = 0.0;
   double chi2 = 0.0;
   int chi2_dof = 0;
   double chi2_p999 = 0.0;      // the 99.9 % quantile for chi2_dof
@@ -470,6 +479,12 @@ class MapOptimizer {
     double direction_sigma_measured = 0.0;  // without the floor (the part variance components scale)
     double var_prefix = 0.0;         // accumulated position variance from the first node
     double heading_var = 0.0;        // heading variance since the last direction factor
+    // The odometry from the previous node to this one (its frame): the
+    // noise model's covariance, and the delta's derivative by the drift
+    // rate (what an undetected drift would bend it by), for the odometry's
+    // own uncertainty from the first node (Finish: the map moved beyond it).
+    Eigen::Matrix3d odo_cov = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d odo_by_rate = Eigen::Vector3d::Zero();
     int room_id = -1;
   };
   Node MakeNode(const asr::Asr& a) const;

@@ -805,33 +805,42 @@ TEST(MapOptimizer, AWingThatNeedsNoDriftIsJudgedWithTheRatesHeld) {
   EXPECT_GT(worst1, DegToRad(5.0));  // the case is the one it claims to be
 }
 
-// How far the correction moved the map, against how sure it is. Exact
-// odometry, one building direction and no drift allowed (the drift test
-// made unpassable): on a building whose second part is 4 degrees out of
-// square with the first, the graph turns that part's rooms toward the one
-// direction, beyond their 3 sigma of the odometry, and says so; on a
-// straight building the odometry lies within the map's sigmas and nothing
-// is said.
+// How far the correction moved the map from its odometry, against how sure
+// it is. A straight building of twelve rooms, one building direction, no
+// drift allowed (the drift test made unpassable). With a drift of 0.3
+// deg/m, the walls take out a ramp: the map moved beyond 3 sigma of the
+// odometry, but as a drift would, and the warning names that drift. With
+// exact odometry nothing moves and nothing is said. (A move no drift rate
+// explains, the other warning, is measured on generated buildings:
+// docs/BENCHMARKS.md, "A map moved beyond its sigmas: a ramp or a step";
+// here the graph keeps a wheel slip of a room or a few rather than turn
+// them by their walls alone.)
 TEST(MapOptimizer, AMapMovedBeyondItsSigmasWithoutADriftIsAWarning) {
   MapOptimizerOptions held;
   held.max_building_directions = 1;
   held.drift_test_probability = 1.0 - 1e-12;
-  auto place = [&](double deg) {
+  auto place = [&](const std::vector<asr::Asr>& asrs) {
     MapOptimizer opt(held);
-    return PlaceAll(opt, Simulate(TwoWings(deg, 6, 6), 0.0));
+    return PlaceAll(opt, asrs);
   };
-  auto said = [](const OptimizerResult& r) {
+  auto said = [](const OptimizerResult& r, const std::string& part) {
     for (const std::string& w : r.warnings)
-      if (w.rfind("with no drift found, the map moved ", 0) == 0) return true;
+      if (w.rfind("with no drift found, the map moved ", 0) == 0 && w.find(part) != std::string::npos) return true;
     return false;
   };
-  const OptimizerResult skewed = place(4.0), straight = place(0.0);
-  ASSERT_FALSE(skewed.drift_detected);
-  EXPECT_LT(skewed.odometry_within_3sigma, 0.95);
-  EXPECT_TRUE(said(skewed));
-  ASSERT_FALSE(straight.drift_detected);
-  EXPECT_GE(straight.odometry_within_3sigma, 0.95);
-  EXPECT_FALSE(said(straight));
+  const std::vector<Visit> straight = TwoWings(0.0, 6, 6);
+
+  const OptimizerResult ramp = place(Simulate(straight, DegToRad(0.3)));
+  ASSERT_FALSE(ramp.drift_detected);
+  EXPECT_LT(ramp.odometry_within_3sigma, 0.95);
+  EXPECT_GE(ramp.odometry_within_3sigma_bent, 0.95);
+  EXPECT_NEAR(RadToDeg(ramp.moved_as_drift_rad_per_m), 0.3, 0.15);
+  EXPECT_TRUE(said(ramp, "as a heading drift of +0."));
+
+  const OptimizerResult exact = place(Simulate(straight, 0.0));
+  ASSERT_FALSE(exact.drift_detected);
+  EXPECT_GE(exact.odometry_within_3sigma, 0.95);
+  EXPECT_FALSE(said(exact, ""));
 }
 
 // A wing that is not kept (here by keep_building_directions) is still a

@@ -118,6 +118,8 @@ nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStr
           {"path_overlap_odometry_m", g.overlap_odometry_m},
           {"path_overlap_graph_m", g.overlap_graph_m},
           {"odometry_within_3sigma", g.odometry_within_3sigma},
+          {"odometry_within_3sigma_bent", g.odometry_within_3sigma_bent},
+          {"moved_as_drift_deg_per_m", RadToDeg(g.moved_as_drift_rad_per_m)},
           {"solve_seconds", g.solve_seconds},
           {"covariance_seconds", g.covariance_seconds},
           {"uncertain_asrs", uncertain},
