@@ -85,6 +85,7 @@ int RunMap(MapArgs& a) {
   job.second_pass = a.second_pass;
   if (job.log_path != "-")  // standard input is read once
     job.reopen_log = [&job, open_options] { return io::OpenLog(job.log_path, open_options); };
+  job.started = ProcessStarted();
   const mapping::MapJobSummary s = mapping::RunMapJob(*log, job);
   bar.Finish();
   WarnSkipped(*log);

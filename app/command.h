@@ -1,5 +1,6 @@
 #pragma once
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <functional>
 #include <string>
 
@@ -18,5 +19,11 @@ struct Command {
 };
 
 bool RegisterCommand(Command command);
+
+// When the process began: main()'s first instant less the CPU time spent
+// before it (the dynamic loader's and the static initialisers', on one
+// thread: its wall time but for waits on the disk). Commands that report
+// their whole time (report.json's total_seconds) count from here.
+std::chrono::steady_clock::time_point ProcessStarted();
 
 }  // namespace cogmap::app

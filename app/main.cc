@@ -2,6 +2,7 @@
 // parses argv or prints.
 #include <CLI/CLI.hpp>
 #include <malloc.h>
+#include <time.h>
 
 #include <algorithm>
 #include <exception>
@@ -23,10 +24,23 @@ bool RegisterCommand(Command command) {
   return true;
 }
 
+static std::chrono::steady_clock::time_point process_started;
+
+std::chrono::steady_clock::time_point ProcessStarted() { return process_started; }
+
 }  // namespace cogmap::app
 
 int main(int argc, char** argv) {
   using cogmap::app::Registry;
+  {
+    timespec cpu{};
+    const auto now = std::chrono::steady_clock::now();
+    cogmap::app::process_started =
+        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu) == 0
+            ? now - std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                        std::chrono::seconds(cpu.tv_sec) + std::chrono::nanoseconds(cpu.tv_nsec))
+            : now;
+  }
   // One malloc arena for every thread: what the mapper's threads free (the
   // pose graph, the rooms' grids) is then reused by what follows on this
   // thread (the floor plan) instead of held in arenas of their own (a

@@ -331,7 +331,8 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   OutputContext ctx;
   ctx.store_path = folder->Final("map.sqlite");
   ctx.run_id = folder->run_id();
-  ctx.start = start;
+  ctx.start = job.started.value_or(start);
+  ctx.startup_seconds = std::chrono::duration<double>(start - ctx.start).count();
   ctx.mapping_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ctx.rss_mapping_kb = MaxRssKb();
   // The store is closed (checkpointed, without WAL: a few ms of writing and
@@ -557,6 +558,7 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   ctx.store_path = octx.store_path;
   ctx.run_id = octx.run_id;
   ctx.mapping_seconds = octx.mapping_seconds;
+  ctx.startup_seconds = octx.startup_seconds;
   ctx.rss_mapping_kb = octx.rss_mapping_kb;
   if (room_metrics) {
     out.room_precision = room_metrics->room_precision;

@@ -67,6 +67,10 @@ struct MapJob {
   // Messages for the user that cannot wait for the summary (a failed run's
   // partial result kept aside); the library never prints.
   std::function<void(const std::string&)> notice;
+  // When the command began (`cogmap map`: the process, its loading
+  // included), for report.json's total_seconds and times_real_time; unset:
+  // when RunMapJob is called.
+  std::optional<std::chrono::steady_clock::time_point> started;
 };
 
 struct MapJobSummary {
@@ -106,7 +110,8 @@ std::string MapSummaryText(const MapJobSummary& summary, const MapJob& job);
 struct OutputContext {
   std::string store_path;
   std::string run_id;
-  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();  // of the whole job
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();  // of the whole command
+  double startup_seconds = 0.0;  // from 'start' to the job's own start (loading, options, the log opened)
   double mapping_seconds = 0.0;
   long rss_mapping_kb = 0;
   // Called once nothing WriteMapOutputs does next reads the store (its

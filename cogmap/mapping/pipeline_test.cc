@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -299,6 +300,9 @@ TEST(MappingPipeline, StreamingEqualsTheJobOnTheSameLog) {
   job.log_path = WriteLog(records, "run.log");
   job.output_dir = TestTempPath("out");
   auto log = io::OpenLog(job.log_path);
+  // The command began 2 s before the job (as `cogmap map` says when its
+  // process began): the report's whole time counts from there.
+  job.started = std::chrono::steady_clock::now() - std::chrono::seconds(2);
   const MapJobSummary s = RunMapJob(*log, job);
   EXPECT_EQ(s.asrs, static_cast<int>(closed.size()));
   {
@@ -307,6 +311,12 @@ TEST(MappingPipeline, StreamingEqualsTheJobOnTheSameLog) {
     EXPECT_EQ(report["asr_count"].get<int>(), s.asrs);
     EXPECT_EQ(report["asrs"].size(), closed.size());
     EXPECT_EQ(report["pose_graph"]["placements"].size(), closed.size());
+    const double startup = report["startup_seconds"].get<double>();
+    const double total = report["total_seconds"].get<double>();
+    EXPECT_GE(startup, 2.0);
+    EXPECT_LT(startup, 2.0 + 0.5 * (total - startup) + 1.0);
+    EXPECT_GE(total, startup + report["mapping_seconds"].get<double>());
+    EXPECT_NEAR(report["times_real_time"].get<double>(), report["log_duration_s"].get<double>() / total, 1e-9);
   }
   // The default outputs (issue 14's fast set).
   for (const char* f : {"map.sqlite", "plan.svg", "map.geojson", "map.map", "map.gpkg", "route_graph.geojson",

@@ -215,9 +215,13 @@ void WriteReport(const ReportContext& c, std::ostream& out) {
       {"asrs", per_asr},
       {"mapping_seconds", c.mapping_seconds},
       {"total_seconds", c.total_seconds},
+      {"startup_seconds", c.startup_seconds},
       {"log_duration_s", duration},
-      // The whole command up to this report (reading, mapping, every output
-      // file); mapping_times_real_time: before the output files.
+      // The whole command up to this report: from the process's start (its
+      // loading and the options, startup_seconds; `cogmap map`, else from the
+      // job's start) through reading, mapping and every output file, all but
+      // the commit of the files into place and the exit after it (a few ms);
+      // mapping_times_real_time: the job's own start to the output files.
       // null when the log's timestamps do not advance (belgioioso's are
       // written to six digits: every record at 1.01893e+09 s).
       {"times_real_time", duration > 0 && c.total_seconds > 0 ? nlohmann::json(duration / c.total_seconds) : nullptr},

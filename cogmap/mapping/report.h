@@ -28,6 +28,7 @@ struct ReportContext {
   std::string run_id;
   double mapping_seconds = 0.0;
   double total_seconds = 0.0;
+  double startup_seconds = 0.0;
   long rss_mapping_kb = 0;
   std::optional<asr::RoomMetrics> room_metrics;
 };
