@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
@@ -49,7 +50,29 @@ Pose2 ParseStartPose(const std::string& text) {
   return {v[0], v[1], NormalizeAngle(DegToRad(v[2]))};
 }
 
+static void CheckMetresPerPixel(double m_per_pixel) {
+  // A metre per pixel at most: coarser is no building (and NaN or infinity
+  // no number: the world's coordinates would be).
+  if (!(m_per_pixel > 0.0) || m_per_pixel > 1.0) {
+    char text[96];
+    std::snprintf(text, sizeof text, "--m-per-pixel %g: must be in (0, 1] metres", m_per_pixel);
+    throw InputError(text);
+  }
+}
+
 void SimulateJob::Validate() const {
+  CheckMetresPerPixel(m_per_pixel);
+  const double drift_deg = RadToDeg(options.odometry.drift_rad_per_m);
+  if (!std::isfinite(drift_deg) || std::abs(drift_deg) > 90.0) {
+    char text[96];
+    std::snprintf(text, sizeof text, "--drift-deg-per-m %g: must be in [-90, 90]", drift_deg);
+    throw InputError(text);
+  }
+  if (!(std::abs(options.odometry.scale_error) < 0.5)) {
+    char text[96];
+    std::snprintf(text, sizeof text, "--scale-error %g: must be in (-0.5, 0.5)", options.odometry.scale_error);
+    throw InputError(text);
+  }
   if (!(options.cruise_mps > 0.0) || options.cruise_mps > 2.0) throw InputError("--speed must be in (0, 2] m/s");
   if (options.sensor.sonar_rays < 1 || options.sensor.sonar_rays > 100) throw InputError("--rays must be in [1, 100]");
   if (options.max_time_s < 0) throw InputError("--max-time must not be negative");
@@ -86,6 +109,7 @@ SimulateJobResult RunSimulateJob(const SimulateJob& job) {
 
 RenderWorldResult RunRenderWorldJob(const RenderWorldJob& job) {
   if (!(job.px_per_m >= 0) || job.px_per_m > 1000) throw InputError("--px-per-m must be in (0, 1000]");
+  CheckMetresPerPixel(job.m_per_pixel);
   draw::FormatOfPath(job.picture_path);  // a picture format, before any work
   RenderWorldResult out;
   out.world = LoadWorld(job.world_path, job.m_per_pixel, job.warning).plan;

@@ -27,7 +27,8 @@ struct SimulateJob {
   std::function<void(double fraction)> progress;       // of the simulated time bound
   std::function<void(const std::string&)> warning;     // the world's, then the run's; one line each
 
-  // Throws InputError naming the option (--speed, --rays, --max-time).
+  // Throws InputError naming the option (--speed, --rays, --max-time,
+  // --drift-deg-per-m, --scale-error, --m-per-pixel; NaN and infinities too).
   void Validate() const;
 };
 

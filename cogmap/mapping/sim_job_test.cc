@@ -4,9 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
@@ -138,6 +140,26 @@ TEST(SimulateJob, RejectsBadOptionsAndARouteRunWithoutARoute) {
   job.options.sonar_bank_size = 0;
   EXPECT_THROW(job.Validate(), InputError);
   job.options.sonar_bank_size = 8;
+  // Not a number is no drift, scale or resolution: before, a NaN drift
+  // wrote a log of NaN odometry with exit 0.
+  auto message = [&job] {
+    try {
+      job.Validate();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  job.options.odometry.drift_rad_per_m = std::nan("");
+  EXPECT_EQ(message(), "--drift-deg-per-m nan: must be in [-90, 90]");
+  job.options.odometry.drift_rad_per_m = DegToRad(1.0);
+  job.options.odometry.scale_error = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(message(), "--scale-error inf: must be in (-0.5, 0.5)");
+  job.options.odometry.scale_error = 0.01;
+  job.m_per_pixel = std::nan("");
+  EXPECT_EQ(message(), "--m-per-pixel nan: must be in (0, 1] metres");
+  job.m_per_pixel = 0.05;
+  EXPECT_EQ(message(), "no error");
   try {
     RunSimulateJob(job);
     FAIL();
