@@ -99,6 +99,19 @@ FloorPlan TwoWings(const BuildingOptions& o) {
 FloorPlan GenerateBuilding(const BuildingOptions& o) {
   if (!std::isfinite(o.wing_deg) || std::abs(o.wing_deg) > 60.0)
     throw InputError("gen-building: a wing turned by at most 60 degrees either way");
+  // Sizes a building can have (and numbers at all: NaN and infinities are
+  // none), before anything is allocated: a 2D-Map holds whole millimetres.
+  auto within = [](const char* option, double v, double hi) {
+    if (std::isfinite(v) && v <= hi) return;
+    char text[128];
+    std::snprintf(text, sizeof text, "gen-building: %s %g: at most %g m", option, v, hi);
+    throw InputError(text);
+  };
+  within("--corridor-m", o.corridor_m, 100000.0);
+  within("--corridor-width-m", o.corridor_width_m, 50.0);
+  within("--room-depth-m", o.room_depth_m, 100.0);
+  within("--door-m", o.door_width_m, 10.0);
+  if (o.rooms > 100000) throw InputError("gen-building: --rooms " + std::to_string(o.rooms) + ": at most 100000");
   return o.wing_deg != 0.0 ? TwoWings(o) : OneWing(o);
 }
 

@@ -27,7 +27,9 @@ struct BuildingOptions {
 // RobotHome at the west end of the corridor, and a route that visits every
 // room (corridor in front of the door, room centre, back to the corridor),
 // with waypoints named wp0001, wp0002, ... Throws InputError when the rooms
-// cannot fit (each room needs at least 2 m of corridor).
+// cannot fit (each room needs at least 2 m of corridor), or a size is no
+// number or more than a building has (a corridor of 100 km, 50 m wide, rooms
+// 100 m deep, doors 10 m wide, 100000 rooms).
 FloorPlan GenerateBuilding(const BuildingOptions& options);
 
 }  // namespace cogmap::sim

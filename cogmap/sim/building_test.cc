@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+#include <string>
+
 #include "cogmap/core/error.h"
 #include "cogmap/io/world_io.h"
 #include "cogmap/sim/simulator.h"
@@ -97,6 +101,36 @@ TEST(Building, TooManyRoomsForCorridorIsAnError) {
   o.rooms = 100;
   o.corridor_m = 20;
   EXPECT_THROW(GenerateBuilding(o), InputError);
+}
+
+// Sizes no building has, or no number at all, are errors naming the option
+// before anything is made (an infinite corridor width made a 2D-Map of
+// infinite coordinates, exit 0).
+TEST(Building, SizesNoBuildingHasAreErrorsNamingTheOption) {
+  auto message = [](const BuildingOptions& o) {
+    try {
+      GenerateBuilding(o);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  BuildingOptions o;
+  o.rooms = 10;
+  o.corridor_m = 30;
+  EXPECT_EQ(message(o), "no error");
+  BuildingOptions wide = o;
+  wide.corridor_width_m = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(message(wide), "gen-building: --corridor-width-m inf: at most 50 m");
+  BuildingOptions deep = o;
+  deep.room_depth_m = 1e300;
+  EXPECT_EQ(message(deep), "gen-building: --room-depth-m 1e+300: at most 100 m");
+  BuildingOptions long_one = o;
+  long_one.corridor_m = std::nan("");
+  EXPECT_EQ(message(long_one), "gen-building: --corridor-m nan: at most 100000 m");
+  BuildingOptions many = o;
+  many.rooms = 100000000;
+  EXPECT_EQ(message(many), "gen-building: --rooms 100000000: at most 100000");
 }
 
 }  // namespace
