@@ -66,22 +66,24 @@ std::pair<SideObservation, SideObservation> BoundaryDetector::ObserveSides(const
   // Each side within close_m (the thesis), or both sides within gap_m of
   // each other across the robot (the gap rule).
   bool gap = options_.gap_m > 0.0 && best_l + best_r <= options_.gap_m;
-  if (gap && (best_l > options_.close_m || best_r > options_.close_m)) {
-    // The far side beyond close_m counts only when its obstacle is the end of
-    // a wall across the robot's way (a jamb), not a wall along it: the echoes
-    // remembered on that side at about its distance span little of the way.
-    const bool far_left = best_l > options_.close_m;
-    const double far = far_left ? best_l : best_r;
+  // A side beyond close_m counts only when its obstacle is the end of a
+  // wall across the robot's way (a jamb), not a wall along it: the echoes
+  // remembered on that side at about its distance span little of the way.
+  // Both sides may be beyond close_m (an opening wider than 2 close_m,
+  // crossed near its middle): then both must be jambs.
+  auto jamb = [&](bool left_side, double far) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (const Echo& e : memory_) {
-      if (e.left != far_left) continue;
+      if (e.left != left_side) continue;
       const Vec2 q = robot_from_world * e.point_m;
       if (std::abs(q.x()) > options_.jamb_window_m || std::abs(std::abs(q.y()) - far) > options_.jamb_band_m) continue;
       lo = std::min(lo, q.x());
       hi = std::max(hi, q.x());
     }
-    gap = hi - lo <= options_.jamb_extent_m;
-  }
+    return hi - lo <= options_.jamb_extent_m;
+  };
+  if (gap && best_l > options_.close_m) gap = jamb(true, best_l);
+  if (gap && best_r > options_.close_m) gap = jamb(false, best_r);
   left.close = best_l <= options_.close_m || gap;
   right.close = best_r <= options_.close_m || gap;
   if (left.close) left.point_m = point_l;

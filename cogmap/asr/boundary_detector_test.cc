@@ -342,6 +342,16 @@ TEST(BoundaryDetector, GapRuleLeavesOpeningsWiderThanTheGapAlone) {
   EXPECT_EQ(BoundaryOptions{}.gap_m, 0.0);  // off in the papers' defaults
 }
 
+TEST(BoundaryDetector, AWiderGapWantsBothSidesJambsWhenBothAreBeyondCloseM) {
+  // A 2 m double door crossed in its middle: both jambs 1 m across, beyond
+  // close_m. Under a 2.5 m gap both are jambs: a door.
+  EXPECT_EQ(CutsThroughDoor(WithGap(1.4), 1.0, 1.0), 0);
+  EXPECT_EQ(CutsThroughDoor(WithGap(2.5), 1.0, 1.0), 1);
+  // The same widths beside a wall that runs along the way (a 2 m corridor,
+  // its right wall): no door.
+  EXPECT_EQ(CutsThroughDoor(WithGap(2.5), 1.0, 1.0, /*far_wall=*/true), 0);
+}
+
 }  // namespace
 }  // namespace cogmap::asr
 

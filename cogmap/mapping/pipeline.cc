@@ -38,6 +38,8 @@ void MappingOptions::Validate() const {
   if (!(release_confirm_m >= 0.0) || release_confirm_m > 100.0)
     throw InputError("--door-release " + Num(release_confirm_m) + ": must be in [0, 100] metres");
   if (threads < 1 || threads > 2) throw InputError("--threads " + std::to_string(threads) + ": must be 1 or 2");
+  if (!(door_gap_m == 0.0 || (door_gap_m >= 1.0 && door_gap_m <= 4.0)))
+    throw InputError("--door-gap-m " + Num(door_gap_m) + ": must be in [1, 4] metres (0: 1.4, twice the thesis's 0.7)");
   if (!std::isfinite(add_drift_rad_per_m) || std::abs(add_drift_rad_per_m) > DegToRad(90.0))
     throw InputError("--add-drift-deg-per-m " + Num(RadToDeg(add_drift_rad_per_m)) + ": must be in [-90, 90]");
   if (!std::isfinite(remove_drift_rad_per_m) || std::abs(remove_drift_rad_per_m) > DegToRad(90.0))
@@ -104,7 +106,8 @@ asr::MapperOptions MapperOptionsFor(const sensors::RobotDescription& robot, cons
   // Default mode, on request (--door-gap): an opening at most 2 close_m wide
   // is an access point wherever the robot is in it (asr::BoundaryOptions::
   // gap_m). Off by default: docs/BENCHMARKS.md, "Doors wider than the thesis's".
-  if (!o.paper && o.door_gap) m.boundary.gap_m = 2.0 * m.boundary.close_m;
+  if (!o.paper && (o.door_gap || o.door_gap_m > 0.0))
+    m.boundary.gap_m = o.door_gap_m > 0.0 ? o.door_gap_m : 2.0 * m.boundary.close_m;
   // The grid orientation serves the heading correction's grid refinement,
   // which is for sonar robots only: not computed for a laser.
   m.grid_orientation = !LaserOnly(robot);

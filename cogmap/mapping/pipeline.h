@@ -52,6 +52,11 @@ struct MappingOptions {
   double max_asr_m = 15.0;             // default mode: cut a space after this many metres (0 = never)
   double release_confirm_m = 0.0;      // default mode, --door-release: a side released for less travel is a side opening (0: off)
   bool door_gap = false;               // default mode, --door-gap: L and R on when the opening beside the robot is at most 2 close_m wide (asr::BoundaryOptions::gap_m)
+  // Default mode, --door-gap-m: that width instead of 2 close_m (implies
+  // door_gap; 0: 2 close_m). Doors of 1.6-2.4 m (double doors, open
+  // passages) want 2.5; rooms whose furniture leaves gaps of that width
+  // between table ends are cut there too (docs/BENCHMARKS.md, "Double doors").
+  double door_gap_m = 0.0;
   double direction_split_m = 3.0;      // pose graph, laser walls: direction factors per this much path, tried in Finish (0: off)
   bool cone_hits = false;              // default mode, --sonar-cone: MHIMM over the sonar's cone (grid::MhimmOptions::cone_hits)
   bool cone_walls = true;              // default mode, sonar: the walls kept are a cone grid's (asr::MapperOptions::cone_output_walls); --axis-walls: false

@@ -124,6 +124,12 @@ TEST(MapperOptionsFor, DoorGapIsDefaultModeOnRequestOnly) {
   EXPECT_DOUBLE_EQ(b.gap_m, 2.0 * b.close_m);
   o.paper = true;
   EXPECT_DOUBLE_EQ(MapperOptionsFor(robot, o).boundary.gap_m, 0.0);  // the thesis's rule
+  o.paper = false;
+  o.door_gap = false;
+  o.door_gap_m = 2.5;  // implies --door-gap
+  EXPECT_DOUBLE_EQ(MapperOptionsFor(robot, o).boundary.gap_m, 2.5);
+  o.door_gap_m = 9.0;
+  EXPECT_THROW(o.Validate(), InputError);
 }
 
 TEST(OutputChoice, ParsesListsAndNamesAnUnknownOutput) {
