@@ -131,7 +131,7 @@ std::function<int()> SetupMap(CLI::App& sub) {
   sub.add_option("--door-gap-m", a->job.mapping.door_gap_m,
                  "Default mode: --door-gap with this widest opening instead of 1.4 m (1 to 4; both sides then "
                  "jambs where both lie beyond 0.7 m): 2.5 for double doors and open passages of 1.6-2.4 m, which "
-                 "no other rule cuts (a laser on a building with 1.6 m doors: room IoU 0.22 -> 0.93). Not the "
+                 "no other rule cuts (a laser on buildings with 1.6 m doors: room IoU 0.26 -> 0.91). Not the "
                  "default: furniture rows whose gaps have table ends for jambs are cut as doors too (cluttered_lab, "
                  "laser: 0.92 -> 0.63-0.77; docs/BENCHMARKS.md, \"Double doors\")")
       ->capture_default_str();

@@ -29,6 +29,16 @@ io::WorldReadResult LoadWorld(const std::string& path, double m_per_pixel,
   return world;
 }
 
+void CheckMetresPerPixel(double m_per_pixel) {
+  // At most a metre per pixel (a coarser image is no floor plan); NaN and
+  // infinity are no resolution at all.
+  if (!(m_per_pixel > 0.0) || m_per_pixel > 1.0) {
+    char text[96];
+    std::snprintf(text, sizeof text, "--m-per-pixel %g: must be in (0, 1] metres", m_per_pixel);
+    throw InputError(text);
+  }
+}
+
 }  // namespace
 
 Pose2 ParseStartPose(const std::string& text) {
@@ -48,16 +58,6 @@ Pose2 ParseStartPose(const std::string& text) {
     throw InputError("--start: expected X,Y,THETA_DEG (3 numbers), got " + std::to_string(v.size()) + " in '" +
                      text + "'");
   return {v[0], v[1], NormalizeAngle(DegToRad(v[2]))};
-}
-
-static void CheckMetresPerPixel(double m_per_pixel) {
-  // A metre per pixel at most: coarser is no building (and NaN or infinity
-  // no number: the world's coordinates would be).
-  if (!(m_per_pixel > 0.0) || m_per_pixel > 1.0) {
-    char text[96];
-    std::snprintf(text, sizeof text, "--m-per-pixel %g: must be in (0, 1] metres", m_per_pixel);
-    throw InputError(text);
-  }
 }
 
 void SimulateJob::Validate() const {
