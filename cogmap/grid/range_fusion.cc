@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "cogmap/core/angles.h"
@@ -27,10 +28,13 @@ void ReachBox(Grid2D<T>* g, const Vec2& lo, const Vec2& hi, const GridBounds& bo
     }
     const double pad = 2.0 * std::max(1, bounds.grow_chunk_cells);
     const double cells = ((b.x() - a.x()) / bounds.cell_m + pad) * ((b.y() - a.y()) / bounds.cell_m + pad);
-    if (cells > static_cast<double>(bounds.max_cells))
-      throw InputError("the grid would need " + std::to_string(static_cast<long long>(cells)) +
-                       " cells of " + std::to_string(bounds.cell_m) + " m (limit " +
-                       std::to_string(bounds.max_cells) + "): use larger cells or a bounded grid");
+    if (cells > static_cast<double>(bounds.max_cells)) {
+      // Printed as a double: the count may be beyond any integer type.
+      char text[160];
+      std::snprintf(text, sizeof text, "the grid would need %.3g cells of %g m (limit %lld): use larger cells or a "
+                    "bounded grid", cells, bounds.cell_m, static_cast<long long>(bounds.max_cells));
+      throw InputError(text);
+    }
   }
   if (g->limits().width() == 0) {
     const double c = bounds.cell_m;

@@ -329,6 +329,22 @@ TEST(Mhimm, GrowingPastMaxCellsIsInputError) {
   EXPECT_THROW(g.MarkRobot(Pose2{50.0, 50.0, 0.0}), InputError);
 }
 
+// A count beyond every integer type is printed as the double it is (it was
+// cast to long long: undefined, "-9223372036854775808 cells of 0.000000 m").
+TEST(Mhimm, AGridTooLargeForAnyIntegerSaysHowLarge) {
+  GridBounds b;
+  b.cell_m = 1e-9;
+  auto g = Mhimm(b);
+  g.MarkRobot(kRobot);
+  try {
+    g.MarkRobot(Pose2{50.0, 50.0, 0.0});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("e+21 cells of 1e-09 m"), std::string::npos) << what;
+  }
+}
+
 TEST(Mhimm, GrownGridMatchesBoundedGrid) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> range(0.2, 5.0), turn(-kPi, kPi);
