@@ -72,7 +72,8 @@ int RunMap(MapArgs& a) {
   job.mapping.Validate();
   job.outputs = mapping::OutputChoice::Parse(a.outputs);
   if (!a.geo_anchor.empty()) job.geo_anchor = io::ParseGeoAnchor(a.geo_anchor);
-  if (!(job.px_per_m >= 0.0)) throw InputError("--px-per-m " + Num(job.px_per_m) + ": must be positive (0: fit)");
+  if (!(job.px_per_m >= 0.0) || job.px_per_m > 1000.0)
+    throw InputError("--px-per-m " + Num(job.px_per_m) + ": must be in (0, 1000] (0: fit)");
   ProgressBar bar("map");
   job.progress = [&bar](double f, int asrs) { bar.Update(f, std::to_string(asrs) + " ASRs"); };
   job.notice = [&bar](const std::string& s) {

@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <numeric>
 #include <set>
 #include <thread>
@@ -63,6 +65,26 @@ TEST(MappingOptions, RejectsOutOfRangeValuesNamingTheOption) {
   o = {};
   o.threads = 3;
   EXPECT_THROW(o.Validate(), InputError);
+  // Infinities and lengths that would cut every record.
+  auto message = [](const MappingOptions& m) {
+    try {
+      m.Validate();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  o = {};
+  o.window_m = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(message(o), "--window inf: must be in [0.1, 100] metres (a cell at least)");
+  o = {};
+  o.max_asr_m = 1e-300;
+  EXPECT_EQ(message(o), "--max-asr 1e-300: must be 0 (never) or in [0.5, 100000] metres");
+  o.max_asr_m = 0.0;
+  EXPECT_EQ(message(o), "no error");
+  o = {};
+  o.asr_length_m = std::nan("");
+  EXPECT_EQ(message(o), "--asr-length nan: must be in [0.5, 100000] metres");
   o = {};
   EXPECT_NO_THROW(o.Validate());
 }
