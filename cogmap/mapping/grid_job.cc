@@ -14,7 +14,8 @@ namespace cogmap::mapping {
 void GridJob::Validate() const {
   std::string m;
   if (!(cell_m > 0.0) || cell_m > 10.0) AppendF(&m, "--cell %g: must be in (0, 10] metres", cell_m);
-  else if (!(window_m > 0.0)) AppendF(&m, "--window %g: must be positive", window_m);
+  else if (!(window_m >= cell_m) || window_m > 100.0)
+    AppendF(&m, "--window %g: must be in [%g, 100] metres (a cell at least)", window_m, cell_m);
   if (!m.empty()) throw InputError(m);
   if (px_per_cell < 0 || px_per_cell > 64)
     throw InputError("--scale " + std::to_string(px_per_cell) + ": must be in [1, 64]");

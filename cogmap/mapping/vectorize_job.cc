@@ -132,7 +132,15 @@ nlohmann::json MakeVectorizeReport(const VectorizeJob& job, const vectorize::Vec
 void VectorizeJob::Validate() const {
   std::string m;
   if (!(cell_m > 0.0) || cell_m > 10.0) AppendF(&m, "--cell %g: must be in (0, 10] metres", cell_m);
-  else if (!(window_m > 0.0)) AppendF(&m, "--window %g: must be positive", window_m);
+  else if (!(window_m >= cell_m) || window_m > 100.0)
+    AppendF(&m, "--window %g: must be in [%g, 100] metres (a cell at least)", window_m, cell_m);
+  // The stages' lengths in cells: unset (-1, the stage's own) or a length
+  // a grid can have (NaN was ignored, infinity taken).
+  const std::pair<const char*, double> cells[] = {
+      {"--gamma", gamma_cells}, {"--tau", tau_cells}, {"--eta", eta_cells}, {"--max-rms", max_rms_cells}};
+  for (const auto& [name, v] : cells)
+    if (m.empty() && v != -1.0 && !(v > 0.0 && v <= 1000.0))
+      AppendF(&m, "%s %g: must be in (0, 1000] cells", name, v);
   if (!m.empty()) throw InputError(m);
 }
 

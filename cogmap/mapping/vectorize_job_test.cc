@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -167,11 +168,22 @@ TEST(VectorizeJob, RejectsBadOptionsNamingThem) {
     job.Validate();
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "--window -1: must be positive");
+    EXPECT_EQ(std::string(e.what()), "--window -1: must be in [0.1, 100] metres (a cell at least)");
   }
   job.window_m = 3;
   job.cell_m = 11;
   EXPECT_THROW(job.Validate(), InputError);
+  // A stage's length: unset (-1) or one a grid can have; NaN was ignored.
+  job.cell_m = 0.1;
+  job.tau_cells = std::nan("");
+  try {
+    job.Validate();
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "--tau nan: must be in (0, 1000] cells");
+  }
+  job.tau_cells = -1;
+  EXPECT_NO_THROW(job.Validate());
 }
 
 }  // namespace
