@@ -36,6 +36,10 @@ std::string Num(double v) {
 }  // namespace
 
 Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o) {
+  // Unset (negative: what the folder recorded) or a range a sensor has (NaN
+  // fell back to the folder's silently, infinity made every wall seeable).
+  if (!(o.range_m < 0.0 || (o.range_m > 0.0 && o.range_m <= 1000.0)))
+    throw InputError("--range " + Num(o.range_m) + ": must be in (0, 1000] metres");
   const std::filesystem::path dir(dir_text);
   const std::string walls_path = std::filesystem::is_directory(dir) ? (dir / "walls.json").string() : dir_text;
   const io::WallsFile wf = io::ReadWallsJson(walls_path);

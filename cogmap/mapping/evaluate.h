@@ -23,7 +23,8 @@ struct Evaluation {
 };
 
 // 'dir': the folder (or its walls.json). Throws InputError naming the file
-// for a folder without walls.json, a log without ground truth, a bad world.
+// for a folder without walls.json, a log without ground truth, a bad world,
+// and naming the option for a range neither unset nor in (0, 1000] m.
 Evaluation EvaluateFolder(const std::string& dir, const EvaluateOptions& options = {});
 
 }  // namespace cogmap::mapping

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <string>
 
@@ -120,6 +121,25 @@ TEST(EvaluateFolder, AlignedWallPrecisionSeesTheShapeAndNamesTheTurn) {
   EXPECT_NEAR(after["wall_precision_p95_m_aligned"].get<double>(), before["wall_precision_p95_m_aligned"].get<double>(),
               0.01);
   EXPECT_NEAR(after["map_alignment_deg"].get<double>(), before["map_alignment_deg"].get<double>() - 3.0, 0.05);
+}
+
+}  // namespace
+}  // namespace cogmap::mapping
+
+namespace cogmap::mapping {
+namespace {
+
+// A range neither unset nor one a sensor has is an error naming the option,
+// before any file is read (NaN fell back to the folder's range silently).
+TEST(EvaluateFolder, ARangeThatIsNoNumberIsAnError) {
+  EvaluateOptions o;
+  o.range_m = std::nan("");
+  try {
+    EvaluateFolder("no-such-folder", o);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "--range nan: must be in (0, 1000] metres");
+  }
 }
 
 }  // namespace

@@ -75,7 +75,8 @@ void SimulateJob::Validate() const {
   }
   if (!(options.cruise_mps > 0.0) || options.cruise_mps > 2.0) throw InputError("--speed must be in (0, 2] m/s");
   if (options.sensor.sonar_rays < 1 || options.sensor.sonar_rays > 100) throw InputError("--rays must be in [1, 100]");
-  if (options.max_time_s < 0) throw InputError("--max-time must not be negative");
+  if (!(options.max_time_s >= 0.0) || options.max_time_s > 1e7)
+    throw InputError("--max-time must be in [0, 1e7] s (0: from the route; NaN and infinity are none)");
   if (options.sonar_bank_size < 1 || options.sonar_bank_size > 1000)
     throw InputError("--sonar-bank-size must be in [1, 1000]");
 }

@@ -159,6 +159,9 @@ TEST(SimulateJob, RejectsBadOptionsAndARouteRunWithoutARoute) {
   job.m_per_pixel = std::nan("");
   EXPECT_EQ(message(), "--m-per-pixel nan: must be in (0, 1] metres");
   job.m_per_pixel = 0.05;
+  job.options.max_time_s = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(message(), "--max-time must be in [0, 1e7] s (0: from the route; NaN and infinity are none)");
+  job.options.max_time_s = 10;
   EXPECT_EQ(message(), "no error");
   try {
     RunSimulateJob(job);
