@@ -77,7 +77,9 @@ RobotDescription ParseRobotJsonChecked(const json& j, const std::string& src) {
   auto A = [&](double v) { return ang == 1.0 ? v : DegToRad(v); };
 
   r.radius_m = NumberOr(j, "radius", r.radius_m / len, src, "") * len;
-  if (!(r.radius_m > 0)) throw InputError(src, 0, "radius: must be positive");
+  // Sizes a robot and its sensors can have (1e308 was taken): the grids,
+  // the simulator and the boundary detector work in these lengths.
+  if (!(r.radius_m > 0) || r.radius_m > 5.0) throw InputError(src, 0, "radius: must be in (0, 5] metres");
 
   if (j.contains("sensors")) {
     const json& ss = j.at("sensors");
@@ -104,6 +106,9 @@ RobotDescription ParseRobotJsonChecked(const json& j, const std::string& src) {
       if (rs.min_range_m < 0) throw InputError(src, 0, w + ".min_range: must not be negative");
       if (!(rs.max_range_m > rs.min_range_m))
         throw InputError(src, 0, w + ".max_range: must exceed min_range");
+      if (rs.max_range_m > 1000.0) throw InputError(src, 0, w + ".max_range: at most 1000 metres");
+      if (rs.robot_from_sensor.translation().norm() > 10.0)
+        throw InputError(src, 0, w + ": x, y must lie within 10 m of the robot's centre");
       r.sensors.push_back(rs);
     }
   }
@@ -120,6 +125,7 @@ RobotDescription ParseRobotJsonChecked(const json& j, const std::string& src) {
     if (l.contains("fov")) o.fov_rad = A(Number(l, "fov", src, "laser"));
     if (l.contains("max_range")) o.max_range_m = Number(l, "max_range", src, "laser") * len;
     if (l.contains("min_range")) o.min_range_m = Number(l, "min_range", src, "laser") * len;
+    if (o.max_range_m > 1000.0) throw InputError(src, 0, "laser.max_range: at most 1000 metres");
     RobotDescription laser;
     try {
       laser = MakeLaser(o, r.name);

@@ -106,7 +106,19 @@ TEST(RobotJson, BadUnitsKindAndRangesAreErrors) {
   EXPECT_THAT(ErrorOf(j), HasSubstr("max_range: must exceed min_range"));
   j = OneSonar();
   j["radius"] = -1;
-  EXPECT_THAT(ErrorOf(j), HasSubstr("radius: must be positive"));
+  EXPECT_THAT(ErrorOf(j), HasSubstr("radius: must be in (0, 5] metres"));
+  // Sizes no robot has (each was taken before).
+  j = OneSonar();
+  j["radius"] = 1e300;
+  EXPECT_THAT(ErrorOf(j), HasSubstr("radius: must be in (0, 5] metres"));
+  j = OneSonar();
+  j["sensors"][0]["max_range"] = 1e300;
+  EXPECT_THAT(ErrorOf(j), HasSubstr("sensors[0].max_range: at most 1000 metres"));
+  j = OneSonar();
+  j["sensors"][0]["x"] = 1e9;
+  EXPECT_THAT(ErrorOf(j), HasSubstr("sensors[0]: x, y must lie within 10 m"));
+  j = json::parse(R"({"name": "l", "units": "m", "radius": 0.2, "laser": {"beams": 10, "max_range": 1e300}})");
+  EXPECT_THAT(ErrorOf(j), HasSubstr("laser.max_range: at most 1000 metres"));
 }
 
 TEST(RobotJson, NoSensorsIsAnError) {
