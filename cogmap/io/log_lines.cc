@@ -418,9 +418,16 @@ long ParseCount(std::string_view t, const std::string& path, long line, const st
 }
 
 void CheckRange(double r, const std::string& path, long line, const std::string& what) {
-  if (r < 0) throw InputError(path, line, what + ": negative range " + std::to_string(r) + " m");
-  if (r > kAbsurdRangeM)
-    throw InputError(path, line, what + ": absurd range " + std::to_string(r) + " m (more than 1000 m)");
+  // %g: a range of 1e308 printed with std::to_string ran to 309 digits.
+  char text[96];
+  if (r < 0) {
+    std::snprintf(text, sizeof text, ": negative range %g m", r);
+    throw InputError(path, line, what + text);
+  }
+  if (r > kAbsurdRangeM) {
+    std::snprintf(text, sizeof text, ": absurd range %g m (more than 1000 m)", r);
+    throw InputError(path, line, what + text);
+  }
 }
 
 void ThrowEmptyLog(const std::string& path) { throw InputError(path, 0, "empty log: no range readings"); }
