@@ -174,7 +174,8 @@ class CarmenReader : public LogReader {
     return n;
   }
   Pose2 Pose(const std::vector<std::string_view>& f, size_t i, const std::string& prefix) const {
-    return {Num(f[i], prefix + "x"), Num(f[i + 1], prefix + "y"), Num(f[i + 2], prefix + "theta")};
+    return CheckPosition({Num(f[i], prefix + "x"), Num(f[i + 1], prefix + "y"), Num(f[i + 2], prefix + "theta")},
+                         src_.path(), src_.line_number(), prefix + "pose");
   }
   double Time(const std::vector<std::string_view>& f, size_t ipc, size_t logger) {
     // The Radish logs write 0 or uninitialised memory (1e-153, 6e-43...) as

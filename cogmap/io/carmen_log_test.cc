@@ -241,7 +241,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"remission_huge", "ROBOTLASER1 0 -1.5 3 1.5 20 0.01 0 1 1 9223372036854775807 0 0\n",
                 ":1: remission count 9223372036854775807 is absurd"},
         BadCase{"sonar_huge", "ODOM 0 0 0 0 0 0 1 h 1\nSONAR 0.5 4611686018427387904 1\n",
-                ":2: sonar count 4611686018427387904 is absurd"}),
+                ":2: sonar count 4611686018427387904 is absurd"},
+        BadCase{"far_pose", "FLASER 2 1 2 1e300 0 0 0 0 0 1 h 1\n",
+                ":1: pose: absurd position (1e+300, 0) m (more than 100000 km from the origin)"}),
     [](const auto& info) { return std::string(info.param.name); });
 
 // CARMEN's message formats (readlog.c): RAWLASERk has no pose and takes the

@@ -30,8 +30,9 @@ class Ev3Reader : public Ev3LogReader {
                                    std::to_string(k_) + " (expected " + std::to_string(3 + 13 * k_) + " fields)");
       *out = {};
       out->time_s = static_cast<double>(index_++);
-      out->odom = {ParseNumber(f[0], p, n, "x") / 100.0, ParseNumber(f[1], p, n, "y") / 100.0,
-                   ParseNumber(f[2], p, n, "theta")};
+      out->odom = CheckPosition({ParseNumber(f[0], p, n, "x") / 100.0, ParseNumber(f[1], p, n, "y") / 100.0,
+                                 ParseNumber(f[2], p, n, "theta")},
+                                p, n, "pose");
       bool disagree = false;
       samples_.resize(k);
       out->ranges.resize(kEv3Bearings);

@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include "cogmap/core/pose2.h"
+
 namespace cogmap::io {
 
 // The path that means standard input, and the name messages give it
@@ -107,6 +109,14 @@ void CheckRange(double range_m, const std::string& path, long line, const std::s
 // What CheckRange accepts, tested without a message: readers call CheckRange
 // (and build the reading's name) only for a range outside it.
 inline bool RangeAccepted(double range_m) { return !(range_m < 0 || range_m > kAbsurdRangeM); }
+
+// Farthest a pose may lie from its log's origin: more than twice round the
+// Earth (UTM coordinates, some 5e6 m, pass); a pose of 1e300 m failed later,
+// in the grid, without naming the file.
+constexpr double kAbsurdPositionM = 1e8;
+// Returns 'pose' unless its x or y lies beyond kAbsurdPositionM: InputError
+// "path:line: <what>: absurd position (x, y) m (more than 100000 km from the origin)".
+const Pose2& CheckPosition(const Pose2& pose, const std::string& path, long line, const std::string& what);
 
 // "empty log: no range readings" naming the file.
 [[noreturn]] void ThrowEmptyLog(const std::string& path);

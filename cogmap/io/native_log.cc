@@ -98,8 +98,9 @@ class NativeLogReader : public LogReader {
           throw InputError(p, n, std::string(f[0]) + ": expected 5 fields (" + std::string(f[0]) +
                                      " t x y theta), got " + std::to_string(f.size()));
         const double t = ParseNumber(f[1], p, n, "time");
-        const Pose2 pose{ParseNumber(f[2], p, n, "x"), ParseNumber(f[3], p, n, "y"),
-                         ParseNumber(f[4], p, n, "theta")};
+        const Pose2 pose = CheckPosition({ParseNumber(f[2], p, n, "x"), ParseNumber(f[3], p, n, "y"),
+                                          ParseNumber(f[4], p, n, "theta")},
+                                         p, n, std::string(f[0]));
         if (f[0] == "ODOM") {
           const bool had = pending_;
           sensors::LogRecord prev = current_;

@@ -157,6 +157,8 @@ INSTANTIATE_TEST_SUITE_P(
                 ":4: sensor 0: negative range"},
         BadCase{"absurd", "# cogmap-log 1\nrobot pioneer8\nODOM 0 0 0 0\nSWEEP 0 1 0 1e6\n",
                 ":4: sensor 0: absurd range"},
+        BadCase{"far_pose", "# cogmap-log 1\nrobot pioneer8\nODOM 0 1e300 0 0\n",
+                ":3: ODOM: absurd position (1e+300, 0) m (more than 100000 km from the origin)"},
         BadCase{"sweep_count", "# cogmap-log 1\nrobot pioneer8\nODOM 0 0 0 0\nSWEEP 0 2 0 1\n",
                 ":4: SWEEP: expected 7 fields for 2 readings, got 5"},
         BadCase{"sensor_index", "# cogmap-log 1\nrobot pioneer8\nODOM 0 0 0 0\nSWEEP 0 1 8 1\n",

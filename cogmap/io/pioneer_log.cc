@@ -49,9 +49,10 @@ class PioneerReader : public LogReader {
                                              "; the two files must pair line by line");
     *out = {};
     out->time_s = tm / 1000.0;
-    out->odom = {ParseNumber(fp[1], poses_.path(), lp, "x_mm") / 1000.0,
-                 ParseNumber(fp[2], poses_.path(), lp, "y_mm") / 1000.0,
-                 DegToRad(ParseNumber(fp[3], poses_.path(), lp, "theta") / 10.0)};
+    out->odom = CheckPosition({ParseNumber(fp[1], poses_.path(), lp, "x_mm") / 1000.0,
+                               ParseNumber(fp[2], poses_.path(), lp, "y_mm") / 1000.0,
+                               DegToRad(ParseNumber(fp[3], poses_.path(), lp, "theta") / 10.0)},
+                              poses_.path(), lp, "pose");
     out->ranges.resize(kSonars);
     for (int i = 0; i < kSonars; ++i) {
       const double r = ParseNumber(fm[1 + i], meas_.path(), lm, "r" + std::to_string(i)) / 1000.0;
