@@ -299,7 +299,6 @@ asr::Asr MapOptimizer::Place(asr::Asr a, std::unique_ptr<asr::PlacementWork> wor
     const Pose2 predicted = graph_.pose(idx - 1) * Pose2{t.x(), t.y(), m.delta.theta - r * m.distance_m};
     graph_.AddNode(predicted, /*fixed=*/false, node.pre_rate);
     graph_.AddOdometry(idx - 1, idx, m, options_.odometry);
-    node.odo_cov = m.covariance;
     // d(delta)/d(rate) at rate 0: each step turned by -rate x the distance before it.
     for (const auto& st : m.steps) node.odo_by_rate.head<2>() += st.z() * Eigen::Vector2d(st.y(), -st.x());
     node.odo_by_rate.z() = -m.distance_m;
@@ -2050,9 +2049,14 @@ OptimizerResult MapOptimizer::Finish() {
     by_rate[i] = before + Eigen::Vector3d(-(b.y - a.y) * before.z() + c * j.x() - sn * j.y(),
                                           (b.x - a.x) * before.z() + sn * j.x() + c * j.y(), j.z());
   }
-  std::vector<int> moved_nodes;              // placed, with a covariance
-  std::vector<Eigen::Vector3d> moved_by;     // pose kept - odometry pose (x, y, theta)
-  std::vector<Eigen::Matrix3d> moved_cov;    // the pose kept's covariance
+  // Each placed ASR with a covariance: how far the pose kept lies from the
+  // odometry's (x, y, theta), and that covariance.
+  struct Moved {
+    int node;
+    Eigen::Vector3d by;
+    Eigen::Matrix3d cov;
+  };
+  std::vector<Moved> moved;
   int uncertain = 0;
   int why_position = 0, why_heading = 0, why_walls = 0, why_other = 0;
   for (int i = 0; i < N; ++i) {
@@ -2073,10 +2077,10 @@ OptimizerResult MapOptimizer::Finish() {
       const double sp = std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1)));
       const double st = std::sqrt(std::max(0.0, e.covariance(2, 2)));
       if (i > 0) {  // the first node is the frame: fixed
-        moved_nodes.push_back(i);
-        moved_by.emplace_back(chosen[i].x - odo_poses[i].x, chosen[i].y - odo_poses[i].y,
-                              NormalizeAngle(chosen[i].theta - odo_poses[i].theta));
-        moved_cov.push_back(e.covariance);
+        moved.push_back({i,
+                         Eigen::Vector3d(chosen[i].x - odo_poses[i].x, chosen[i].y - odo_poses[i].y,
+                                         NormalizeAngle(chosen[i].theta - odo_poses[i].theta)),
+                         e.covariance});
       }
       if (sp > options_.uncertain_position_m) {
         e.why.push_back("position 1-sigma " + std::to_string(sp).substr(0, 5) + " m");
@@ -2107,24 +2111,23 @@ OptimizerResult MapOptimizer::Finish() {
     return d.head<2>().norm() <= 3.0 * std::sqrt(std::max(0.0, C(0, 0) + C(1, 1))) &&
            std::abs(NormalizeAngle(d.z())) <= 3.0 * std::sqrt(std::max(0.0, C(2, 2)));
   };
-  int placed = static_cast<int>(moved_nodes.size()), within = 0, within_bent = 0;
-  for (size_t k = 0; k < moved_nodes.size(); ++k) within += within_3sigma(moved_by[k], moved_cov[k]);
+  int placed = static_cast<int>(moved.size()), within = 0, within_bent = 0;
+  for (const Moved& m : moved) within += within_3sigma(m.by, m.cov);
   // The rate that bends the odometry nearest the map: least squares over the
   // placed ASRs (each weighed by its covariance), with the rate's prior.
   const double sigma_r = res.drift_rate_sigma_rad_per_m;
   double rate = 0.0;
   if (sigma_r > 0.0 && placed > 0) {
     double num = 0.0, den = 1.0 / (sigma_r * sigma_r);
-    for (size_t k = 0; k < moved_nodes.size(); ++k) {
-      const Eigen::Matrix3d W = (moved_cov[k] + 1e-9 * Eigen::Matrix3d::Identity()).inverse();
-      const Eigen::Vector3d& g = by_rate[moved_nodes[k]];
-      num += g.dot(W * moved_by[k]);
+    for (const Moved& m : moved) {
+      const Eigen::Matrix3d W = (m.cov + 1e-9 * Eigen::Matrix3d::Identity()).inverse();
+      const Eigen::Vector3d& g = by_rate[m.node];
+      num += g.dot(W * m.by);
       den += g.dot(W * g);
     }
     rate = num / den;
   }
-  for (size_t k = 0; k < moved_nodes.size(); ++k)
-    within_bent += within_3sigma(moved_by[k] - rate * by_rate[moved_nodes[k]], moved_cov[k]);
+  for (const Moved& m : moved) within_bent += within_3sigma(m.by - rate * by_rate[m.node], m.cov);
   if (placed > 0) {
     res.odometry_within_3sigma = static_cast<double>(within) / placed;
     res.odometry_within_3sigma_bent = static_cast<double>(within_bent) / placed;

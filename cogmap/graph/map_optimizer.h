@@ -479,11 +479,9 @@ class MapOptimizer {
     double direction_sigma_measured = 0.0;  // without the floor (the part variance components scale)
     double var_prefix = 0.0;         // accumulated position variance from the first node
     double heading_var = 0.0;        // heading variance since the last direction factor
-    // The odometry from the previous node to this one (its frame): the
-    // noise model's covariance, and the delta's derivative by the drift
-    // rate (what an undetected drift would bend it by), for the odometry's
-    // own uncertainty from the first node (Finish: the map moved beyond it).
-    Eigen::Matrix3d odo_cov = Eigen::Matrix3d::Zero();
+    // The odometry from the previous node to this one (its frame): its
+    // derivative by the drift rate, what an undetected drift would bend it
+    // by (Finish: the map moved beyond its sigmas, as a drift would?).
     Eigen::Vector3d odo_by_rate = Eigen::Vector3d::Zero();
     int room_id = -1;
   };

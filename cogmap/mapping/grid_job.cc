@@ -4,19 +4,15 @@
 #include <filesystem>
 
 #include "cogmap/core/error.h"
-#include "cogmap/core/text.h"
 #include "cogmap/draw/grid_picture.h"
 #include "cogmap/io/grid_io.h"
+#include "cogmap/mapping/pipeline.h"
 #include "cogmap/sensors/robot_json.h"
 
 namespace cogmap::mapping {
 
 void GridJob::Validate() const {
-  std::string m;
-  if (!(cell_m > 0.0) || cell_m > 10.0) AppendF(&m, "--cell %g: must be in (0, 10] metres", cell_m);
-  else if (!(window_m >= cell_m) || window_m > 100.0)
-    AppendF(&m, "--window %g: must be in [%g, 100] metres (a cell at least)", window_m, cell_m);
-  if (!m.empty()) throw InputError(m);
+  if (const std::string m = CellAndWindowProblem(cell_m, window_m); !m.empty()) throw InputError(m);
   if (px_per_cell < 0 || px_per_cell > 64)
     throw InputError("--scale " + std::to_string(px_per_cell) + ": must be in [1, 64]");
   if (!(px_per_m >= 0) || px_per_m > 1000) throw InputError("--px-per-m: must be in (0, 1000]");

@@ -28,13 +28,18 @@ double PathLength(const std::vector<Pose2>& path) {
 
 }  // namespace
 
+std::string CellAndWindowProblem(double cell_m, double window_m) {
+  if (!(cell_m > 0.0) || cell_m > 10.0) return "--cell " + Num(cell_m) + ": must be in (0, 10] metres";
+  if (!(window_m >= cell_m) || window_m > 100.0)
+    return "--window " + Num(window_m) + ": must be in [" + Num(cell_m) + ", 100] metres (a cell at least)";
+  return "";
+}
+
 void MappingOptions::Validate() const {
-  if (!(cell_m > 0.0) || cell_m > 10.0) throw InputError("--cell " + Num(cell_m) + ": must be in (0, 10] metres");
+  if (const std::string problem = CellAndWindowProblem(cell_m, window_m); !problem.empty()) throw InputError(problem);
   // Lengths a robot's ranges and rooms can have: infinities and lengths that
   // cut a space at every record are none (--max-asr 1e-300 made an ASR of
   // every record of nine_rooms, 6944).
-  if (!(window_m >= cell_m) || window_m > 100.0)
-    throw InputError("--window " + Num(window_m) + ": must be in [" + Num(cell_m) + ", 100] metres (a cell at least)");
   if (!(asr_length_m >= 0.5) || asr_length_m > 100000.0)
     throw InputError("--asr-length " + Num(asr_length_m) + ": must be in [0.5, 100000] metres");
   if (!(max_asr_m == 0.0 || (max_asr_m >= 0.5 && max_asr_m <= 100000.0)))

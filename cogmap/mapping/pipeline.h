@@ -43,6 +43,11 @@ enum class ScanMatch {
   kOff,   // never
 };
 
+// The problem with a grid's cell and MHIMM window, "" when none: the cell in
+// (0, 10] m, the window from one cell to 100 m ("--cell 0: must be in (0,
+// 10] metres"). Shared by cogmap map, grid and vectorize.
+std::string CellAndWindowProblem(double cell_m, double window_m);
+
 struct MappingOptions {
   bool paper = false;                  // --mode paper: the thesis's line fit and EM rotation per ASR
   double cell_m = 0.1;                 // grid cell of each room (SPEC 2)

@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
+#include "cogmap/core/text.h"
 #include "cogmap/draw/world_picture.h"
 #include "cogmap/io/atomic_file.h"
 #include "cogmap/io/log_reader.h"
@@ -32,11 +32,9 @@ io::WorldReadResult LoadWorld(const std::string& path, double m_per_pixel,
 void CheckMetresPerPixel(double m_per_pixel) {
   // At most a metre per pixel (a coarser image is no floor plan); NaN and
   // infinity are no resolution at all.
-  if (!(m_per_pixel > 0.0) || m_per_pixel > 1.0) {
-    char text[96];
-    std::snprintf(text, sizeof text, "--m-per-pixel %g: must be in (0, 1] metres", m_per_pixel);
-    throw InputError(text);
-  }
+  std::string m;
+  if (!(m_per_pixel > 0.0) || m_per_pixel > 1.0) AppendF(&m, "--m-per-pixel %g: must be in (0, 1] metres", m_per_pixel);
+  if (!m.empty()) throw InputError(m);
 }
 
 }  // namespace
@@ -62,17 +60,13 @@ Pose2 ParseStartPose(const std::string& text) {
 
 void SimulateJob::Validate() const {
   CheckMetresPerPixel(m_per_pixel);
+  std::string m;
   const double drift_deg = RadToDeg(options.odometry.drift_rad_per_m);
-  if (!std::isfinite(drift_deg) || std::abs(drift_deg) > 90.0) {
-    char text[96];
-    std::snprintf(text, sizeof text, "--drift-deg-per-m %g: must be in [-90, 90]", drift_deg);
-    throw InputError(text);
-  }
-  if (!(std::abs(options.odometry.scale_error) < 0.5)) {
-    char text[96];
-    std::snprintf(text, sizeof text, "--scale-error %g: must be in (-0.5, 0.5)", options.odometry.scale_error);
-    throw InputError(text);
-  }
+  if (!std::isfinite(drift_deg) || std::abs(drift_deg) > 90.0)
+    AppendF(&m, "--drift-deg-per-m %g: must be in [-90, 90]", drift_deg);
+  else if (!(std::abs(options.odometry.scale_error) < 0.5))
+    AppendF(&m, "--scale-error %g: must be in (-0.5, 0.5)", options.odometry.scale_error);
+  if (!m.empty()) throw InputError(m);
   if (!(options.cruise_mps > 0.0) || options.cruise_mps > 2.0) throw InputError("--speed must be in (0, 2] m/s");
   if (options.sensor.sonar_rays < 1 || options.sensor.sonar_rays > 100) throw InputError("--rays must be in [1, 100]");
   if (!(options.max_time_s >= 0.0) || options.max_time_s > 1e7)

@@ -130,10 +130,7 @@ nlohmann::json MakeVectorizeReport(const VectorizeJob& job, const vectorize::Vec
 }  // namespace
 
 void VectorizeJob::Validate() const {
-  std::string m;
-  if (!(cell_m > 0.0) || cell_m > 10.0) AppendF(&m, "--cell %g: must be in (0, 10] metres", cell_m);
-  else if (!(window_m >= cell_m) || window_m > 100.0)
-    AppendF(&m, "--window %g: must be in [%g, 100] metres (a cell at least)", window_m, cell_m);
+  std::string m = CellAndWindowProblem(cell_m, window_m);
   // The stages' lengths in cells: unset (-1, the stage's own) or a length
   // a grid can have (NaN was ignored, infinity taken).
   const std::pair<const char*, double> cells[] = {
