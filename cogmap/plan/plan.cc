@@ -2952,6 +2952,59 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       if (corridor_group[corr.Find(ru)] || corridor_group[corr.Find(rv)]) continue;
       corr.Unite(ru, rv);
     }
+    // A lone corridor piece bypassed: the robot went through it from one
+    // room to another on its other side (two exits whose lines run within
+    // 45 degrees of each other, the two rooms on opposite sides of them),
+    // neither a corridor's, and those two rooms meet each other along more
+    // open floor than a door is wide (open_border_m). The floor goes round
+    // the piece: the way through it was one way round an obstacle inside one
+    // space, not a corridor between two, and the three are one room
+    // (cluttered_lab: a sliver of an ASR in the gap between two boxes whose
+    // sides line up like a doorway's jambs; the lab either side of it meets
+    // below the lower box along 3.4 m of floor). Rooms entered from a
+    // corridor through one side (offices) lie on the same side of their
+    // doors: where two of those meet, a wall between them was missed
+    // (RoomsEnteredEachFromTheCorridorStayTwoAcrossAMissedWall).
+    struct End {
+      int room;
+      Vec2 at, u;  // the exit's centre and line
+    };
+    std::vector<std::vector<End>> ends(n1);  // a piece's exits to other rooms
+    for (const DoorCand& d : door_cands) {
+      if (d.unmeasured) continue;
+      auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
+      if (a == index_of.end() || b == index_of.end()) continue;
+      const int ru = unit_room[unit_root(unit_of[a->second])], rv = unit_room[unit_root(unit_of[b->second])];
+      if (ru < 0 || rv < 0 || ru == rv) continue;
+      ends[ru].push_back({rv, d.centre, d.line_u});
+      ends[rv].push_back({ru, d.centre, d.line_u});
+    }
+    // The open border between two groups, as touching_xy.
+    auto group_touch = [&](int a, int b) {
+      std::pair<int, int> t{0, 0};
+      for (const auto& [pair, xy] : touching_xy) {
+        const int p = corr.Find(pair.first), q = corr.Find(pair.second);
+        if ((p == a && q == b) || (p == b && q == a)) t.first += xy.first, t.second += xy.second;
+      }
+      return t;
+    };
+    for (int r = 0; r < n1; ++r) {
+      const int root = corr.Find(r);
+      if (in_corridor[r] || !corridor_group[root] || group_size[root] != 1) continue;
+      std::set<int> sides;
+      for (const End& ea : ends[r])
+        for (const End& eb : ends[r]) {
+          const int a = corr.Find(ea.room), b = corr.Find(eb.room);
+          if (a >= b || corridor_group[a] || corridor_group[b]) continue;
+          if (std::abs(ea.u.dot(eb.u)) < std::sqrt(0.5)) continue;
+          const Vec2 n = Perp(ea.u);
+          if (n.dot(shapes[ea.room].centre - ea.at) * n.dot(shapes[eb.room].centre - eb.at) >= 0.0) continue;
+          const auto [nx, ny] = group_touch(a, b);
+          if (g.cell * std::hypot(nx, ny) > o.open_border_m) sides.insert({a, b});
+        }
+      for (int a : sides) corr.Unite(r, a);
+      if (!sides.empty()) corridor_group[corr.Find(r)] = 0;  // a room now, whichever root it kept
+    }
   }
   // Plan rooms: one per corridor group or remaining unit, ordered by first ASR.
   std::vector<int> plan_of_r1(n1, -1);

@@ -1497,6 +1497,42 @@ TEST(BuildPlan, AnExitBesideABoxIsNoDoorAndTheLabStaysOneRoom) {
   EXPECT_NEAR(walled.doors[0].center().y(), 2.125, 0.05);
 }
 
+TEST(BuildPlan, AWayBetweenTwoBoxesInALabIsNoCorridor) {
+  // A 12 x 10 m lab with a cabinet against the north wall (4..7 x 7..10) and
+  // an island (4..7 x 5..5.8) south of it: between them a way 1.2 m wide
+  // and 3 m long. The robot drove the west half, the way (cut into an ASR
+  // of its own, narrow and elongated as a corridor piece, its exits inside
+  // it, their lines across it) and the east half. The two halves meet south
+  // of the island along about 5 m of open floor, more than a door is wide:
+  // the way was one way round the island inside one space, and the lab is
+  // one room (the room graph keeps its three ASRs).
+  const Polyline cabinet = Box(4, 7, 7, 10), island = Box(4, 5, 7, 5.8);
+  std::vector<Vec2> pw = Line({1, 1}, {3.5, 1});
+  for (const Vec2& p : Line({3.5, 1.1}, {3.5, 6.4})) pw.push_back(p);
+  for (const Vec2& p : Line({3.6, 6.4}, {4.5, 6.4})) pw.push_back(p);
+  asr::Asr west = MakeAsr(0, {{{4, 0}, {0, 0}, {0, 10}, {4, 10}}, cabinet, island}, pw);
+  asr::Asr way = MakeAsr(1, {{{4, 7}, {7, 7}}, {{4, 5.8}, {7, 5.8}}}, Line({4.5, 6.4}, {6.5, 6.4}), 10.0);
+  std::vector<Vec2> pe = Line({6.5, 6.4}, {7.5, 6.4});
+  for (const Vec2& p : Line({7.5, 6.3}, {7.5, 1})) pe.push_back(p);
+  for (const Vec2& p : Line({7.6, 1}, {11, 1})) pe.push_back(p);
+  asr::Asr east = MakeAsr(2, {{{7, 0}, {12, 0}, {12, 10}, {7, 10}}, cabinet, island}, pe, 20.0);
+  for (asr::Asr* x : {&west, &way}) x->exits.push_back({{4.5, 6.4}, 1.2, 0, 1});
+  for (asr::Asr* x : {&way, &east}) x->exits.push_back({{6.5, 6.4}, 1.2, 1, 2});
+  const Plan plan = BuildPlan({west, way, east}, {});
+  ASSERT_EQ(plan.rooms.size(), 1u);
+  EXPECT_EQ(plan.rooms[0].asr_ids, (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(plan.rooms[0].graph_rooms.size(), 3u);
+  EXPECT_FALSE(plan.rooms[0].corridor);
+  EXPECT_TRUE(plan.doors.empty());
+
+  // A wall from the island to the south wall (x = 5.5) closes that floor:
+  // the way is the one way between the halves, a short corridor between
+  // two rooms, and the plan keeps the three.
+  for (asr::Asr* x : {&west, &east}) x->walls_local.push_back({{5.5, 0}, {5.5, 5}});
+  const Plan walled = BuildPlan({west, way, east}, {});
+  EXPECT_EQ(walled.rooms.size(), 3u);
+}
+
 TEST(BuildPlan, RoomsEnteredEachFromTheCorridorStayTwoAcrossAMissedWall) {
   // Two 4 x 4 m offices off a 2 m corridor; the wall between them (x = 4)
   // was not seen, so their floors meet along 4 m of open floor. The robot
