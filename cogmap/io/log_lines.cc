@@ -432,9 +432,7 @@ void CheckRange(double r, const std::string& path, long line, const std::string&
 
 const Pose2& CheckPosition(const Pose2& pose, const std::string& path, long line, const std::string& what) {
   if (std::abs(pose.x) <= kAbsurdPositionM && std::abs(pose.y) <= kAbsurdPositionM) return pose;
-  char text[128];
-  std::snprintf(text, sizeof text, ": absurd position (%g, %g) m (more than 100000 km from the origin)", pose.x, pose.y);
-  throw InputError(path, line, what + text);
+  throw InputError(path, line, what + ": " + AbsurdPosition(pose));
 }
 
 void ThrowEmptyLog(const std::string& path) { throw InputError(path, 0, "empty log: no range readings"); }

@@ -1,6 +1,8 @@
 #pragma once
 // Shared pieces of the log readers: a line source over plain or gzip files (or
 // standard input), and number parsing that names file:line in every error.
+#include <cmath>
+#include <cstdio>
 #include <istream>
 #include <memory>
 #include <string>
@@ -117,6 +119,25 @@ constexpr double kAbsurdPositionM = 1e8;
 // Returns 'pose' unless its x or y lies beyond kAbsurdPositionM: InputError
 // "path:line: <what>: absurd position (x, y) m (more than 100000 km from the origin)".
 const Pose2& CheckPosition(const Pose2& pose, const std::string& path, long line, const std::string& what);
+// What is wrong with a pose read from a binary log (a bag's odometry or tf,
+// a rawlog's odometry), or "" when nothing is: a coordinate or heading that
+// is not a finite number, or a position beyond kAbsurdPositionM. The text
+// readers parse only finite numbers and call CheckPosition. Inline: the
+// MRPT module (cogmap/io/plugin_api.h) does not link this library.
+inline std::string AbsurdPosition(const Pose2& pose) {
+  char text[128];
+  std::snprintf(text, sizeof text, "absurd position (%g, %g) m (more than 100000 km from the origin)", pose.x, pose.y);
+  return text;
+}
+inline std::string PoseProblem(const Pose2& pose) {
+  if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.theta)) {
+    char text[160];
+    std::snprintf(text, sizeof text, "pose (%g, %g, %g) is not finite", pose.x, pose.y, pose.theta);
+    return text;
+  }
+  if (std::abs(pose.x) > kAbsurdPositionM || std::abs(pose.y) > kAbsurdPositionM) return AbsurdPosition(pose);
+  return "";
+}
 
 // "empty log: no range readings" naming the file.
 [[noreturn]] void ThrowEmptyLog(const std::string& path);

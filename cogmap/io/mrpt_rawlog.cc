@@ -1,6 +1,7 @@
 // The MRPT rawlog reader and writer: the module libcogmap_io_mrpt.so
 // (plugin_api.h), loaded by plugins.cc when a rawlog is read or written.
 #include "cogmap/io/mrpt_rawlog.h"
+#include "cogmap/io/log_lines.h"
 #include "cogmap/io/plugin_api.h"
 
 #include <mrpt/core/Clock.h>
@@ -195,6 +196,8 @@ class RawlogReader : public LogReader {
           // no pose change PDF: the raw increment
         }
         pose_ = pose_.value_or(Pose2{}) * Pose2{inc.x(), inc.y(), inc.phi()};
+        if (const std::string problem = PoseProblem(*pose_); !problem.empty())
+          throw InputError(path_ + ": entry " + std::to_string(item.entry) + ": odometry: " + problem);
         *out = {};
         out->time_s = Seconds(move->timestamp);
         out->odom = *pose_;
@@ -207,6 +210,8 @@ class RawlogReader : public LogReader {
       const auto& obs = item.obs;
       if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs)) {
         pose_ = Pose2{odo->odometry.x(), odo->odometry.y(), odo->odometry.phi()};
+        if (const std::string problem = PoseProblem(*pose_); !problem.empty())
+          throw InputError(path_ + ": entry " + std::to_string(item.entry) + ": odometry: " + problem);
         *out = {};
         out->time_s = Seconds(odo->timestamp);
         out->odom = *pose_;

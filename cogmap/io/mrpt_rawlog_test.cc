@@ -189,6 +189,15 @@ TEST(MrptRawlog, TruncatedRawlogIsOneErrorNamingTheEntry) {
   EXPECT_THAT(ErrorReading(path, "auto"), HasSubstr("truncated"));
 }
 
+TEST(MrptRawlog, AbsurdOdometryIsAnErrorNamingTheEntry) {
+  // A pose of 1e300 m failed later, in the grid, without naming the rawlog.
+  auto run = SimulatedRun(3.0);
+  run[2].odom.x = 1e300;
+  const std::string path = WriteObservationsRawlog("far.rawlog", run, false);
+  EXPECT_THAT(ErrorReading(path, "auto"), HasSubstr(path + ": entry "));
+  EXPECT_THAT(ErrorReading(path, "auto"), HasSubstr(": odometry: absurd position (1e+300, "));
+}
+
 // A rawlog whose first entry claims a serialization version this MRPT does
 // not know (as a file from another MRPT version would).
 TEST(MrptRawlog, EntryOfAnotherVersionIsOneError) {

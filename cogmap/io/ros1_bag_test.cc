@@ -311,5 +311,22 @@ TEST(Ros1Bag, ScanWithAnotherBeamCountIsAnErrorNamingTheMessage) {
   EXPECT_THAT(ErrorReading(bag, "auto"), HasSubstr(bag + ": /scan message 2: LaserScan has 1 ranges, the first had 2"));
 }
 
+TEST(Ros1Bag, AbsurdOrNonFiniteOdometryIsAnErrorNamingTheMessage) {
+  // A pose of 1e300 m (or NaN) failed later, in the grid, without naming the bag.
+  for (const double x : {1e300, std::nan("")}) {
+    const std::string bag = ::cogmap::testing_util::TestTempPath("far.bag");
+    M odom = Make("/odom", 1000000000, M::kOdometry, "odom", "base_link");
+    M far = Make("/odom", 1100000000, M::kOdometry, "odom", "base_link", x, 0.0);
+    M scan = Make("/scan", 1050000000, M::kLaserScan, "base_link");
+    scan.angle_increment = 0.1;
+    scan.range_max = 4.0;
+    scan.values = {1.0f, 2.0f};
+    WriteFixtureBag(bag, {odom, scan, far});
+    const std::string error = ErrorReading(bag, "auto");
+    EXPECT_THAT(error, HasSubstr(bag + ": /odom message 2: "));
+    EXPECT_THAT(error, HasSubstr(std::isnan(x) ? "is not finite" : "absurd position (1e+300, 0) m"));
+  }
+}
+
 }  // namespace
 }  // namespace cogmap::io

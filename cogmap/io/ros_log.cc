@@ -11,6 +11,7 @@
 
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
+#include "cogmap/io/log_lines.h"
 #include "cogmap/sensors/robot.h"
 
 namespace cogmap::io::ros {
@@ -564,7 +565,9 @@ class BagReader : public LogReader {
         if (child != base_)
           Fail(m.topic, m.index, "mismatched frames: child frame '" + child + "', earlier '" + base_ + "'");
         const double t = StampNs(o.header, m.time_ns) * 1e-9;
-        odom_.Add(t, Planar(o.pose));
+        const Pose2 pose = Planar(o.pose);
+        if (const std::string problem = PoseProblem(pose); !problem.empty()) Fail(m.topic, m.index, problem);
+        odom_.Add(t, pose);
         sensors::LogRecord r;
         Push(t, 0, std::move(r));
         ++odometry_;
@@ -583,7 +586,9 @@ class BagReader : public LogReader {
             Fail(m.topic, m.index, "mismatched tf frames: '" + base_ + "' has parent '" + Frame(x.header.frame_id) +
                                        "', earlier '" + odom_frame_ + "'");
           const double t = StampNs(x.header, m.time_ns) * 1e-9;
-          odom_.Add(t, Planar(x.transform));
+          const Pose2 pose = Planar(x.transform);
+          if (const std::string problem = PoseProblem(pose); !problem.empty()) Fail(m.topic, m.index, problem);
+          odom_.Add(t, pose);
           sensors::LogRecord r;
           Push(t, 0, std::move(r));
           ++odometry_;
