@@ -2,7 +2,9 @@
 
 #include <filesystem>
 
+#include "cogmap/core/error.h"
 #include "cogmap/io/log_test_util.h"
+#include "cogmap/io/log_tools.h"
 
 namespace cogmap::io {
 namespace {
@@ -327,6 +329,28 @@ TEST(StdinLog, StandardInputIsReadOnce) {
 // --resume knows the log a store was mapped from by its fingerprint: the
 // same bytes, or the same log grown since; not another log, nor standard
 // input (read once, no identity).
+TEST(ConvertLog, AsSonarTakesALaserLogAndASonarRing) {
+  auto error = [](const std::string& path, const std::string& robot) {
+    LogToolOptions o;
+    o.as_sonar = robot;
+    try {
+      ConvertLog(path, o, "native", ::cogmap::testing_util::TestTempPath("as_sonar_out.log"));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string laser = WriteTemp("laser.clf", "FLASER 3 1.5 2.5 81.9 1.1 2.2 0.3 1 2 0.25 2.5 host 2.5\n");
+  const std::string sonar = WriteTemp("sonar.log", "# cogmap-log 1\nrobot pioneer8\nODOM 0 0 0 0\nSWEEP 0 1 0 1.5\n");
+  // A laser's beams written as "sonar" readings: no conversion.
+  EXPECT_EQ(error(laser, "laser"), "--as-sonar laser: robot 'laser' is not a sonar ring (181 of its 181 sensors are laser beams)");
+  // A sonar log has no laser returns to take the nearest of.
+  EXPECT_THAT(error(sonar, "pioneer16"), HasSubstr(sonar + ": --as-sonar turns a laser's readings into sonar readings"));
+  EXPECT_FALSE(std::filesystem::exists(::cogmap::testing_util::TestTempPath("as_sonar_out.log")));  // nothing written
+  EXPECT_EQ(error(laser, "pioneer16"), "");
+  EXPECT_TRUE(std::filesystem::exists(::cogmap::testing_util::TestTempPath("as_sonar_out.log")));
+}
+
 TEST(LogFingerprint, TheSameLogOrItGrownSinceButNoOther) {
   const std::string text = "# cogmap-log 1\nrobot pioneer8\nODOM 0 0 0 0\nSWEEP 0 1 0 1\n";
   const std::string path = WriteTemp("fingerprint.log", text);

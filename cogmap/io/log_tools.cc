@@ -142,6 +142,18 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
   std::optional<sensors::AsSonar> as_sonar;
   if (!o.as_sonar.empty()) {
     sonar = sensors::ResolveRobot(o.as_sonar);
+    // A sonar ring read from a laser: any other pair is no conversion this
+    // does (a laser's beams "read" from a laser were written as sonar readings).
+    auto count = [](const sensors::RobotDescription& r, sensors::SensorKind kind) {
+      return std::count_if(r.sensors.begin(), r.sensors.end(), [&](const auto& x) { return x.kind == kind; });
+    };
+    if (sonar->sensors.empty() || count(*sonar, sensors::SensorKind::kSonar) != static_cast<long>(sonar->sensors.size()))
+      throw InputError("--as-sonar " + o.as_sonar + ": robot '" + sonar->name + "' is not a sonar ring (" +
+                       std::to_string(count(*sonar, sensors::SensorKind::kLaser)) + " of its " +
+                       std::to_string(sonar->sensors.size()) + " sensors are laser beams)");
+    if (count(robot, sensors::SensorKind::kLaser) == 0)
+      throw InputError(path + ": --as-sonar turns a laser's readings into sonar readings, and robot '" + robot.name +
+                       "' has no laser");
     as_sonar.emplace(robot, *sonar);
   }
   long records = 0, readings = 0;
