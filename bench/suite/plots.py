@@ -70,7 +70,7 @@ def error_vs_drift(results, path):
     for ax in (axes[0][0], axes[1][0]):
         if ax.lines:
             ax.legend(fontsize=7)
-    fig.suptitle("Error against odometry heading drift (median over seeds; dashed = raw odometry, solid = corrected by `cogmap map`)")
+    fig.suptitle("Error against odometry heading drift (median over seeds; dashed = raw odometry, solid = corrected by cogmap map)")
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
