@@ -196,8 +196,7 @@ class RawlogReader : public LogReader {
           // no pose change PDF: the raw increment
         }
         pose_ = pose_.value_or(Pose2{}) * Pose2{inc.x(), inc.y(), inc.phi()};
-        if (const std::string problem = PoseProblem(*pose_); !problem.empty())
-          throw InputError(path_ + ": entry " + std::to_string(item.entry) + ": odometry: " + problem);
+        CheckOdometry(item);
         *out = {};
         out->time_s = Seconds(move->timestamp);
         out->odom = *pose_;
@@ -210,8 +209,7 @@ class RawlogReader : public LogReader {
       const auto& obs = item.obs;
       if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs)) {
         pose_ = Pose2{odo->odometry.x(), odo->odometry.y(), odo->odometry.phi()};
-        if (const std::string problem = PoseProblem(*pose_); !problem.empty())
-          throw InputError(path_ + ": entry " + std::to_string(item.entry) + ": odometry: " + problem);
+        CheckOdometry(item);
         *out = {};
         out->time_s = Seconds(odo->timestamp);
         out->odom = *pose_;
@@ -265,6 +263,11 @@ class RawlogReader : public LogReader {
   std::vector<LogContent> contents() const override { return contents_; }
 
  private:
+  // InputError naming the entry when the pose just read is not finite or absurdly far (PoseProblem).
+  void CheckOdometry(const Item& item) const {
+    if (const std::string problem = PoseProblem(*pose_); !problem.empty())
+      throw InputError(path_ + ": entry " + std::to_string(item.entry) + ": odometry: " + problem);
+  }
   static double Range(double r, const sensors::RangeSensor& q) {
     if (!std::isfinite(r) || r >= q.max_range_m - kNoEchoSnapM) return q.max_range_m;
     return std::max(r, 0.0);

@@ -210,6 +210,11 @@ class BagReader : public LogReader {
     throw InputError(src_->path() + ": " + src_->topics()[topic].name + " message " + std::to_string(index) + ": " +
                      problem);
   }
+  // 'pose' of message 'index' unless it is not finite or absurdly far (PoseProblem).
+  Pose2 Checked(int topic, long index, const Pose2& pose) const {
+    if (const std::string problem = PoseProblem(pose); !problem.empty()) Fail(topic, index, problem);
+    return pose;
+  }
   [[noreturn]] void FailFile(const std::string& problem) const {
     throw InputError(src_->path() + ": " + problem);
   }
@@ -565,9 +570,7 @@ class BagReader : public LogReader {
         if (child != base_)
           Fail(m.topic, m.index, "mismatched frames: child frame '" + child + "', earlier '" + base_ + "'");
         const double t = StampNs(o.header, m.time_ns) * 1e-9;
-        const Pose2 pose = Planar(o.pose);
-        if (const std::string problem = PoseProblem(pose); !problem.empty()) Fail(m.topic, m.index, problem);
-        odom_.Add(t, pose);
+        odom_.Add(t, Checked(m.topic, m.index, Planar(o.pose)));
         sensors::LogRecord r;
         Push(t, 0, std::move(r));
         ++odometry_;
@@ -586,9 +589,7 @@ class BagReader : public LogReader {
             Fail(m.topic, m.index, "mismatched tf frames: '" + base_ + "' has parent '" + Frame(x.header.frame_id) +
                                        "', earlier '" + odom_frame_ + "'");
           const double t = StampNs(x.header, m.time_ns) * 1e-9;
-          const Pose2 pose = Planar(x.transform);
-          if (const std::string problem = PoseProblem(pose); !problem.empty()) Fail(m.topic, m.index, problem);
-          odom_.Add(t, pose);
+          odom_.Add(t, Checked(m.topic, m.index, Planar(x.transform)));
           sensors::LogRecord r;
           Push(t, 0, std::move(r));
           ++odometry_;

@@ -2519,6 +2519,12 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
   int n1 = 0;
   for (int u = 0; u < n_units; ++u)
     if (unit_root(u) == u) unit_room[u] = n1++;
+  // The pass-1 rooms an exit joins ({-1, -1} when either ASR is not in the plan).
+  auto rooms_of_exit = [&](const DoorCand& d) {
+    auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
+    if (a == index_of.end() || b == index_of.end()) return std::pair{-1, -1};
+    return std::pair{unit_room[unit_root(unit_of[a->second])], unit_room[unit_root(unit_of[b->second])]};
+  };
   std::vector<std::vector<uint32_t>> seeds;
   std::vector<RoomHulls> hulls;
   // Pass 1 bounds every unit by its walls and path: a corridor's grid sees
@@ -2587,9 +2593,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     std::vector<std::vector<const DoorCand*>> doors_of(n1);
     std::vector<char> other_exit(n1, 0), entered(n1, 0), left(n1, 0);
     for (const DoorCand& d : door_cands) {
-      auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
-      if (a == index_of.end() || b == index_of.end()) continue;
-      const int ra = unit_room[unit_root(unit_of[a->second])], rb = unit_room[unit_root(unit_of[b->second])];
+      const auto [ra, rb] = rooms_of_exit(d);
       if (ra == rb) continue;
       const bool through = d.jambs && PointSegmentDistance(d.centre, d.a, d.b) <= o.robot_radius_m;
       for (const int r : {ra, rb}) {
@@ -2945,9 +2949,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
       if (in_corridor[r] || (group_size[corr.Find(r)] == 1 && corridor_piece(r))) corridor_group[corr.Find(r)] = 1;
     for (const DoorCand& d : door_cands) {
       if (d.crossed_door || (d.in_wall && !d.unmeasured)) continue;
-      auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
-      if (a == index_of.end() || b == index_of.end()) continue;
-      const int ru = unit_room[unit_root(unit_of[a->second])], rv = unit_room[unit_root(unit_of[b->second])];
+      const auto [ru, rv] = rooms_of_exit(d);
       if (ru < 0 || rv < 0 || corr.Find(ru) == corr.Find(rv)) continue;
       if (corridor_group[corr.Find(ru)] || corridor_group[corr.Find(rv)]) continue;
       corr.Unite(ru, rv);
@@ -2972,9 +2974,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     std::vector<std::vector<End>> ends(n1);  // a piece's exits to other rooms
     for (const DoorCand& d : door_cands) {
       if (d.unmeasured) continue;
-      auto a = index_of.find(d.from_asr), b = index_of.find(d.to_asr);
-      if (a == index_of.end() || b == index_of.end()) continue;
-      const int ru = unit_room[unit_root(unit_of[a->second])], rv = unit_room[unit_root(unit_of[b->second])];
+      const auto [ru, rv] = rooms_of_exit(d);
       if (ru < 0 || rv < 0 || ru == rv) continue;
       ends[ru].push_back({rv, d.centre, d.line_u});
       ends[rv].push_back({ru, d.centre, d.line_u});
