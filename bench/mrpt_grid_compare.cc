@@ -39,6 +39,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -67,8 +68,13 @@ using cogmap::sensors::LogRecord;
 using cogmap::sensors::RobotDescription;
 using Clock = std::chrono::steady_clock;
 
-// Peak resident set size of this process so far, KiB (ru_maxrss on Linux).
+// Peak resident set size of this process so far, KiB: VmHWM, which belongs to
+// this image alone (ru_maxrss keeps the launcher's peak across exec).
 long PeakRssKib() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::strtol(line.c_str() + 6, nullptr, 10);
+  }
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
   return u.ru_maxrss;

@@ -13,6 +13,7 @@ PKGS=(
   # MRPT rawlogs (cogmap/io/mrpt_rawlog*)
   libmrpt-dev
   python3
+  time  # GNU time: the bench measures each command's own peak memory through it (bench/suite/peak_rss.py)
   gdal-bin  # ogrinfo: tests read map.gpkg and map.geojson back with GDAL
   pybind11-dev python3-dev python3-numpy python3-pytest
   python3-matplotlib  # the Python docs' example, run by the pytest suite

@@ -3,7 +3,9 @@
 A job is a list of steps (commands) run in order; a step that fails ends its job
 and the failure (exit status and the last line of stderr) is kept as the reason
 that the job's metrics are n/a. Every command is timed (wall clock) and its peak
-resident memory taken from the kernel (wait4 rusage, ru_maxrss in KiB).
+resident memory taken from the kernel: ru_maxrss in KiB, of the command alone
+through GNU time (suite/peak_rss.py: wait4 on a child of this Python process
+would report this process's memory as the floor).
 """
 import concurrent.futures
 import dataclasses
@@ -12,6 +14,8 @@ import re
 import subprocess
 import threading
 import time
+
+from . import peak_rss
 
 
 @dataclasses.dataclass
@@ -46,8 +50,10 @@ def run_command(argv, cwd=None, timeout_s=None, env=None):
     """Runs argv, returns a StepResult with wall time and peak memory."""
     start = time.monotonic()
     out_path = None
-    with subprocess.Popen(argv, cwd=cwd, env=env, stdout=subprocess.PIPE,
-                          stderr=subprocess.PIPE, text=True, errors="replace") as p:
+    measured = peak_rss.Measured(argv)
+    with subprocess.Popen(measured.argv, cwd=cwd, env=env, stdout=subprocess.PIPE,
+                          stderr=subprocess.PIPE, text=True, errors="replace",
+                          start_new_session=True) as p:
         # Drain the pipes on threads so that wait4 (which gives us rusage) can
         # own the child's exit status.
         chunks = {"out": [], "err": []}
@@ -66,7 +72,7 @@ def run_command(argv, cwd=None, timeout_s=None, env=None):
             def kill():
                 timed_out.append(True)
                 try:
-                    p.kill()
+                    os.killpg(p.pid, 9)  # GNU time and the command under it
                 except ProcessLookupError:
                     pass
             timer = threading.Timer(timeout_s, kill)
@@ -80,7 +86,7 @@ def run_command(argv, cwd=None, timeout_s=None, env=None):
     wall = time.monotonic() - start
     rc = 124 if timed_out else p.returncode
     return StepResult(list(map(str, argv)), rc, wall, usage.ru_utime, usage.ru_stime,
-                      usage.ru_maxrss, "".join(chunks["out"]), "".join(chunks["err"]))
+                      measured.peak_kib(usage.ru_maxrss), "".join(chunks["out"]), "".join(chunks["err"]))
 
 
 @dataclasses.dataclass
