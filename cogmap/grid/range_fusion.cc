@@ -185,8 +185,13 @@ void HimmFusion::InsertSweep(const Pose2& world_from_robot, const sensors::Robot
     }
     const sensors::RangeSensor& sensor = robot.sensors[r.sensor];
     const Pose2& m = sensor.robot_from_sensor;
-    // Sensor pose by composing rotations (eq. 3.5), one sincos per reading.
-    const double cm = std::cos(m.theta), sm = std::sin(m.theta);
+    // Sensor pose by composing rotations (eq. 3.5); the mount's turn is
+    // taken once per sensor.
+    if (mount_turn_.size() <= static_cast<size_t>(r.sensor))
+      mount_turn_.resize(robot.sensors.size(), {std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0});
+    MountTurn& turn = mount_turn_[r.sensor];
+    if (!(turn.theta == m.theta)) turn = {m.theta, std::cos(m.theta), std::sin(m.theta)};
+    const double cm = turn.c, sm = turn.s;
     const double sx = world_from_robot.x + c * m.x - s * m.y;
     const double sy = world_from_robot.y + s * m.x + c * m.y;
     InsertRay(r0, sx, sy, c * cm - s * sm, s * cm + c * sm, sensor, r.range_m);

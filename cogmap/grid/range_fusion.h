@@ -196,6 +196,13 @@ class HimmFusion : public RangeFusion {
   bool track_distance_ = false;
   double distance_ = 0.0;
   Grid2D<float> hit_distance_sum_, hit_weight_;
+  // The cosine and sine of each sensor's mount angle, by sensor index, with
+  // the angle they are of: a mount is fixed, so a sweep of a 180-beam laser
+  // need not take 180 of them again (the same values, so the same grid).
+  struct MountTurn {
+    double theta, c, s;
+  };
+  std::vector<MountTurn> mount_turn_;
 };
 
 // Bayes in log-odds (Moravec; thesis §2.2.1, table 2.2, eq. 2.9) or
