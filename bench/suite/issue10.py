@@ -709,7 +709,8 @@ def _cost(rep, cost, carmen, shortfalls, met):
                 "simulated with the 16-sonar ring (no drift) to the end and, with `simulate --max-time`, to "
                 f"the first {100 * p['share']:.0f} % of its duration; each log mapped by the whole `cogmap map` "
                 "command (reading, every stage, the store, every output file). Peak memory: the command's "
-                "maximum resident set (wait4).", ""]
+                "own maximum resident set (GNU time; not wait4 from the bench, whose figure starts at the "
+                "bench process's own memory, bench/suite/peak_rss.py).", ""]
         if cost.get("na", {}).get("all"):
             out += [rep.na(cost["na"]["all"]), ""]
         else:
