@@ -313,6 +313,10 @@ class Mapper {
       d["drift_rate_sigma_deg_per_m"] = RadToDeg(r.graph.drift_rate_sigma_rad_per_m);
     else
       d["drift_rate_sigma_deg_per_m"] = py::none();
+    if (r.graph.drift_rate_spread_sigma_rad_per_m >= 0.0)
+      d["drift_rate_spread_sigma_deg_per_m"] = RadToDeg(r.graph.drift_rate_spread_sigma_rad_per_m);
+    else
+      d["drift_rate_spread_sigma_deg_per_m"] = py::none();
     d["building_directions_deg"] = graph::BuildingDirectionsDeg(r.graph);
     d["warnings"] = r.graph.warnings;
     return d;

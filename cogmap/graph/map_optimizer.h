@@ -354,10 +354,23 @@ struct OptimizerResult {
   // drift it could not rule out); < 0: not known (the odometry solution, a
   // single room, a rate nothing measures).
   double drift_rate_sigma_rad_per_m = -1.0;
+  // The rate's 1-sigma over every fit of the rates the covariances hold
+  // (drift_hypotheses): the second moment of their mixture about the rate
+  // kept, as the poses' covariances hold their spread about the poses kept
+  // (DriftSpreadSigma). drift_rate_sigma_rad_per_m alone when there is one
+  // fit; < 0 when that is not known.
+  double drift_rate_spread_sigma_rad_per_m = -1.0;
   double solve_seconds = 0.0;
   double covariance_seconds = 0.0;
   std::vector<std::string> warnings;
 };
+
+// The sigma of a rate kept at 'kept' (its own 1-sigma 'own') when the data
+// fit several rates, each with its share of the likelihood: the root of the
+// mixture's second moment about the kept rate, own^2 + sum of share x
+// (rate - kept)^2. One fit at the kept rate gives 'own' back; 'own' < 0
+// (not known) gives -1.
+double DriftSpreadSigma(double kept, double own, const std::vector<OptimizerResult::DriftHypothesis>& fits);
 
 // The building directions (radians, modulo a quarter turn) that wall
 // directions agree on: greedily, the widest group of 'directions' within a

@@ -603,6 +603,12 @@ TEST(MapOptimizer, TheCovariancesHoldADriftTheTestLeftAtAnAlias) {
   bool said = false;
   for (const std::string& w : r.warnings) said |= w.rfind("no drift found, but", 0) == 0;
   EXPECT_TRUE(said);
+  // The rate's own sigma puts the truth beyond 3 sigma of the rate kept;
+  // its sigma over every fit holds it.
+  const double off = std::abs(truth - r.drift_rate_rad_per_m);
+  ASSERT_GE(r.drift_rate_sigma_rad_per_m, 0.0);
+  EXPECT_GT(off, 3.0 * r.drift_rate_sigma_rad_per_m);
+  EXPECT_LE(off, 3.0 * r.drift_rate_spread_sigma_rad_per_m);
   // Every placed ASR within 3 sigma of its true pose, in position and in
   // heading (as cogmap eval counts it), though placed a quarter turn off.
   int far = 0;
@@ -615,6 +621,22 @@ TEST(MapOptimizer, TheCovariancesHoldADriftTheTestLeftAtAnAlias) {
     EXPECT_LE(dt, 3.0 * std::sqrt(e.covariance(2, 2))) << i;
   }
   EXPECT_GT(far, 0);  // the case is the one it claims to be
+}
+
+// The rate's sigma over its fits: own^2 plus each fit's share of the
+// squared distance from the rate kept.
+TEST(MapOptimizer, TheDriftsSpreadIsTheMixturesSecondMomentAboutTheRateKept) {
+  using H = OptimizerResult::DriftHypothesis;
+  // One fit at the rate kept: its own sigma.
+  EXPECT_DOUBLE_EQ(DriftSpreadSigma(0.01, 0.002, {H{0.01, 1.0, 1}}), 0.002);
+  EXPECT_DOUBLE_EQ(DriftSpreadSigma(0.01, 0.002, {}), 0.002);
+  // Held at zero, fits at 0 and 0.04 rad/m, half each: sqrt(0.03^2 + 0.5 x 0.04^2).
+  EXPECT_NEAR(DriftSpreadSigma(0.0, 0.03, {H{0.0, 0.5, 1}, H{0.04, 0.5, 1}}), std::sqrt(0.0009 + 0.0008), 1e-15);
+  // Kept at the likelier of two: the other weighs by its share.
+  EXPECT_NEAR(DriftSpreadSigma(0.02, 0.0, {H{0.02, 0.9, 1}, H{-0.08, 0.1, 2}}), std::sqrt(0.1 * 0.01), 1e-15);
+  // Not known stays not known; a fit that failed (not finite) counts for nothing.
+  EXPECT_EQ(DriftSpreadSigma(0.0, -1.0, {H{0.05, 1.0, 1}}), -1.0);
+  EXPECT_DOUBLE_EQ(DriftSpreadSigma(0.0, 0.01, {H{std::nan(""), 0.5, 1}, H{0.0, 0.5, 1}}), 0.01);
 }
 
 // A building of two wings: six 4 x 4 m rooms in a row along x, then,

@@ -94,6 +94,9 @@ nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStr
           {"drift_rate_sigma_deg_per_m", g.drift_rate_sigma_rad_per_m >= 0.0
                                              ? nlohmann::json(RadToDeg(g.drift_rate_sigma_rad_per_m))
                                              : nlohmann::json(nullptr)},
+          {"drift_rate_spread_sigma_deg_per_m", g.drift_rate_spread_sigma_rad_per_m >= 0.0
+                                                    ? nlohmann::json(RadToDeg(g.drift_rate_spread_sigma_rad_per_m))
+                                                    : nlohmann::json(nullptr)},
           {"chi2", g.chi2},
           {"chi2_dof", g.chi2_dof},
           {"chi2_p999", g.chi2_p999},

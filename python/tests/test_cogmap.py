@@ -126,6 +126,9 @@ def test_mapper_record_by_record_equals_the_command(sim_log, command_map, tmp_pa
     assert result["drift_rate_sigma_deg_per_m"] == pytest.approx(
         cmd_report["pose_graph"]["drift_rate_sigma_deg_per_m"], abs=1e-9)
     assert result["drift_rate_sigma_deg_per_m"] > 0.0
+    assert result["drift_rate_spread_sigma_deg_per_m"] == pytest.approx(
+        cmd_report["pose_graph"]["drift_rate_spread_sigma_deg_per_m"], abs=1e-9)
+    assert result["drift_rate_spread_sigma_deg_per_m"] >= result["drift_rate_sigma_deg_per_m"]
     assert result["building_directions_deg"] == pytest.approx(cmd_report["pose_graph"]["building_directions_deg"])
 
 
