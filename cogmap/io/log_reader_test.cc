@@ -351,6 +351,22 @@ TEST(ConvertLog, AsSonarTakesALaserLogAndASonarRing) {
   EXPECT_TRUE(std::filesystem::exists(::cogmap::testing_util::TestTempPath("as_sonar_out.log")));
 }
 
+// The ring fires where the laser scanned: three scans over 2 m of
+// odometry, with two odometry records between them.
+TEST(ConvertLog, AsSonarSaysHowOftenTheRingFires) {
+  const std::string laser = WriteTemp("laser_sparse.clf",
+                                      "FLASER 3 1.5 2.5 1.9 0 0 0 0 0 0 1.0 host 1.0\n"
+                                      "ODOM 0.5 0 0 0.5 0 0 2.0 host 2.0\n"
+                                      "FLASER 3 1.5 2.5 1.9 1 0 0 1 0 0 3.0 host 3.0\n"
+                                      "ODOM 1.5 0 0 0.5 0 0 4.0 host 4.0\n"
+                                      "FLASER 3 1.5 2.5 1.9 2 0 0 2 0 0 5.0 host 5.0\n");
+  LogToolOptions o;
+  o.as_sonar = "pioneer16";
+  const ConvertSummary s = ConvertLog(laser, o, "native", ::cogmap::testing_util::TestTempPath("as_sonar_sparse.log"));
+  EXPECT_THAT(s.text, HasSubstr("the ring fires at 3 of 5 records (the laser's scans): once every 0.67 m of the 2 m driven"))
+      << s.text;
+}
+
 TEST(LogFingerprint, TheSameLogOrItGrownSinceButNoOther) {
   const std::string text = "# cogmap-log 1\nrobot pioneer8\nODOM 0 0 0 0\nSWEEP 0 1 0 1\n";
   const std::string path = WriteTemp("fingerprint.log", text);

@@ -157,6 +157,11 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
     as_sonar.emplace(robot, *sonar);
   }
   long records = 0, readings = 0;
+  // --as-sonar: how often the ring fires, per metre of odometry (a sonar
+  // ring fires as often as the log's laser scans: a CARMEN log's every 0.5 m).
+  long sweeps = 0;
+  double travel_m = 0.0;
+  std::optional<Pose2> last_odom;
   // The next record, checked against the robot and turned to sonar if asked.
   auto next = [&](sensors::LogRecord* r) {
     if (!reader->Next(r)) return false;
@@ -164,7 +169,12 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
       if (q.sensor < 0 || q.sensor >= n_sensors)
         throw InputError(path, 0, "reading of sensor " + std::to_string(q.sensor) + " but robot '" + robot.name +
                                       "' has " + std::to_string(n_sensors) + " sensors");
-    if (as_sonar) r->ranges = as_sonar->Convert(r->ranges);
+    if (as_sonar) {
+      r->ranges = as_sonar->Convert(r->ranges);
+      sweeps += r->ranges.empty() ? 0 : 1;
+      if (last_odom) travel_m += (r->odom.translation() - last_odom->translation()).norm();
+      last_odom = r->odom;
+    }
     ++records;
     readings += static_cast<long>(r->ranges.size());
     if (records % 1024 == 0 && progress) progress(reader->progress());
@@ -203,6 +213,11 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
     if (unseen)
       AppendF(out, "%d of %zu sonars point where %s does not look: they have no readings\n", unseen,
                   sonar->sensors.size(), robot.name.c_str());
+    // The ring fires where the laser scanned: say how often, against the
+    // odometry's path (a Pioneer's ring fires every few centimetres).
+    if (sweeps > 0 && travel_m > 0.0)
+      AppendF(out, "the ring fires at %ld of %ld records (the laser's scans): once every %.2f m of the %.0f m driven\n",
+              sweeps, records, travel_m / static_cast<double>(sweeps), travel_m);
   }
   return s;
 }
