@@ -9,30 +9,19 @@
 //
 // The time per reading at a checkpoint is the mean over the last 5 % of the
 // records before it (ASR closes included: vectorising, correcting, storing).
-#include <sys/resource.h>
-
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "cogmap/asr/mapper.h"
 #include "cogmap/asr/store.h"
 #include "cogmap/core/error.h"
+#include "cogmap/core/process.h"
 #include "cogmap/io/log_reader.h"
 #include "cogmap/localize/heading_corrector.h"
 
 namespace {
-
-// VmHWM / VmRSS from /proc/self/status, kB (0 when unavailable).
-long ProcStatusKb(const std::string& key) {
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind(key + ":", 0) == 0) return std::atol(line.c_str() + key.size() + 1);
-  return 0;
-}
 
 long CountRecords(const std::string& path) {
   auto log = cogmap::io::OpenLog(path);
@@ -73,8 +62,8 @@ int main(int argc, char** argv) {
                              {"asr_count", mapper.stats().asr_count},
                              {"us_per_reading", window_readings ? 1e6 * window_s / window_readings : 0.0},
                              {"us_per_record", window_records ? 1e6 * window_s / window_records : 0.0},
-                             {"vm_hwm_kb", ProcStatusKb("VmHWM")},
-                             {"vm_rss_kb", ProcStatusKb("VmRSS")},
+                             {"vm_hwm_kb", cogmap::PeakResidentKib()},
+                             {"vm_rss_kb", cogmap::ResidentKib()},
                              {"current_grid_cells", mapper.current_grid_cells()}});
     };
     sensors::LogRecord rec;

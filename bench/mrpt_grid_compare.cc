@@ -32,7 +32,6 @@
 #include <mrpt/obs/CObservationRange.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
-#include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -49,6 +48,7 @@
 #include <vector>
 
 #include "cogmap/core/error.h"
+#include "cogmap/core/process.h"
 #include "cogmap/draw/drawing.h"
 #include "cogmap/core/geometry.h"
 #include "cogmap/grid/range_fusion.h"
@@ -67,26 +67,6 @@ using cogmap::grid::CellClass;
 using cogmap::sensors::LogRecord;
 using cogmap::sensors::RobotDescription;
 using Clock = std::chrono::steady_clock;
-
-// Peak resident set size of this process so far, KiB: VmHWM, which belongs to
-// this image alone (ru_maxrss keeps the launcher's peak across exec).
-long PeakRssKib() {
-  std::ifstream status("/proc/self/status");
-  for (std::string line; std::getline(status, line);) {
-    if (line.rfind("VmHWM:", 0) == 0) return std::strtol(line.c_str() + 6, nullptr, 10);
-  }
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return u.ru_maxrss;
-}
-
-// Current resident set size, KiB.
-long CurrentRssKib() {
-  std::ifstream f("/proc/self/statm");
-  long pages = 0, resident = 0;
-  f >> pages >> resident;
-  return resident * (sysconf(_SC_PAGESIZE) / 1024);
-}
 
 double Seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
@@ -152,7 +132,7 @@ std::unique_ptr<cogmap::grid::HimmFusion> BuildCogmap(const LoadedLog& log, doub
   auto grid = std::make_unique<cogmap::grid::HimmFusion>(true, options, bounds);
   for (const LogRecord& r : log.records) grid->InsertSweep(r.odom, log.robot, r.ranges);
   run->insert_s = Seconds(t0, Clock::now());
-  run->rss_after_kib = CurrentRssKib();
+  run->rss_after_kib = cogmap::ResidentKib();
   const auto& limits = grid->limits();
   run->cell_m = limits.cell_m();
   run->cells = limits.cell_count();
@@ -229,7 +209,7 @@ std::unique_ptr<mrpt::maps::COccupancyGridMap2D> BuildMrpt(const LoadedLog& log,
     }
   }
   run->insert_s = Seconds(t0, Clock::now());
-  run->rss_after_kib = CurrentRssKib();
+  run->rss_after_kib = cogmap::ResidentKib();
   run->cell_m = map->getResolution();
   run->cells = static_cast<long>(map->getSizeX()) * map->getSizeY();
   run->grid_bytes = run->cells * static_cast<long>(sizeof(mrpt::maps::COccupancyGridMap2D::cellType));
@@ -418,7 +398,7 @@ int Run(int argc, char** argv) {
   out["readings"] = log.readings;
   out["log_duration_s"] = log.duration_s;
   out["load_s"] = Seconds(t_load, Clock::now());
-  out["rss_after_load_kib"] = CurrentRssKib();
+  out["rss_after_load_kib"] = cogmap::ResidentKib();
   out["cell_m"] = cell_m;
   out["window_m"] = window_m;
   out["engine"] = engine;
@@ -461,7 +441,7 @@ int Run(int argc, char** argv) {
           [&](int x, int y) { return Vec2(theirs->idx2x(x), theirs->idx2y(y)); }, walls);
     }
   }
-  out["peak_rss_kib"] = PeakRssKib();
+  out["peak_rss_kib"] = cogmap::PeakResidentKib();
   if (!png.empty() && ours && theirs) {
     DrawSideBySide(png, ours.get(), theirs.get(), title);
     out["png"] = png;

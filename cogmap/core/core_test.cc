@@ -14,9 +14,24 @@
 #include "cogmap/core/error.h"
 #include "cogmap/core/geometry.h"
 #include "cogmap/core/parallel.h"
+#include "cogmap/core/process.h"
 
 namespace cogmap {
 namespace {
+
+// 64 MiB written page by page: resident now, and in the peak since.
+TEST(Process, ThePeakResidentSetHoldsWhatThisProgramTouched) {
+  const long rss0 = ResidentKib();
+  ASSERT_GT(rss0, 0);
+  EXPECT_GE(PeakResidentKib(), rss0);
+  std::vector<char> block(64L << 20);
+  for (size_t i = 0; i < block.size(); i += 4096) block[i] = static_cast<char>(i >> 12);
+  const long during = ResidentKib();
+  EXPECT_GE(during, rss0 + 60L * 1024) << "the block's pages are resident";
+  EXPECT_GE(PeakResidentKib(), during);
+  volatile char sink = block[block.size() / 2];
+  (void)sink;
+}
 
 TEST(ForEachShared, CallsEachIndexOnceOnOneOrMoreThreads) {
   for (int threads : {1, 2, 8}) {

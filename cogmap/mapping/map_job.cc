@@ -1,15 +1,11 @@
 #include "cogmap/mapping/map_job.h"
 
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <future>
 #include <iomanip>
 #include <map>
@@ -22,6 +18,7 @@
 #include "cogmap/asr/store.h"
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
+#include "cogmap/core/process.h"
 #include "cogmap/core/text.h"
 #include "cogmap/draw/layout.h"
 #include "cogmap/draw/map_picture.h"
@@ -63,20 +60,6 @@ void WriteSvgAndPng(draw::Drawing picture, const std::string& folder, const std:
   }
 }
 
-// The peak resident set of this program since it started, KiB. Linux's
-// ru_maxrss is no good for that: exec keeps the launcher's peak in it, so a
-// run started by a large process (a Python bench, an IDE) reports that
-// process's memory. /proc/self/status's VmHWM belongs to this image alone;
-// getrusage is the fallback where /proc is not mounted.
-long MaxRssKb() {
-  std::ifstream status("/proc/self/status");
-  for (std::string line; std::getline(status, line);) {
-    if (line.rfind("VmHWM:", 0) == 0) return std::strtol(line.c_str() + 6, nullptr, 10);
-  }
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return u.ru_maxrss;
-}
 
 // Opens the run's store in the folder's staging area: a copy of the stored map
 // to continue (--resume, checked where it is first), or a new one (which may
@@ -345,7 +328,7 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   ctx.start = job.started.value_or(start);
   ctx.startup_seconds = std::chrono::duration<double>(start - ctx.start).count();
   ctx.mapping_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  ctx.rss_mapping_kb = MaxRssKb();
+  ctx.rss_mapping_kb = PeakResidentKib();
   // The store is closed (checkpointed, without WAL: a few ms of writing and
   // syncing) on a thread of its own while the files made from the floor
   // plan are written; joined before anything is committed (or, on an
