@@ -130,15 +130,54 @@ HeadingErrorStats ComputeHeadingErrors(const std::vector<asr::Asr>& asrs,
   st.max_deg = *std::max_element(abs_cor.begin(), abs_cor.end());
   st.median_raw_deg = Median(abs_raw);
   st.max_raw_deg = *std::max_element(abs_raw.begin(), abs_raw.end());
+  // The drift: each ASR's raw error against the odometry's distance to the
+  // middle of its path (every ASR's path counted, with truth or without, and
+  // the way from one ASR's last pose to the next one's first: a path
+  // sampled at a CARMEN log's laser records leaves a stretch between them).
+  std::map<int, double> middle;
+  double driven = 0.0;
+  const Pose2* previous = nullptr;
+  for (const auto& a : asrs) {
+    if (a.path.empty()) continue;
+    if (previous) driven += (a.path.front().translation() - previous->translation()).norm();
+    double len = 0.0;
+    for (size_t k = 1; k < a.path.size(); ++k) len += (a.path[k].translation() - a.path[k - 1].translation()).norm();
+    middle[a.id] = driven + 0.5 * len;
+    driven += len;
+    previous = &a.path.back();
+  }
+  std::vector<double> xs, ys;
+  double last = 0.0;
+  for (const auto& e : st.per_asr) {
+    // Unwrapped: each error within half a turn of the one before.
+    const double y = xs.empty() ? e.raw_rad : last + AngleDiff(e.raw_rad, last);
+    xs.push_back(middle[e.asr_id]);
+    ys.push_back(y);
+    last = y;
+  }
+  if (xs.size() >= 3) {
+    double mx = 0.0, my = 0.0;
+    for (size_t i = 0; i < xs.size(); ++i) mx += xs[i], my += ys[i];
+    mx /= static_cast<double>(xs.size());
+    my /= static_cast<double>(xs.size());
+    double sxx = 0.0, sxy = 0.0;
+    for (size_t i = 0; i < xs.size(); ++i) sxx += (xs[i] - mx) * (xs[i] - mx), sxy += (xs[i] - mx) * (ys[i] - my);
+    if (sxx > 1e-9) {
+      st.drift_asrs = static_cast<int>(xs.size());
+      st.odometry_drift_rad_per_m = sxy / sxx;
+    }
+  }
   return st;
 }
 
 std::vector<std::pair<std::string, double>> HeadingErrorEvalKeys(const HeadingErrorStats& stats) {
   if (stats.asrs == 0) return {};
-  return {{"heading_error_deg_median", stats.median_deg},
-          {"heading_error_deg_max", stats.max_deg},
-          {"heading_error_deg_median_raw", stats.median_raw_deg},
-          {"heading_error_deg_max_raw", stats.max_raw_deg}};
+  std::vector<std::pair<std::string, double>> keys = {{"heading_error_deg_median", stats.median_deg},
+                                                      {"heading_error_deg_max", stats.max_deg},
+                                                      {"heading_error_deg_median_raw", stats.median_raw_deg},
+                                                      {"heading_error_deg_max_raw", stats.max_raw_deg}};
+  if (stats.drift_asrs >= 3) keys.emplace_back("odometry_drift_deg_per_m", RadToDeg(stats.odometry_drift_rad_per_m));
+  return keys;
 }
 
 }  // namespace cogmap::localize

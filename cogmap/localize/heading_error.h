@@ -32,6 +32,15 @@ struct HeadingErrorStats {
   double global_rotation_rad = 0.0;      // removed from the corrected errors
   double global_rotation_raw_rad = 0.0;  // removed from the raw errors
   std::vector<AsrHeadingError> per_asr;  // in input order
+  // The odometry's heading drift against the truth: the least-squares slope
+  // of the ASRs' raw heading errors (unwrapped in input order) over the
+  // distance the odometry drove to the middle of each ASR's path, rad per
+  // metre. What a drift rate the map reports can be checked against (the
+  // drift a simulation or `--add-drift-deg-per-m` put in, plus what the
+  // odometry's own noise added). Known when drift_asrs >= 3 and the ASRs'
+  // middles are apart.
+  int drift_asrs = 0;
+  double odometry_drift_rad_per_m = 0.0;
 };
 
 // Heading errors of ASRs that have true_path (and a path). The corrected pose
@@ -46,8 +55,9 @@ HeadingErrorStats ComputeHeadingErrors(const std::vector<asr::Asr>& asrs,
                                        const std::map<int, std::vector<Pose2>>& corrected_paths = {});
 
 // `cogmap eval` keys: heading_error_deg_median, heading_error_deg_max,
-// heading_error_deg_median_raw, heading_error_deg_max_raw. Empty when no ASR
-// has ground truth.
+// heading_error_deg_median_raw, heading_error_deg_max_raw, and
+// odometry_drift_deg_per_m when it is known. Empty when no ASR has ground
+// truth.
 std::vector<std::pair<std::string, double>> HeadingErrorEvalKeys(const HeadingErrorStats& stats);
 
 }  // namespace cogmap::localize

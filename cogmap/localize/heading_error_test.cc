@@ -44,6 +44,44 @@ TEST(HeadingError, MedianAndMaxOfRawAndCorrected) {
   EXPECT_EQ(st.per_asr[3].poses, 5);
 }
 
+// ASRs along a straight road, each 4 m of path with a 1 m stretch between
+// them (a path sampled at laser records), the odometry's heading off by
+// rate x the distance driven: the rate back, whatever heading they start at
+// and across the half turn.
+TEST(HeadingError, TheOdometrysDriftIsTheSlopeOverTheDistanceDriven) {
+  const double rate = DegToRad(1.5);  // per metre
+  for (const double start : {0.0, DegToRad(178.0)}) {
+    std::vector<asr::Asr> asrs;
+    double s = 0.0;
+    for (int id = 0; id < 6; ++id) {
+      asr::Asr a;
+      a.id = id;
+      for (int i = 0; i <= 8; ++i) {
+        const double x = s + 0.5 * i;
+        a.true_path.push_back({x, 0, 0.0});
+        a.path.push_back({x, 0, NormalizeAngle(start + rate * x)});
+      }
+      s += 4.0 + 1.0;
+      asrs.push_back(a);
+    }
+    // An ASR without truth still counts in the distance.
+    asrs.insert(asrs.begin() + 3, asr::Asr{});
+    asrs[3].id = 99;
+    asrs[3].path = {{14.0, 0, 0}, {14.5, 0, 0}};
+    for (size_t k = 4; k < asrs.size(); ++k)
+      for (auto* path : {&asrs[k].path, &asrs[k].true_path}) {
+        for (auto& p : *path) p.x += 1.5;  // the stretch of ASR 99 and the way to it
+      }
+    for (size_t k = 4; k < asrs.size(); ++k)
+      for (auto& p : asrs[k].path) p.theta = NormalizeAngle(start + rate * p.x);
+    const HeadingErrorStats st = ComputeHeadingErrors(asrs);
+    EXPECT_EQ(st.drift_asrs, 6);
+    EXPECT_NEAR(st.odometry_drift_rad_per_m, rate, 1e-9) << start;
+  }
+  // Fewer than three ASRs with truth: not known.
+  EXPECT_EQ(ComputeHeadingErrors({WithError(0, 0, 0), WithError(1, 2, 0)}).drift_asrs, 0);
+}
+
 TEST(HeadingError, WrapsAcrossPi) {
   asr::Asr a = WithError(0, 0, 0);
   for (auto& p : a.true_path) p.theta = DegToRad(179.5);

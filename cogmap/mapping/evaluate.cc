@@ -265,6 +265,9 @@ Evaluation EvaluateFolder(const std::string& dir_text, const EvaluateOptions& o)
                   j["heading_error_deg_median"].get<double>(), j["heading_error_deg_max"].get<double>(),
                   j["heading_error_deg_median_raw"].get<double>(), j["heading_error_deg_max_raw"].get<double>());
     }
+    if (j.contains("odometry_drift_deg_per_m"))
+      AppendF(&out.text, "  the odometry's heading drift against the truth: %.3f deg/m (report.json has the map's estimate)\n",
+              j["odometry_drift_deg_per_m"].get<double>());
     if (trajectory && trajectory->ate.poses > 0) {
       const auto& t = *trajectory;
       AppendF(&out.text, "  trajectory (%d poses): ATE RMSE corrected %.3f m (median %.3f, max %.3f), raw %.3f m "

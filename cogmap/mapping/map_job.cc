@@ -541,6 +541,7 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   out.heading_max_deg = heading.max_deg;
   out.heading_median_raw_deg = heading.median_raw_deg;
   out.heading_max_raw_deg = heading.max_raw_deg;
+  if (heading.drift_asrs >= 3) out.odometry_drift_deg_per_m = RadToDeg(heading.odometry_drift_rad_per_m);
   ReportContext ctx;
   ctx.job = &job;
   ctx.robot = &robot;
@@ -595,6 +596,14 @@ std::string MapSummaryText(const MapJobSummary& s, const MapJob& job) {
     const double own = r.graph.drift_rate_sigma_rad_per_m, all = r.graph.drift_rate_spread_sigma_rad_per_m;
     if (own >= 0.0 && all > 1.5 * own && r.graph.drift_hypotheses.size() > 1)
       AppendF(&spread, "; +- %.3f over the %zu rates the walls fit", RadToDeg(all), r.graph.drift_hypotheses.size());
+    // With truth: the odometry's own drift, and how many sigmas from it.
+    if (s.odometry_drift_deg_per_m) {
+      AppendF(&spread, "; truth %.3f", *s.odometry_drift_deg_per_m);
+      const double sig = all >= 0.0 ? all : own;
+      if (sig > 0.0)
+        AppendF(&spread, " (%.1f sigma)",
+                std::abs(RadToDeg(r.graph.drift_rate_rad_per_m) - *s.odometry_drift_deg_per_m) / RadToDeg(sig));
+    }
     AppendF(&out, "pose graph: %s, %d loop closures (%zu candidates), %d rooms, drift %.3f%s deg/m%s%s\n",
             r.graph.solution.c_str(), accepted, r.graph.closures.size(), s.rooms,
             RadToDeg(r.graph.drift_rate_rad_per_m), sigma.c_str(), r.graph.drift_detected ? "" : " (none found)",

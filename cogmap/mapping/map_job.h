@@ -86,6 +86,9 @@ struct MapJobSummary {
   int heading_asrs = 0;       // ASRs with a true heading error
   double heading_median_deg = 0.0, heading_max_deg = 0.0;
   double heading_median_raw_deg = 0.0, heading_max_raw_deg = 0.0;
+  // The odometry's heading drift against the truth (deg/m), when the log has
+  // truth (localize::HeadingErrorStats::odometry_drift_rad_per_m).
+  std::optional<double> odometry_drift_deg_per_m;
   RunResult run;
   int rooms = 0;              // store rooms (revisits share one)
   int plan_rooms = 0, plan_walls = 0, plan_doors = 0;  // the floor plan
