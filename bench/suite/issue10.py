@@ -18,7 +18,7 @@ import os
 import re
 import shutil
 
-from . import cases, runner
+from . import cases, drift_check, runner
 from .stats import fmt_num, fmt_summary, summary
 from .tool import finite, lookup, parse_json_output, read_json
 
@@ -548,19 +548,14 @@ def _sim_table(rep, sims, drift, shortfalls, met):
     # The drift rate's own sigma, beside the poses': the rate reported
     # against the drift added, by the kept fit's sigma and by its sigma over
     # every fit of the rates (report.json; runs that give one).
-    own = spread = with_sigma = 0
+    runs = []
     for r in g_all:
         gs = r.get("graph") or {}
-        rate, so, ss = (gs.get(k) for k in ("drift_rate_deg_per_m", "drift_rate_sigma_deg_per_m",
-                                            "drift_rate_spread_sigma_deg_per_m"))
-        if not (finite(rate) and finite(so)):
-            continue
-        with_sigma += 1
         # The odometry's own drift against the truth (cogmap eval), else the one added.
         truth = r.get("metrics", {}).get("odometry_drift_deg_per_m")
-        off = abs(rate - (truth if finite(truth) else drift))
-        own += off <= 3.0 * so
-        spread += finite(ss) and off <= 3.0 * ss
+        runs.append((gs.get("drift_rate_deg_per_m"), gs.get("drift_rate_sigma_deg_per_m"),
+                     gs.get("drift_rate_spread_sigma_deg_per_m"), truth if finite(truth) else drift))
+    with_sigma, own, spread = drift_check.count_within_3sigma(runs)
     if with_sigma:
         text = (f"the drift rate within 3 sigma of the odometry's own ({drift:g} °/m added) in {spread} of {with_sigma} runs by its "
                 f"sigma over every fit of the rates ({own} by the kept fit's own sigma; target as the poses', "

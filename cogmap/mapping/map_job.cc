@@ -60,7 +60,6 @@ void WriteSvgAndPng(draw::Drawing picture, const std::string& folder, const std:
   }
 }
 
-
 // Opens the run's store in the folder's staging area: a copy of the stored map
 // to continue (--resume, checked where it is first), or a new one (which may
 // replace a cogmap store, never another file nor a newer cogmap's store).
@@ -587,7 +586,7 @@ std::string MapSummaryText(const MapJobSummary& s, const MapJob& job) {
   if (r.correction == Correction::kPoseGraph) {
     int accepted = 0;
     for (const auto& c : r.graph.closures) accepted += c.accepted ? 1 : 0;
-    std::string sigma, spread;
+    std::string sigma, tail;
     if (r.graph.drift_rate_sigma_rad_per_m >= 0.0)
       AppendF(&sigma, " +- %.3f", RadToDeg(r.graph.drift_rate_sigma_rad_per_m));
     // Other rates the walls fit about as well: the rate's sigma over all of
@@ -595,19 +594,19 @@ std::string MapSummaryText(const MapJobSummary& s, const MapJob& job) {
     // on a real building: 0.000 +- 0.062 alone, +- 2.4 over its fits).
     const double own = r.graph.drift_rate_sigma_rad_per_m, all = r.graph.drift_rate_spread_sigma_rad_per_m;
     if (own >= 0.0 && all > 1.5 * own && r.graph.drift_hypotheses.size() > 1)
-      AppendF(&spread, "; +- %.3f over the %zu rates the walls fit", RadToDeg(all), r.graph.drift_hypotheses.size());
+      AppendF(&tail, "; +- %.3f over the %zu rates the walls fit", RadToDeg(all), r.graph.drift_hypotheses.size());
     // With truth: the odometry's own drift, and how many sigmas from it.
     if (s.odometry_drift_deg_per_m) {
-      AppendF(&spread, "; truth %.3f", *s.odometry_drift_deg_per_m);
+      AppendF(&tail, "; truth %.3f", *s.odometry_drift_deg_per_m);
       const double sig = all >= 0.0 ? all : own;
       if (sig > 0.0)
-        AppendF(&spread, " (%.1f sigma)",
+        AppendF(&tail, " (%.1f sigma)",
                 std::abs(RadToDeg(r.graph.drift_rate_rad_per_m) - *s.odometry_drift_deg_per_m) / RadToDeg(sig));
     }
     AppendF(&out, "pose graph: %s, %d loop closures (%zu candidates), %d rooms, drift %.3f%s deg/m%s%s\n",
             r.graph.solution.c_str(), accepted, r.graph.closures.size(), s.rooms,
             RadToDeg(r.graph.drift_rate_rad_per_m), sigma.c_str(), r.graph.drift_detected ? "" : " (none found)",
-            spread.c_str());
+            tail.c_str());
     // A wing turned against the rest (docs/pose-graph.md): its directions,
     // each modulo a quarter turn, and how many ASRs follow each.
     const std::vector<double> dirs = graph::BuildingDirectionsDeg(r.graph);
