@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -14,6 +15,7 @@
 
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
+#include "cogmap/core/parallel.h"
 #include "cogmap/io/atomic_file.h"
 #include "cogmap/io/grid_io.h"
 
@@ -633,32 +635,38 @@ std::vector<std::string> WritePlanFiles(const std::string& dir, const plan::Plan
                                         const PlanFileOptions& options) {
   const std::filesystem::path d(dir);
   std::vector<std::string> written;
+  std::vector<std::function<void()>> write;  // one per file, each only reading the plan
   if (options.gpkg) {
     const std::string p = (d / "map.gpkg").string();
-    WriteGeoPackage(p, MapFrameSrs(), PlanGpkgLayers(plan));
+    write.push_back([&plan, p] { WriteGeoPackage(p, MapFrameSrs(), PlanGpkgLayers(plan)); });
     written.push_back(p);
   }
   if (options.geojson) {
     const std::string p = (d / "map.geojson").string();
-    WriteFileAtomically(p, [&](std::ostream& out) { WritePlanGeoJson(out, plan, options.geo_anchor); });
+    write.push_back([&plan, &options, p] {
+      WriteFileAtomically(p, [&](std::ostream& out) { WritePlanGeoJson(out, plan, options.geo_anchor); });
+    });
     written.push_back(p);
   }
   if (options.route_graph) {
     const std::string p = (d / "route_graph.geojson").string();
-    WriteFileAtomically(p, [&](std::ostream& out) { WriteRouteGraphGeoJson(out, plan); });
+    write.push_back([&plan, p] { WriteFileAtomically(p, [&](std::ostream& out) { WriteRouteGraphGeoJson(out, plan); }); });
     written.push_back(p);
   }
   if (options.aria) {
     const std::string p = (d / "map.map").string();
-    WriteFileAtomically(p, [&](std::ostream& out) { WritePlanAriaMap(out, plan); });
+    write.push_back([&plan, p] { WriteFileAtomically(p, [&](std::ostream& out) { WritePlanAriaMap(out, plan); }); });
     written.push_back(p);
   }
   if (options.map_server) {
     const std::string base = (d / "map").string();
-    WriteMapServer(base, RasterizePlan(plan, PlanRasterCell(plan, options), options.raster_margin_m));
+    write.push_back([&plan, &options, base] {
+      WriteMapServer(base, RasterizePlan(plan, PlanRasterCell(plan, options), options.raster_margin_m));
+    });
     written.push_back(base + ".pgm");
     written.push_back(base + ".yaml");
   }
+  ForEachShared(write.size(), options.threads, [&](size_t k) { write[k](); });
   return written;
 }
 

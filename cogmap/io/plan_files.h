@@ -48,11 +48,13 @@ struct PlanFileOptions {
   bool route_graph = true;  // route_graph.geojson
   bool aria = true;         // map.map
   bool map_server = true;   // map.pgm + map.yaml
+  // Files written at once (each on a thread of its own, up to this many).
+  int threads = 1;
 };
 
 // Writes the files chosen in 'options' into 'dir' (which must exist), each
-// one atomically (a temporary file renamed into place). Returns the paths
-// written, in the order above. Throws InputError naming a file that cannot be
+// one atomically (a temporary file renamed into place), up to
+// options.threads at once. Returns the paths written, in the order above. Throws InputError naming a file that cannot be
 // written.
 std::vector<std::string> WritePlanFiles(const std::string& dir, const plan::Plan& plan,
                                         const PlanFileOptions& options = {});

@@ -1,6 +1,7 @@
 #include "cogmap/io/plan_files.h"
 
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <array>
 #include <cstring>
@@ -708,6 +709,54 @@ TEST(PlanFiles, WritesEveryFileAtomically) {
   }
   EXPECT_EQ(files, expected.size());
   EXPECT_THROW(WritePlanFiles(dir + "/missing", CorridorAndTwoRooms()), InputError);
+}
+
+// Written two at a time, the files are the ones written one after the other,
+// byte for byte (the GeoPackage's tables row for row: gpkg_contents holds the
+// time it was written), listed in the same order; a folder that cannot be
+// written is one error, and no file is left half-written.
+TEST(PlanFiles, WrittenAtOnceTheFilesAreTheSame) {
+  const std::string one = FreshDir("one_at_a_time"), two = FreshDir("two_at_once");
+  PlanFileOptions o;
+  const auto a = WritePlanFiles(one, CorridorAndTwoRooms(), o);
+  o.threads = 2;
+  const auto b = WritePlanFiles(two, CorridorAndTwoRooms(), o);
+  ASSERT_EQ(a.size(), b.size());
+  auto bytes = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  for (size_t k = 0; k < a.size(); ++k) {
+    const std::string name = fs::path(a[k]).filename().string();
+    EXPECT_EQ(fs::path(b[k]).filename().string(), name);
+    if (name == "map.gpkg") continue;
+    EXPECT_EQ(bytes(a[k]), bytes(b[k])) << name;
+  }
+  auto rows = [](const std::string& gpkg, const std::string& table) {
+    sqlite3* db = nullptr;
+    std::string out;
+    if (sqlite3_open_v2(gpkg.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
+      sqlite3_stmt* st = nullptr;
+      if (sqlite3_prepare_v2(db, ("SELECT * FROM " + table).c_str(), -1, &st, nullptr) == SQLITE_OK) {
+        while (sqlite3_step(st) == SQLITE_ROW) {
+          for (int c = 0; c < sqlite3_column_count(st); ++c) {
+            const void* blob = sqlite3_column_blob(st, c);
+            out.append(static_cast<const char*>(blob), static_cast<size_t>(sqlite3_column_bytes(st, c)));
+            out += '|';
+          }
+          out += '\n';
+        }
+      }
+      sqlite3_finalize(st);
+    }
+    sqlite3_close(db);
+    return out;
+  };
+  for (const char* table : {"rooms", "walls", "doors", "room_graph"}) {
+    EXPECT_FALSE(rows(one + "/map.gpkg", table).empty()) << table;
+    EXPECT_EQ(rows(one + "/map.gpkg", table), rows(two + "/map.gpkg", table)) << table;
+  }
+  EXPECT_THROW(WritePlanFiles(two + "/missing", CorridorAndTwoRooms(), o), InputError);
 }
 
 // The real floor plan (plan::BuildPlan) of two placed ASRs joined by an exit:

@@ -117,6 +117,16 @@ double SensorReach(const sensors::RobotDescription& robot, double window_m) {
 // error's.
 bool PicturesAfterPlan(const OutputChoice& o) { return o.plan || o.plan_png || o.heading; }
 
+// The most ASRs a map may have for its fonts to load during the end-of-run
+// solve rather than once its floor plan is built (pictures after the plan
+// only). The fonts' tables (some 4 MB, held to the end) then raise the run's
+// peak by at most their own size, for the plan's working set (about 40 KB
+// per ASR: 42 MB at 1000 rooms) is under them; and the plan's picture, drawn
+// beside its files, no longer waits some 5 ms for them (5 % of nine_rooms'
+// whole run). A larger map keeps the fonts for after its plan, whose largest
+// structures are gone by then (a 1000-room run's peak 3.6 MB lower).
+constexpr int kFontsDuringSolveMaxAsrs = 100;
+
 }  // namespace
 
 OutputChoice OutputChoice::All() {
@@ -168,10 +178,11 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   // The drawing libraries load on a thread of their own while the log is
   // mapped, and so do their fonts (some 5 MB of fontconfig's and pango's
   // tables, held to the end) when a picture is drawn before the floor plan
-  // (the master map's); when all come after it, the fonts load once the plan
-  // is built (its largest structures are gone by then), while its files are
-  // written: a 1000-room run's peak is then some 5 MB lower. With --threads
-  // 1, all by the first picture drawn.
+  // (the master map's); when all come after it, the fonts load during the
+  // end-of-run solve for a small map (kFontsDuringSolveMaxAsrs), else once
+  // the plan is built (its largest structures are gone by then), while its
+  // files are written: a 1000-room run's peak is then some 4 MB lower. With
+  // --threads 1, all by the first picture drawn.
   if (job.mapping.threads >= 2 && (o.svg || o.png || o.compare))
     draw::Drawing::PrepareFonts(draw::PageFonts());
   else if (job.mapping.threads >= 2 && PicturesAfterPlan(o))
@@ -205,6 +216,7 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
     asr::SetSensorBeam(store.get(), beam);
     pipeline = std::make_unique<MappingPipeline>(robot, mapping, store.get());
     const int stored_max = store->MaxId();
+    const int stored_count = store->Count();
     if (job.resume) pipeline->Resume();
     // The log's identity goes into the store with every ASR. Resumed with
     // the log the store was mapped from (or that log grown since), the run
@@ -269,6 +281,9 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
         pipeline->Push(rec);
         if (++n % 256 == 0 && job.progress) job.progress(src.progress(), pipeline->asrs_closed());
       }
+      if (mapping.threads >= 2 && PicturesAfterPlan(o) &&
+          stored_count + pipeline->asrs_closed() + 1 <= kFontsDuringSolveMaxAsrs)  // + 1: the room still open
+        draw::Drawing::PrepareFonts(draw::PageFonts());
       pipeline->Finish();
     } catch (...) {
       // Every ASR closed before the bad line is in the staging store (one
@@ -484,20 +499,20 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   if (job.mapping.threads >= 2 && PicturesAfterPlan(job.outputs))
     draw::Drawing::PrepareFonts(draw::PageFonts());  // (a no-op when loaded before)
   for (auto& x : all) std::vector<asr::Exit>().swap(x.exits);
-  io::WriteFileAtomically((fs::path(staging) / "plan.json").string(),
-                          [&](std::ostream& o) { plan::WritePlanJson(o, floor_plan); });
   out.written.push_back("plan.json");
   io::PlanFileOptions pf;
+  pf.threads = job.mapping.threads;
   pf.geo_anchor = job.geo_anchor;
   pf.gpkg = job.outputs.gpkg;
   pf.geojson = job.outputs.geojson;
   pf.route_graph = job.outputs.route;
   pf.aria = job.outputs.aria;
   pf.map_server = job.outputs.pgm;
-  // The plan's picture is drawn and written on a thread of its own while its
-  // files are written here (both only read the plan; the mapping's threads
-  // are done, a core is free); with --threads 1 after them, on this thread.
-  // Listed after the files either way.
+  // The plan's picture is drawn and written on a thread of its own, and
+  // plan.json on another, while its files are written here, two at a time
+  // (all only read the plan; the mapping's threads are done, a core is
+  // free: intel's files 15 -> 10 ms); with --threads 1 one after the other,
+  // on this thread. Listed in the same order either way.
   std::vector<std::string> plan_pictures;
   std::future<void> drawing;
   if (job.outputs.plan || job.outputs.plan_png)
@@ -507,11 +522,17 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
       draw::Drawing picture = draw::DrawPlan(floor_plan, pp).drawing;
       WriteSvgAndPng(std::move(picture), staging, "plan", job.outputs.plan, job.outputs.plan_png, &plan_pictures);
     });
-  // Should this throw, the picture's thread is waited for all the same: the
-  // future of std::async waits in its destructor (declared after the plan it
-  // reads); a deferred one never runs.
+  std::future<void> plan_json =
+      std::async(job.mapping.threads >= 2 ? std::launch::async : std::launch::deferred, [&] {
+        io::WriteFileAtomically((fs::path(staging) / "plan.json").string(),
+                                [&](std::ostream& o) { plan::WritePlanJson(o, floor_plan); });
+      });
+  // Should this throw, the picture's and plan.json's threads are waited for
+  // all the same: the future of std::async waits in its destructor (declared
+  // after the plan it reads); a deferred one never runs.
   for (const auto& f : io::WritePlanFiles(staging, floor_plan, pf)) out.written.push_back(fs::path(f).filename().string());
-  if (drawing.valid()) drawing.get();  // its error, if any, is raised here
+  plan_json.get();
+  if (drawing.valid()) drawing.get();  // their errors, if any, are raised here
   out.written.insert(out.written.end(), plan_pictures.begin(), plan_pictures.end());
   out.plan_rooms = static_cast<int>(floor_plan.rooms.size());
   out.plan_walls = static_cast<int>(floor_plan.walls.size());
