@@ -220,6 +220,17 @@ struct MapOptimizerOptions {
   double consistency_door_margin_m = 0.5;
   int min_factors_for_variance = 10;
   double min_redundancy_for_variance = 3.0;
+  // The odometry's heading noise against its motion model (Finish). With no
+  // drift found, the odometry's heading error is the model's random walk;
+  // its variance component fitted above the model beyond its sampling error
+  // (its weighted chi^2 at the model over the kind's redundancy past this
+  // quantile) means the wall directions pull the headings away from the
+  // odometry by more than either model allows: a wing's walls read as the
+  // building's, walls misread by a sparse ring. The fit is then tried again
+  // with the odometry's heading held at its model, and that kept when the
+  // map as fitted is the less consistent (MapConsistency: the robot's path
+  // through walls). 0: never tried.
+  double heading_model_test_probability = 0.999;
   // A-posteriori variance factor on the covariances (see Finish): it may
   // shrink them down to min_variance_factor (in variance) with at least
   // min_dof_to_shrink degrees of freedom. 1: never shrunk (the default; the
@@ -347,6 +358,13 @@ struct OptimizerResult {
   // Fitted sigma factors per kind of factor (variance components).
   double odometry_sigma_factor = 1.0, direction_sigma_factor = 1.0, registration_sigma_factor = 1.0;
   double odometry_heading_sigma_factor = 1.0;
+  // The odometry's heading factor as first fitted, when it was above its
+  // model with no drift found and the fit was tried again with it held at
+  // the model (heading_model_test_probability); 0: not tried.
+  double odometry_heading_fitted_factor = 0.0;
+  // Whether that second fit was kept (the map as first fitted the less
+  // consistent).
+  bool odometry_heading_held = false;
   int registrations = 0;
   int direction_factors = 0;
   double drift_rate_rad_per_m = 0.0;      // mean of the estimated rates
@@ -643,8 +661,17 @@ class MapOptimizer {
   Consistency MapConsistency(const std::vector<Pose2>& poses, const std::vector<double>& rates) const;
   std::vector<Vec2> LocalCorrectedPath(const Node& n, double rate) const;
   static bool LessConsistent(const Consistency& a, const Consistency& b);
-  // directions_only: the wall directions' sigma factor alone, the others as they are.
+  // directions_only: the wall directions' sigma factor alone, the others as
+  // they are. The odometry's heading factor stays as it is while
+  // hold_odometry_heading_.
   void FitVarianceComponents(bool directions_only = false);
+  // Whether the odometry's heading factor, as fitted, is above its model
+  // beyond its sampling error (heading_model_test_probability).
+  bool HeadingAboveItsModel() const;
+  // The odometry heading's redundancy at the last round of
+  // FitVarianceComponents that fitted it (0: never fitted).
+  double heading_redundancy_ = 0.0;
+  bool hold_odometry_heading_ = false;
 
   MapOptimizerOptions options_;
   localize::HeadingCorrector estimator_;

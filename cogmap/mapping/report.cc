@@ -115,6 +115,12 @@ nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStr
                              {"odometry_heading", g.odometry_heading_sigma_factor},
                              {"wall_direction", g.direction_sigma_factor},
                              {"registration", g.registration_sigma_factor}}},
+          // The odometry heading's factor as first fitted when the fit was
+          // tried again with it held at the model (null: not tried), and
+          // whether that was kept.
+          {"odometry_heading_fitted_factor",
+           g.odometry_heading_fitted_factor > 0.0 ? nlohmann::json(g.odometry_heading_fitted_factor) : nlohmann::json(nullptr)},
+          {"odometry_heading_held", g.odometry_heading_held},
           {"path_wall_crossings_odometry", g.crossings_odometry},
           {"path_wall_crossings_graph", g.crossings_graph},
           {"path_wall_crossings_chosen", g.crossings_chosen},
