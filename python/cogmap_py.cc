@@ -318,6 +318,11 @@ class Mapper {
     else
       d["drift_rate_spread_sigma_deg_per_m"] = py::none();
     d["building_directions_deg"] = graph::BuildingDirectionsDeg(r.graph);
+    if (r.graph.odometry_heading_fitted_factor > 0.0)
+      d["odometry_heading_fitted_factor"] = r.graph.odometry_heading_fitted_factor;
+    else
+      d["odometry_heading_fitted_factor"] = py::none();
+    d["odometry_heading_held"] = r.graph.odometry_heading_held;
     d["warnings"] = r.graph.warnings;
     return d;
   }

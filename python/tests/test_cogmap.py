@@ -130,6 +130,8 @@ def test_mapper_record_by_record_equals_the_command(sim_log, command_map, tmp_pa
         cmd_report["pose_graph"]["drift_rate_spread_sigma_deg_per_m"], abs=1e-9)
     assert result["drift_rate_spread_sigma_deg_per_m"] >= result["drift_rate_sigma_deg_per_m"]
     assert result["building_directions_deg"] == pytest.approx(cmd_report["pose_graph"]["building_directions_deg"])
+    assert result["odometry_heading_fitted_factor"] == cmd_report["pose_graph"]["odometry_heading_fitted_factor"]
+    assert result["odometry_heading_held"] == cmd_report["pose_graph"]["odometry_heading_held"]
 
 
 def test_store_gives_walls_paths_and_rooms(command_map):
