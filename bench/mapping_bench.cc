@@ -40,6 +40,12 @@ std::string StorePath(const char* name) {
   return (std::filesystem::temp_directory_path() / (std::string(name) + std::to_string(::getpid()) + ".sqlite")).string();
 }
 
+// The store a benchmark wrote, and its journal files, once it is done.
+void RemoveStore(const char* name) {
+  std::error_code ec;
+  for (const char* suffix : {"", "-wal", "-shm", "-journal"}) std::filesystem::remove(StorePath(name) + suffix, ec);
+}
+
 void BM_Direct(benchmark::State& state) {
   const auto& records = Run();
   const auto robot = sensors::BuiltinRobot("pioneer16");
@@ -71,6 +77,7 @@ void BM_Direct(benchmark::State& state) {
                             {});
     benchmark::DoNotOptimize(result.asrs.size());
   }
+  RemoveStore("direct");
   state.counters["records"] = static_cast<double>(records.size());
 }
 
@@ -82,6 +89,7 @@ void BM_Pipeline(benchmark::State& state) {
     for (const auto& r : records) p.Push(r);
     benchmark::DoNotOptimize(p.Finish().asrs.size());
   }
+  RemoveStore("pipeline");
   state.counters["records"] = static_cast<double>(records.size());
 }
 

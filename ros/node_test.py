@@ -8,6 +8,7 @@ the node published (walls, rooms, map) must match its store."""
 import argparse
 import json
 import os
+import shutil
 import socket
 import subprocess
 import sys
@@ -38,9 +39,20 @@ def main():
     ap.add_argument("--pythonpath", required=True)
     a = ap.parse_args()
     sys.path.insert(0, a.pythonpath)
+    # Its files (a bag, logs and maps: some 14 MB) go once the test passes,
+    # and are kept, named, when it fails.
+    work = tempfile.mkdtemp(prefix="cogmap-ros-")
+    try:
+        check(a, work)
+    except BaseException:
+        print("cogmap node test: its files are kept in " + work, file=sys.stderr)
+        raise
+    shutil.rmtree(work, ignore_errors=True)
+
+
+def check(a, work):
     import cogmap  # noqa: E402
 
-    work = tempfile.mkdtemp(prefix="cogmap-ros-")
     log, bag = os.path.join(work, "run.log"), os.path.join(work, "run.bag")
     subprocess.run([a.cogmap, "simulate", os.path.join(a.shared, "worlds", "nine_rooms.map"), "--seed", "4",
                     "--drift-deg-per-m", "1", "-o", log], check=True, capture_output=True)
