@@ -18,7 +18,9 @@ trap 'rm -rf "$work"' EXIT
   --wing-deg -45 --seed 20 -o "$work/building.map" > /dev/null
 "$cogmap" simulate "$work/building.map" --robot pioneer8 --drift-deg-per-m 0 --seed 11 --max-time 900 \
   -o "$work/run.log" > /dev/null
-"$cogmap" map "$work/run.log" --outputs geojson -o "$work/graph" > /dev/null 2>&1
+"$cogmap" map "$work/run.log" --outputs geojson -o "$work/graph" > "$work/summary.txt" 2>&1
+grep -q "^odometry heading: held at its motion model (the walls fitted it 10.0 times" "$work/summary.txt" ||
+  { cat "$work/summary.txt"; echo "the summary does not say the odometry's heading was held"; exit 1; }
 "$cogmap" map "$work/run.log" --no-correct --outputs geojson -o "$work/odometry" > /dev/null 2>&1
 "$cogmap" eval "$work/graph" --world "$work/building.map" --json > "$work/graph.json"
 "$cogmap" eval "$work/odometry" --world "$work/building.map" --json > "$work/odometry.json"

@@ -642,6 +642,13 @@ std::string MapSummaryText(const MapJobSummary& s, const MapJob& job) {
       }
       AppendF(&out, "\n");
     }
+    // The odometry's heading held at its motion model (docs/pose-graph.md,
+    // "The odometry's heading held at its model").
+    if (r.graph.odometry_heading_held)
+      AppendF(&out,
+              "odometry heading: held at its motion model (the walls fitted it %.1f times as noisy, with no drift "
+              "found, and turned the map through walls)\n",
+              r.graph.odometry_heading_fitted_factor);
   } else if (r.correction == Correction::kDriftFilter) {
     AppendF(&out, "estimated heading drift: %.3f +- %.3f deg/m\n", RadToDeg(r.drift_rate_rad_per_m),
             RadToDeg(r.drift_rate_sigma_rad_per_m));
