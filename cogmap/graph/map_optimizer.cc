@@ -1761,8 +1761,8 @@ OptimizerResult MapOptimizer::Finish() {
   // No drift found, but the odometry's heading fitted far noisier than its
   // model: the wall directions pull the headings away from the odometry by
   // more than either model allows (a wing's walls read as the building's,
-  // walls misread by a sparse ring: a 35-degree wing without drift, eight
-  // sonars, turned the whole map 22 degrees with the odometry's heading
+  // walls misread by a sparse ring: a wing turned 45 degrees, eight sonars,
+  // no drift: the whole map turned 22 degrees with the odometry's heading
   // factor at 9.2, the robot's path through 18 walls). Fitted again with
   // the odometry's heading held at its model; the heading as fitted stands
   // unless its map is the less consistent of the two (a fitted heading

@@ -54,8 +54,8 @@ struct PlanFileOptions {
 
 // Writes the files chosen in 'options' into 'dir' (which must exist), each
 // one atomically (a temporary file renamed into place), up to
-// options.threads at once. Returns the paths written, in the order above. Throws InputError naming a file that cannot be
-// written.
+// options.threads at once. Returns the paths written, in the order above.
+// Throws InputError naming a file that cannot be written.
 std::vector<std::string> WritePlanFiles(const std::string& dir, const plan::Plan& plan,
                                         const PlanFileOptions& options = {});
 

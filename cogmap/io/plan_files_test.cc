@@ -714,7 +714,7 @@ TEST(PlanFiles, WritesEveryFileAtomically) {
 // Written two at a time, the files are the ones written one after the other,
 // byte for byte (the GeoPackage's tables row for row: gpkg_contents holds the
 // time it was written), listed in the same order; a folder that cannot be
-// written is one error, and no file is left half-written.
+// written is an error.
 TEST(PlanFiles, WrittenAtOnceTheFilesAreTheSame) {
   const std::string one = FreshDir("one_at_a_time"), two = FreshDir("two_at_once");
   PlanFileOptions o;
