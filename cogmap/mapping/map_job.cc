@@ -124,7 +124,7 @@ bool PicturesAfterPlan(const OutputChoice& o) { return o.plan || o.plan_png || o
 // per ASR: 42 MB at 1000 rooms) is under them; and the plan's picture, drawn
 // beside its files, no longer waits some 5 ms for them (5 % of nine_rooms'
 // whole run). A larger map keeps the fonts for after its plan, whose largest
-// structures are gone by then (a 1000-room run's peak 3.6 MB lower).
+// structures are gone by then (a 1000-room run's peak 3.5 MiB lower).
 constexpr int kFontsDuringSolveMaxAsrs = 100;
 
 }  // namespace
