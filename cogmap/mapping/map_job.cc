@@ -176,12 +176,12 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
   if (!job.world.empty()) io::ReadWorld(job.world);  // a bad world fails before mapping
   const OutputChoice& o = job.outputs;
   // The drawing libraries load on a thread of their own while the log is
-  // mapped, and so do their fonts (some 5 MB of fontconfig's and pango's
+  // mapped, and so do their fonts (some 4 MB of fontconfig's and pango's
   // tables, held to the end) when a picture is drawn before the floor plan
   // (the master map's); when all come after it, the fonts load during the
   // end-of-run solve for a small map (kFontsDuringSolveMaxAsrs), else once
   // the plan is built (its largest structures are gone by then), while its
-  // files are written: a 1000-room run's peak is then some 4 MB lower. With
+  // files are written: a 1000-room run's peak is then 3.5 MiB lower. With
   // --threads 1, all by the first picture drawn.
   if (job.mapping.threads >= 2 && (o.svg || o.png || o.compare))
     draw::Drawing::PrepareFonts(draw::PageFonts());
