@@ -429,6 +429,14 @@ std::optional<WingScan> ScanBuildingDirections(const std::vector<PoseGraph::Dire
 // that are such a step, 'unsupported' those whose walls turned by less or
 // more (a slow wander of the odometry's heading split at an arbitrary
 // point: the walls either side of it lie half-way between the directions).
+// A wall direction tied to another building direction than both its
+// neighbours, which share one and agree within tol_rad, more than tol_rad
+// off both of theirs and with neither change beside it a step, is a room
+// misread (a sparse ring reads a room's walls 10 degrees off now and
+// then): its two changes are not counted. Counted, one such room in a
+// building of one wing made two unsupported changes against the wing's one
+// step. One as near its neighbours as a wandering heading leaves it, or
+// one that reads the other building direction, counts.
 struct WingSteps {
   int supported = 0, unsupported = 0;
 };

@@ -686,6 +686,20 @@ TEST(BuildingDirections, GroupsAWingAndNotAFewOutliers) {
                                DegToRad(15.0), 3, 3)
                 .size(),
             2u);
+  // A wing at the least separation measured a little under it: a laser
+  // reads each room's walls to a few tenths, and a 15-degree wing came out
+  // at 14.9 (never grouped before the forty-fifth session: its step was
+  // spread over the map). Within 2.3 standard errors of the separation.
+  const std::vector<double> laser = {0.1 * d,  -0.2 * d, 0.3 * d,  -0.1 * d, 0.2 * d,
+                                     14.9 * d, 14.6 * d, 15.1 * d, 14.7 * d, 14.8 * d};
+  EXPECT_EQ(BuildingDirections(laser, std::vector<double>(10, 1.0), DegToRad(15.0), 3, 3).size(), 2u);
+  // Groups a sparse ring reads (its window 15 degrees wide), each some 4
+  // degrees of scatter, 12.5 degrees apart: no gap parts them from one
+  // direction's spread, so no wing, however near 15 their standard errors
+  // allow.
+  const std::vector<double> sparse = {-5.0 * d, 4.0 * d, 0.0,      -3.0 * d, 5.0 * d, -1.0 * d,
+                                      8.0 * d,  17.0 * d, 12.0 * d, 15.0 * d, 9.5 * d, 14.0 * d};
+  EXPECT_EQ(BuildingDirections(sparse, std::vector<double>(12, 1.0), DegToRad(15.0), 3, 3, DegToRad(15.0)).size(), 1u);
   // Directions either side of 45 degrees are one direction (modulo a quarter turn).
   const std::vector<double> diagonal = {44.0 * d, -44.5 * d, 45.0 * d, 0.0, 0.2 * d, -0.3 * d};
   const std::vector<double> both = BuildingDirections(diagonal, std::vector<double>(6, 1.0), DegToRad(15.0), 3, 3);
@@ -706,6 +720,14 @@ TEST(CountWingSteps, AWingBeginsWithAStepNotWithAWander) {
                            {0, 0, 0, 1, 1, 1}, {0.0, 30.0 * d}, 7.5 * d)
                 .supported,
             1);
+  // A room misread inside the wing (a sparse ring's walls 12 degrees off
+  // in a 20-degree wing, tied to the first direction by a hair): the one
+  // step, not two changes more that turn by nothing like it.
+  const WingSteps misread =
+      CountWingSteps({0.0, 0.5 * d, 0.2 * d, 20.1 * d, 19.8 * d, 8.0 * d, 20.4 * d, 19.6 * d, 20.2 * d},
+                     {0, 1, 2, 3, 4, 5, 6, 7, 8}, {0, 0, 0, 1, 1, 0, 1, 1, 1}, {0.0, 20.0 * d}, 7.5 * d);
+  EXPECT_EQ(misread.supported, 1);
+  EXPECT_EQ(misread.unsupported, 0);
   // The odometry's heading wandering a degree from room to room over 30
   // rooms, grouped as BuildingDirections groups it (7.5 and 26 degrees) and
   // each room tied to the nearer: where the group changes the walls turn
