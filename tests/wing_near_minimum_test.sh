@@ -10,6 +10,10 @@
 #   wing read 12 degrees off, tied to the first direction: two changes of
 #   direction that were no step beside the wing's one, so the grouping
 #   failed graph::CountWingSteps (heading median 9.82 against 2.06).
+# - rand42-17: 8 sonars, no drift, a 15-degree wing. The groups' window,
+#   15 degrees wide for a sparse ring, took half of each side, and no
+#   second group was found; the walls split once along the run at the
+#   step (graph::SplitAtOneStep): heading median 7.8 against 0.64.
 # Each map must keep two building directions and its headings must be no
 # worse than its odometry's.
 #   tests/wing_near_minimum_test.sh COGMAP
@@ -43,4 +47,6 @@ check rand42-39 laser --rooms 12 --corridor-m 15 --corridor-width-m 2.5 --room-d
   --wing-deg 15 --seed 30
 check rand42-3 pioneer16 --rooms 24 --corridor-m 40 --corridor-width-m 1.5 --room-depth-m 4.5 --door-m 1.2 \
   --wing-deg 20 --seed 18
+check rand42-17 pioneer8 --rooms 12 --corridor-m 25 --corridor-width-m 2.0 --room-depth-m 8.0 --door-m 0.8 \
+  --wing-deg 15 --seed 33
 echo "ok"

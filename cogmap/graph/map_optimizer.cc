@@ -1254,6 +1254,30 @@ bool ApartWithin(double d, double min_rad, double sd_a, int n_a, double sd_b, in
   return d >= 4.0 * pooled && d >= min_rad - z * se;
 }
 
+// The least separation the directions 'dirs' may keep when each of
+// 'world' is tied to family[k]: for each pair, min_rad, or less within
+// their standard errors when the two groups are clusters (ApartWithin).
+double LeastApart(const std::vector<double>& world, const std::vector<int>& family, const std::vector<double>& dirs,
+                  double min_rad) {
+  std::vector<double> sd(dirs.size(), 0.0);
+  std::vector<int> n(dirs.size(), 0);
+  for (size_t f = 0; f < world.size(); ++f) {
+    sd[family[f]] += std::pow(FoldQuarter(world[f] - dirs[family[f]]), 2);
+    ++n[family[f]];
+  }
+  for (size_t k = 0; k < dirs.size(); ++k) sd[k] = std::sqrt(sd[k] / std::max(1, n[k] - 1));
+  double least = min_rad;
+  for (size_t k = 0; k < dirs.size(); ++k)
+    for (size_t j = 0; j < k; ++j) {
+      const double d = std::abs(FoldQuarter(dirs[k] - dirs[j]));
+      if (n[k] < 2 || n[j] < 2) continue;
+      const double pooled = std::sqrt(0.5 * (sd[k] * sd[k] + sd[j] * sd[j]));
+      const double se = std::sqrt(sd[k] * sd[k] / n[k] + sd[j] * sd[j] / n[j]);
+      if (d >= 4.0 * pooled) least = std::min(least, min_rad - kApartZ * se);
+    }
+  return least;
+}
+
 // Greedily: the widest group of angles (folded into a quarter turn) within
 // a window 'width' wide (of equal counts, the narrowest), by a sliding
 // window over them sorted (n log n); then the same among the rest, a group
@@ -1420,6 +1444,63 @@ WingSteps CountWingSteps(const std::vector<double>& world, const std::vector<int
   return out;
 }
 
+std::optional<WingSplit> SplitAtOneStep(const std::vector<double>& world, const std::vector<int>& node,
+                                        double min_rad, int min_count, double tol_rad) {
+  constexpr int kClear = 2;  // factors left out either side of the split
+  const int n = static_cast<int>(world.size());
+  const int least = std::max(min_count, kClear + kWingStepRun);
+  if (n < 2 * least) return std::nullopt;
+  std::vector<int> order(n);
+  for (int k = 0; k < n; ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return node[a] < node[b]; });
+  // Prefix sums of the angles on the circle of a quarter turn (times 4).
+  std::vector<double> c(n + 1, 0.0), s(n + 1, 0.0);
+  for (int k = 0; k < n; ++k) {
+    c[k + 1] = c[k] + std::cos(4.0 * world[order[k]]);
+    s[k + 1] = s[k] + std::sin(4.0 * world[order[k]]);
+  }
+  // A side's scatter: its count less the length of its resultant.
+  auto scatter = [&](int a, int b) { return (b - a) - std::hypot(c[b] - c[a], s[b] - s[a]); };
+  auto mean = [&](int a, int b) { return 0.25 * std::atan2(s[b] - s[a], c[b] - c[a]); };
+  int best = -1;
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (int k = least; k <= n - least; ++k) {
+    const double cost = scatter(0, k) + scatter(k, n);
+    if (cost < best_cost) best_cost = cost, best = k;
+  }
+  if (best < 0) return std::nullopt;
+  const double a = mean(0, best), b = mean(best, n);
+  auto deviation = [&](int from, int to, double m) {
+    double ss = 0.0;
+    for (int k = from; k < to; ++k) ss += std::pow(FoldQuarter(world[order[k]] - m), 2);
+    return std::sqrt(ss / std::max(1, to - from - 1));
+  };
+  const double d = std::abs(FoldQuarter(b - a));
+  if (!(d >= min_rad || ApartWithin(d, min_rad, deviation(0, best, a), best, deviation(best, n, b), n - best, kApartZ)))
+    return std::nullopt;
+  // The step: three factors either side, kClear clear of the split, each
+  // less its side's mean.
+  double before = 0.0, after = 0.0;
+  for (int k = best - kClear - kWingStepRun; k < best - kClear; ++k) before += FoldQuarter(world[order[k]] - a);
+  for (int k = best + kClear; k < best + kClear + kWingStepRun; ++k) after += FoldQuarter(world[order[k]] - b);
+  if (std::abs(after - before) / kWingStepRun > tol_rad) return std::nullopt;
+  // And each side is level: its first and last three factors read alike. A
+  // ramp (a drift read at the held rates, or a wander) split in two has
+  // sides that turn as much as the step between them.
+  auto level = [&](int from, int to, double m) {
+    double first = 0.0, last = 0.0;
+    for (int k = from; k < from + kWingStepRun; ++k) first += FoldQuarter(world[order[k]] - m);
+    for (int k = to - kWingStepRun; k < to; ++k) last += FoldQuarter(world[order[k]] - m);
+    return std::abs(last - first) / kWingStepRun <= tol_rad;
+  };
+  if (!level(0, best, a) || !level(best, n, b)) return std::nullopt;
+  WingSplit out;
+  out.directions = {FoldQuarter(a), FoldQuarter(b)};
+  out.family.assign(n, 0);
+  for (int k = best; k < n; ++k) out.family[order[k]] = 1;
+  return out;
+}
+
 std::vector<double> BuildingDirectionsDeg(const OptimizerResult& r) {
   std::vector<double> out;
   for (double a : r.building_directions_rad) {
@@ -1477,6 +1558,9 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
     // Solved, the least and the most its directions lie apart.
     double least_rad = std::numeric_limits<double>::infinity(), most_rad = 0.0;
     bool held = false;  // solved with the rates held at zero (a wing that needs no drift)
+    // The least separation its directions may keep, solved: min_rad, or
+    // less within its groups' standard errors (ApartWithin).
+    double apart_rad = 0.0;
   };
   graph_.Restore(drift->held_state);
   std::vector<std::pair<const PoseGraph::State*, double>> sources = {{&drift->held_state, MeanRate()}};
@@ -1537,14 +1621,9 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
       world.push_back(r.world);
       weight.push_back(1.0 / std::max(1e-12, r.sigma * r.sigma));
     }
-    const std::vector<double> dirs =
+    std::vector<double> dirs =
         BuildingDirections(world, weight, options_.building_direction_min_rad, options_.building_direction_min_asrs,
                            options_.max_building_directions, width);
-    if (dirs.size() < 2) continue;
-    Candidate c;
-    c.directions = dirs;
-    graph_.SetBuildingDirection(0, dirs[0]);
-    for (size_t k = 1; k < dirs.size(); ++k) graph_.AddBuildingDirection(dirs[k]);
     std::vector<int> family(rs.size(), 0), node(rs.size());
     for (size_t f = 0; f < rs.size(); ++f) {
       for (size_t k = 1; k < dirs.size(); ++k)
@@ -1559,12 +1638,31 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
     // cross half-way between them (a generated 1000-room building, no wing:
     // 1 change of 227 at a step), and so does a drift read at another rate.
     // At most one change in five may be off (a room's direction misread).
-    const WingSteps steps =
-        CountWingSteps(world, node, family, dirs, 0.5 * options_.building_direction_min_rad, kWingStepRun);
-    if (steps.supported < 1 || steps.unsupported > steps.supported / 4) {
-      graph_.RemoveBuildingDirections();
-      continue;
+    bool grouped = dirs.size() >= 2;
+    if (grouped) {
+      const WingSteps steps =
+          CountWingSteps(world, node, family, dirs, 0.5 * options_.building_direction_min_rad, kWingStepRun);
+      grouped = steps.supported >= 1 && steps.unsupported <= steps.supported / 4;
     }
+    // Read without drift (the held rates), walls the groups miss may still
+    // split once along the run at a step (SplitAtOneStep): each factor tied
+    // by where it was seen, not by its direction.
+    if (!grouped && &source == &sources.front().first) {
+      const std::optional<WingSplit> split = SplitAtOneStep(
+          world, node, options_.building_direction_min_rad, options_.building_direction_min_asrs,
+          0.5 * options_.building_direction_min_rad);
+      if (split) {
+        dirs = split->directions;
+        family = split->family;
+        grouped = true;
+      }
+    }
+    if (!grouped) continue;
+    Candidate c;
+    c.directions = dirs;
+    c.apart_rad = LeastApart(world, family, dirs, options_.building_direction_min_rad);
+    graph_.SetBuildingDirection(0, dirs[0]);
+    for (size_t k = 1; k < dirs.size(); ++k) graph_.AddBuildingDirection(dirs[k]);
     ++tried;
     for (size_t f = 0; f < rs.size(); ++f) {
       c.family.emplace_back(rs[f].handle, family[f]);
@@ -1599,7 +1697,7 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
       double least = 0.0, most = 0.0;
       spread(&least, &most);
       const double held_cost = graph_.Cost();
-      if (least >= width &&
+      if (least >= std::min(width, c.apart_rad) &&
           !(2.0 * (held_cost - c.cost) > ChiSquareQuantile(options_.drift_test_probability, 1))) {
         c.least_rad = least;
         c.most_rad = most;
@@ -1642,7 +1740,7 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
   // building_direction_min_rad, or, for a wing that needs no drift, by
   // more than a group of directions is wide (the drift's spread, which the
   // minimum guards against, is not there).
-  const auto wing_apart = [&](const Candidate& c) { return c.held ? width : options_.building_direction_min_rad; };
+  const auto wing_apart = [&](const Candidate& c) { return c.held ? std::min(width, c.apart_rad) : c.apart_rad; };
   const auto apart = [&](const Candidate& c) { return c.least_rad >= wing_apart(c); };
   // A candidate's statistic and the quantile it must clear.
   const auto test = [&](const Candidate& c) {

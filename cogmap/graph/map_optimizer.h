@@ -444,6 +444,24 @@ WingSteps CountWingSteps(const std::vector<double>& world, const std::vector<int
                          const std::vector<int>& family, const std::vector<double>& directions, double tol_rad,
                          int run = 3);
 
+// The walls' directions ('world', each factor's along the odometry; 'node'
+// its ASR) split once along the run where one building direction gives way
+// to another: the split that leaves the least circular scatter about each
+// side's mean (modulo a quarter turn), each side min_count or more. Kept
+// when the two means lie building_direction_min_rad apart (or within their
+// standard errors of it, as BuildingDirections allows) and the walls step
+// there: the mean offsets of three factors either side, two factors clear
+// of the split (the rooms and corridor where the wings meet read between
+// them), within tol_rad of each other. A slow wander of the heading
+// splits too, but its walls near the split read alike. 'family' is per
+// input factor (0 before the split, 1 after).
+struct WingSplit {
+  std::vector<double> directions;
+  std::vector<int> family;
+};
+std::optional<WingSplit> SplitAtOneStep(const std::vector<double>& world, const std::vector<int>& node,
+                                        double min_rad, int min_count, double tol_rad);
+
 // r.building_directions_rad in degrees modulo a quarter turn, in [0, 90)
 // (report.json, the terminal and Python give them so).
 std::vector<double> BuildingDirectionsDeg(const OptimizerResult& r);

@@ -744,6 +744,40 @@ TEST(CountWingSteps, AWingBeginsWithAStepNotWithAWander) {
   EXPECT_EQ(wander.unsupported, 1);
 }
 
+TEST(SplitAtOneStep, AWingWhereTheRobotEntersItNotAWander) {
+  const double d = DegToRad(1.0);
+  // Ten rooms square to the first direction, two where the wings meet
+  // reading between them, ten of a 15-degree wing (16 sonars: a few
+  // degrees of scatter each). The groups' windows took half of each side;
+  // the split at the step ties each room by where it was seen.
+  std::vector<double> world;
+  std::vector<int> node;
+  const double scatter[10] = {1.5, -2.0, 0.5, 3.0, -1.0, -2.5, 2.0, 0.0, -0.5, 1.0};
+  for (int i = 0; i < 10; ++i) world.push_back(scatter[i] * d);
+  world.push_back(8.9 * d);
+  world.push_back(6.7 * d);
+  for (int i = 0; i < 10; ++i) world.push_back((14.0 + scatter[9 - i]) * d);
+  for (int i = 0; i < 22; ++i) node.push_back(i);
+  const std::optional<WingSplit> wing = SplitAtOneStep(world, node, DegToRad(15.0), 3, 7.5 * d);
+  ASSERT_TRUE(wing.has_value());
+  EXPECT_NEAR(std::abs(FoldQuarter(wing->directions[1] - wing->directions[0])), 14.0 * d, 1.5 * d);
+  EXPECT_EQ(wing->family[0], 0);
+  EXPECT_EQ(wing->family[9], 0);
+  EXPECT_EQ(wing->family[12], 1);
+  EXPECT_EQ(wing->family[21], 1);
+  // The walls turning 1.8 degrees a room over 22 rooms (a drift read at
+  // the held rates): the best split's sides are 20 degrees apart and the
+  // walls three rooms either side of it turn by 7.2 degrees, within the
+  // step's tolerance, but each side turns by 14: a ramp, no step.
+  std::vector<double> ramp;
+  for (int i = 0; i < 22; ++i) ramp.push_back(1.8 * i * d);
+  EXPECT_FALSE(SplitAtOneStep(ramp, node, DegToRad(15.0), 3, 7.5 * d).has_value());
+  // A wing too near the first to be one (8 degrees): no split.
+  std::vector<double> near;
+  for (int i = 0; i < 22; ++i) near.push_back(((i < 11 ? 0.0 : 8.0) + 0.1 * scatter[i % 10]) * d);
+  EXPECT_FALSE(SplitAtOneStep(near, node, DegToRad(15.0), 3, 7.5 * d).has_value());
+}
+
 TEST(ScanBuildingDirections, FindsTheDriftUnderAWingAndNoWingUnderADriftAlone) {
   // Ten rooms 10 m apart, a drift of 1 deg/m: each room's walls in the
   // odometry frame lean by the drift times the distance driven to it (the
