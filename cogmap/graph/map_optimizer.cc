@@ -1484,16 +1484,18 @@ std::optional<WingSplit> SplitAtOneStep(const std::vector<double>& world, const 
   for (int k = best - kClear - kWingStepRun; k < best - kClear; ++k) before += FoldQuarter(world[order[k]] - a);
   for (int k = best + kClear; k < best + kClear + kWingStepRun; ++k) after += FoldQuarter(world[order[k]] - b);
   if (std::abs(after - before) / kWingStepRun > tol_rad) return std::nullopt;
-  // And each side is level: its first and last three factors read alike. A
-  // ramp (a drift read at the held rates, or a wander) split in two has
-  // sides that turn as much as the step between them.
-  auto level = [&](int from, int to, double m) {
-    double first = 0.0, last = 0.0;
-    for (int k = from; k < from + kWingStepRun; ++k) first += FoldQuarter(world[order[k]] - m);
-    for (int k = to - kWingStepRun; k < to; ++k) last += FoldQuarter(world[order[k]] - m);
-    return std::abs(last - first) / kWingStepRun <= tol_rad;
+  // And each side is level: the three factors at its far end read as the
+  // three next to the split (kClear clear of it) do. A ramp (a drift read
+  // at the held rates, or a wander) split in two has sides that turn as
+  // much as the step between them.
+  auto offset = [&](int from, double m) {
+    double sum = 0.0;
+    for (int k = from; k < from + kWingStepRun; ++k) sum += FoldQuarter(world[order[k]] - m);
+    return sum / kWingStepRun;
   };
-  if (!level(0, best, a) || !level(best, n, b)) return std::nullopt;
+  if (std::abs(offset(0, a) - before / kWingStepRun) > tol_rad ||
+      std::abs(offset(n - kWingStepRun, b) - after / kWingStepRun) > tol_rad)
+    return std::nullopt;
   WingSplit out;
   out.directions = {FoldQuarter(a), FoldQuarter(b)};
   out.family.assign(n, 0);

@@ -452,9 +452,11 @@ WingSteps CountWingSteps(const std::vector<double>& world, const std::vector<int
 // standard errors of it, as BuildingDirections allows) and the walls step
 // there: the mean offsets of three factors either side, two factors clear
 // of the split (the rooms and corridor where the wings meet read between
-// them), within tol_rad of each other. A slow wander of the heading
-// splits too, but its walls near the split read alike. 'family' is per
-// input factor (0 before the split, 1 after).
+// them), within tol_rad of each other; and each side level: the three
+// factors at its far end within tol_rad of those three. A ramp (a drift
+// read at the held rates, or a slow wander of the heading) splits too,
+// but its sides turn as much as the step. 'family' is per input factor (0
+// before the split, 1 after).
 struct WingSplit {
   std::vector<double> directions;
   std::vector<int> family;
