@@ -1240,23 +1240,24 @@ double GroupWidth(double min_rad, double width_rad) {
   return width_rad > 0.0 ? std::clamp(width_rad, 0.5 * min_rad, min_rad) : 0.5 * min_rad;
 }
 
-// Two groups of wall directions 'd' apart, under min_rad: apart all the
-// same when they are two clusters (every member nearer its own mean than
-// the midpoint by two standard deviations: d at least four pooled
-// deviations) and d lies within z standard errors of their separation
-// under min_rad (a wing at min_rad is measured under it half the time: a
-// laser's 15-degree wing at 14.9). A sparse ring's groups, a few degrees
-// wide each, are not resolved so, and stay min_rad apart.
-bool ApartWithin(double d, double min_rad, double sd_a, int n_a, double sd_b, int n_b, double z) {
-  if (!(z > 0.0) || n_a < 2 || n_b < 2) return false;
+// The least separation two groups of wall directions 'd' apart (standard
+// deviations sd_a and sd_b, n_a and n_b members) need to be apart: min_rad,
+// or z standard errors of their separation under it when they are two
+// clusters (every member nearer its own mean than the midpoint by two
+// standard deviations: d at least four pooled deviations). A wing at
+// min_rad is measured under it half the time (a laser's 15-degree wing at
+// 14.9); a sparse ring's groups, a few degrees wide each, are not resolved
+// so, and stay min_rad apart. z 0: min_rad.
+double AllowedSeparation(double d, double min_rad, double sd_a, int n_a, double sd_b, int n_b, double z) {
+  if (!(z > 0.0) || n_a < 2 || n_b < 2) return min_rad;
   const double pooled = std::sqrt(0.5 * (sd_a * sd_a + sd_b * sd_b));
-  const double se = std::sqrt(sd_a * sd_a / n_a + sd_b * sd_b / n_b);
-  return d >= 4.0 * pooled && d >= min_rad - z * se;
+  if (d < 4.0 * pooled) return min_rad;
+  return min_rad - z * std::sqrt(sd_a * sd_a / n_a + sd_b * sd_b / n_b);
 }
 
 // The least separation the directions 'dirs' may keep when each of
 // 'world' is tied to family[k]: for each pair, min_rad, or less within
-// their standard errors when the two groups are clusters (ApartWithin).
+// their standard errors when the two groups are clusters (AllowedSeparation).
 double LeastApart(const std::vector<double>& world, const std::vector<int>& family, const std::vector<double>& dirs,
                   double min_rad) {
   std::vector<double> sd(dirs.size(), 0.0);
@@ -1268,13 +1269,9 @@ double LeastApart(const std::vector<double>& world, const std::vector<int>& fami
   for (size_t k = 0; k < dirs.size(); ++k) sd[k] = std::sqrt(sd[k] / std::max(1, n[k] - 1));
   double least = min_rad;
   for (size_t k = 0; k < dirs.size(); ++k)
-    for (size_t j = 0; j < k; ++j) {
-      const double d = std::abs(FoldQuarter(dirs[k] - dirs[j]));
-      if (n[k] < 2 || n[j] < 2) continue;
-      const double pooled = std::sqrt(0.5 * (sd[k] * sd[k] + sd[j] * sd[j]));
-      const double se = std::sqrt(sd[k] * sd[k] / n[k] + sd[j] * sd[j] / n[j]);
-      if (d >= 4.0 * pooled) least = std::min(least, min_rad - kApartZ * se);
-    }
+    for (size_t j = 0; j < k; ++j)
+      least = std::min(least, AllowedSeparation(std::abs(FoldQuarter(dirs[k] - dirs[j])), min_rad, sd[k], n[k], sd[j],
+                                                n[j], kApartZ));
   return least;
 }
 
@@ -1333,8 +1330,8 @@ Gathering Gather(const std::vector<double>& angles, const std::vector<double>* w
     bool apart = true;
     for (size_t j = 0; j < g.directions.size(); ++j) {
       const double d = std::abs(FoldQuarter(mean - g.directions[j]));
-      apart = apart && (d >= min_rad || ApartWithin(d, min_rad, sd, static_cast<int>(best_count), g.deviations[j],
-                                                    g.counts[j], apart_z));
+      apart = apart && d >= AllowedSeparation(d, min_rad, sd, static_cast<int>(best_count), g.deviations[j],
+                                              g.counts[j], apart_z);
     }
     std::vector<std::pair<double, double>> rest;
     if (!apart) {
@@ -1470,14 +1467,11 @@ std::optional<WingSplit> SplitAtOneStep(const std::vector<double>& world, const 
   }
   if (best < 0) return std::nullopt;
   const double a = mean(0, best), b = mean(best, n);
-  auto deviation = [&](int from, int to, double m) {
-    double ss = 0.0;
-    for (int k = from; k < to; ++k) ss += std::pow(FoldQuarter(world[order[k]] - m), 2);
-    return std::sqrt(ss / std::max(1, to - from - 1));
-  };
-  const double d = std::abs(FoldQuarter(b - a));
-  if (!(d >= min_rad || ApartWithin(d, min_rad, deviation(0, best, a), best, deviation(best, n, b), n - best, kApartZ)))
-    return std::nullopt;
+  WingSplit out;
+  out.directions = {FoldQuarter(a), FoldQuarter(b)};
+  out.family.assign(n, 0);
+  for (int k = best; k < n; ++k) out.family[order[k]] = 1;
+  if (std::abs(FoldQuarter(b - a)) < LeastApart(world, out.family, out.directions, min_rad)) return std::nullopt;
   // The step: three factors either side, kClear clear of the split, each
   // less its side's mean.
   double before = 0.0, after = 0.0;
@@ -1496,10 +1490,6 @@ std::optional<WingSplit> SplitAtOneStep(const std::vector<double>& world, const 
   if (std::abs(offset(0, a) - before / kWingStepRun) > tol_rad ||
       std::abs(offset(n - kWingStepRun, b) - after / kWingStepRun) > tol_rad)
     return std::nullopt;
-  WingSplit out;
-  out.directions = {FoldQuarter(a), FoldQuarter(b)};
-  out.family.assign(n, 0);
-  for (int k = best; k < n; ++k) out.family[order[k]] = 1;
   return out;
 }
 
@@ -1561,7 +1551,7 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
     double least_rad = std::numeric_limits<double>::infinity(), most_rad = 0.0;
     bool held = false;  // solved with the rates held at zero (a wing that needs no drift)
     // The least separation its directions may keep, solved: min_rad, or
-    // less within its groups' standard errors (ApartWithin).
+    // less within its groups' standard errors (AllowedSeparation).
     double apart_rad = 0.0;
   };
   graph_.Restore(drift->held_state);
@@ -1613,7 +1603,6 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
       }
   };
   std::vector<Candidate> candidates;
-  int tried = 0;
   for (const auto& [source, rate] : sources) {
     graph_.Restore(*source);
     graph_.ChainWithRate(rate);
@@ -1665,7 +1654,6 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
     c.apart_rad = LeastApart(world, family, dirs, options_.building_direction_min_rad);
     graph_.SetBuildingDirection(0, dirs[0]);
     for (size_t k = 1; k < dirs.size(); ++k) graph_.AddBuildingDirection(dirs[k]);
-    ++tried;
     for (size_t f = 0; f < rs.size(); ++f) {
       c.family.emplace_back(rs[f].handle, family[f]);
       graph_.SetDirectionFamily(rs[f].handle, family[f]);
@@ -1724,7 +1712,7 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
   // divided among the distinct ones (the same grouping found at the held
   // rates and at the scan's, counted twice, raised a 15-degree wing's
   // quantile from 12.1 to 12.9, past its 12.8).
-  tried = 0;
+  int tried = 0;
   for (size_t k = 0; k < candidates.size(); ++k) {
     bool seen = false;
     for (size_t j = 0; j < k && !seen; ++j) seen = candidates[j].family == candidates[k].family;
