@@ -183,6 +183,94 @@ std::vector<FacedPoint> SampleFaces(const std::vector<FacedSegment>& faces, doub
   return out;
 }
 
+namespace {
+
+// The pseudo-inverse of a symmetric positive semi-definite matrix: its
+// directions without weight (a corridor's length) stay without.
+Eigen::Matrix3d PseudoInverse(const Eigen::Matrix3d& m) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(0.5 * (m + m.transpose()));
+  const double top = std::max(es.eigenvalues()(2), 0.0);
+  Eigen::Vector3d inv = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 3; ++i)
+    if (top > 0.0 && es.eigenvalues()(i) > 1e-12 * top) inv(i) = 1.0 / es.eigenvalues()(i);
+  return es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
+}
+
+// The information (inverse covariance) of the pose ICP found, from its
+// matches at that pose. The estimate is x = H^-1 sum_i w_i J_i e_i; its
+// errors are of two kinds.
+// - Each sample's own noise, independent: variance s2 (the residuals', at
+//   least min_sigma_m squared).
+// - Each wall's place in its ASR, one error for all the samples along it:
+//   its two ends each off by wall_end_sigma_m along its normal, so at the
+//   middle of the samples matched on it an offset of variance sigma^2 / 2
+//   and a tilt of variance 2 sigma^2 / L^2 (L its length), for the source's
+//   wall and the target's alike. A matched pair of walls moves all its
+//   samples together: its offset by a = sum w J, its tilt by
+//   b = sum w J (t - t_mean), t along the target wall.
+// Covariance C = H^-1 (s2 H + sum over pairs of var_offset a a^T +
+// var_tilt b b^T) H^-1 (the sandwich; H = sum w J J^T); the information
+// returned is C^+ = H M^+ H, singular where H is.
+Eigen::Matrix3d PairedWallInformation(const std::vector<FacedSegment>& target, const std::vector<FacedSegment>& source,
+                                      const std::vector<FacedPoint>& samples, const Pose2& T, double max_d,
+                                      double cos_max, const FaceIndex& index, double s2,
+                                      const RegistrationOptions& o) {
+  // Which source wall each sample lies on (SampleFaces' order and count).
+  std::vector<int> sample_wall;
+  sample_wall.reserve(samples.size());
+  for (size_t f = 0; f < source.size(); ++f) {
+    const int n = std::max(1, static_cast<int>(std::floor(source[f].length() / o.sample_step_m)));
+    sample_wall.insert(sample_wall.end(), n, static_cast<int>(f));
+  }
+  struct Pair {
+    int source = -1, target = -1;
+    Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();  // sum w J, sum w J t
+    double w = 0.0, wt = 0.0;                                                  // sum w, sum w t
+  };
+  std::vector<Pair> pairs;
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  const double c = std::cos(T.theta), s = std::sin(T.theta);
+  for (size_t i = 0; i < samples.size(); ++i) {
+    const FacedPoint& fp = samples[i];
+    const Vec2 q = T * fp.p;
+    const Vec2 n(c * fp.normal.x() - s * fp.normal.y(), s * fp.normal.x() + c * fp.normal.y());
+    double e = 0.0, d = 0.0;
+    const int k = index.Nearest(q, n, max_d, cos_max, &e, &d);
+    if (k < 0) continue;
+    const Vec2& nt = target[k].normal;
+    const Vec2 dq(-(q.y() - T.y), q.x() - T.x);
+    const Eigen::Vector3d J(nt.x(), nt.y(), nt.dot(dq));
+    const double w = std::abs(e) <= o.huber_m ? 1.0 : o.huber_m / std::abs(e);
+    H += w * J * J.transpose();
+    const Vec2 along = target[k].b - target[k].a;
+    const double len = along.norm();
+    const double t = len > 0.0 ? (q - target[k].a).dot(along) / len : 0.0;
+    const int sw = i < sample_wall.size() ? sample_wall[i] : -1;
+    auto it = std::find_if(pairs.begin(), pairs.end(), [&](const Pair& p) { return p.source == sw && p.target == k; });
+    if (it == pairs.end()) {
+      pairs.push_back({sw, k});
+      it = pairs.end() - 1;
+    }
+    it->a += w * J;
+    it->b += w * t * J;
+    it->w += w;
+    it->wt += w * t;
+  }
+  const double v = o.wall_end_sigma_m * o.wall_end_sigma_m;
+  Eigen::Matrix3d M = s2 * H;
+  for (const Pair& p : pairs) {
+    const double ls = std::max(o.sample_step_m, p.source >= 0 ? source[p.source].length() : 0.0);
+    const double lt = std::max(o.sample_step_m, target[p.target].length());
+    const double var_offset = v;  // sigma^2 / 2 from each of the two walls
+    const double var_tilt = 2.0 * v / (ls * ls) + 2.0 * v / (lt * lt);
+    const Eigen::Vector3d b = p.b - (p.w > 0.0 ? p.wt / p.w : 0.0) * p.a;  // tilt about the samples' middle
+    M += var_offset * p.a * p.a.transpose() + var_tilt * b * b.transpose();
+  }
+  return H * PseudoInverse(M) * H;
+}
+
+}  // namespace
+
 Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::vector<FacedSegment>& source,
                            const Pose2& initial, const RegistrationOptions& o, const Eigen::Matrix3d* prior) {
   Registration r;
@@ -203,7 +291,6 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
   double sum_w_e2 = 0.0, sum_w = 0.0;
   int matches = 0;
   std::vector<char> face_hit(target.size(), 0);
-  const double inflate = std::max(1.0, o.correlation_length_m / o.sample_step_m);
   // With a prior: its Cholesky factor L (prior = L L^T) whitens the pose.
   Eigen::Matrix3d L = Eigen::Matrix3d::Identity();
   if (prior) {
@@ -214,6 +301,10 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
   // The data's information in the prior's whitened coordinates, and the
   // directions it determines (eigenvalue >= 1), at the last iteration.
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> whitened;
+  // The residuals' variance inflated by the samples along correlation_length_m
+  // (the older model's): what the iterations weigh the data by, and the
+  // covariance without the walls' own errors (wall_end_sigma_m 0).
+  const double inflate = std::max(1.0, o.correlation_length_m / o.sample_step_m);
   auto data_variance = [&](int m) {
     const double dof = std::max(1, m - 3);
     return std::max(o.min_sigma_m * o.min_sigma_m, sum_w_e2 / dof) * inflate;
@@ -296,11 +387,16 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
   r.faces_matched = static_cast<int>(std::count(face_hit.begin(), face_hit.end(), 1));
   r.match_fraction = r.samples > 0 ? static_cast<double>(matches) / r.samples : 0.0;
   r.rmse_m = sum_w > 0 ? std::sqrt(sum_w_e2 / sum_w) : 0.0;
-  const double s2 = data_variance(matches);  // residual variance times the correlation inflation
   if (prior) {
-    // The data's covariance along the directions it determined; along the
-    // others (left at the prior) as good as none: 10^4 times the prior's.
-    // ('whitened' is the last iteration's: H and the residuals are its.)
+    // The data's covariance along the directions it determines (information
+    // at least the prior's); along the others as good as none: 10^4 times
+    // the prior's. With the walls' own errors (wall_end_sigma_m > 0) the
+    // information of the pose found, else the last iteration's (H / s2).
+    if (o.wall_end_sigma_m > 0.0)
+      whitened.compute(L.transpose() *
+                       PairedWallInformation(target, source, samples, T, radius(r.iterations - 1), cos_max, index,
+                                             data_variance(matches) / inflate, o) *
+                       L);
     Eigen::Vector3d inv;
     for (int i = 0; i < 3; ++i) {
       const double lambda = whitened.eigenvalues()(i);
@@ -313,8 +409,12 @@ Registration RegisterWalls(const std::vector<FacedSegment>& target, const std::v
     r.converged = true;
     return r;
   }
-  // Pseudo-inverse on the eigen-decomposition: a direction without
-  // information gets a large variance, not a NaN.
+  // Without a prior (a loop closure's search; its model of the walls'
+  // errors is the older one, not changed with the registrations across
+  // exits): sigma^2 H^-1, the residual variance inflated by the samples
+  // along correlation_length_m. Pseudo-inverse on the eigen-decomposition:
+  // a direction without information gets a large variance, not a NaN.
+  const double s2 = data_variance(matches);
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(H);
   Eigen::Vector3d inv = Eigen::Vector3d::Zero();
   for (int i = 0; i < 3; ++i) inv(i) = es.eigenvalues()(i) > 1e-9 ? 1.0 / es.eigenvalues()(i) : 1e9;

@@ -1,6 +1,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "cogmap/core/geometry.h"
@@ -73,11 +74,21 @@ struct RegistrationOptions {
   double max_normal_angle_rad = 0.5;   // ~30 deg between matched faces
   double huber_m = 0.1;                // Huber weight on point-to-line residuals
   int iterations = 30;
-  // Residuals of neighbouring samples along one wall are correlated (one
-  // polyline edge): the covariance is inflated by correlation_length_m /
-  // sample_step_m, the number of samples that carry one independent error.
-  double correlation_length_m = 0.5;
   double min_sigma_m = 0.02;           // floor of the residual 1-sigma
+  // With a prior (a registration across an exit), when the walls are
+  // placed in their rooms to within a grid cell: each wall's ends off by
+  // 1-sigma cell / sqrt(12) (uniform over the cell; 0.1 m cells: 2.9 cm).
+  // That error is one per wall, shared by every sample along it, so it does
+  // not average down with the samples: the covariance counts it once per
+  // matched pair of walls (docs/pose-graph.md, "Registration"). 0: the
+  // older model below (a sonar's walls, placed by a beam wider than a cell
+  // across the window: MappingPipeline sets it for narrow beams only).
+  double wall_end_sigma_m = 0.1 / std::sqrt(12.0);
+  // The older model, and the iterations' weights: residuals of neighbouring
+  // samples along one wall taken as correlated over this length, the
+  // residual variance inflated by correlation_length_m / sample_step_m.
+  // A loop closure's search (no prior) keeps it.
+  double correlation_length_m = 0.5;
   int min_matches = 12;
 };
 
