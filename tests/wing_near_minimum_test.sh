@@ -1,5 +1,5 @@
 #!/bin/sh
-# Two wings the building-direction search used to miss, each built from
+# Three wings the building-direction search used to miss, each built from
 # scratch (bench/never_worse --random 40 --random-seed 42):
 # - rand42-39: a laser, no drift, a 15-degree wing. Its walls read 14.9
 #   degrees apart, under building_direction_min_rad, so the wing was never

@@ -172,12 +172,12 @@ std::vector<FacedSegment> FaceWalls(const std::vector<Polyline>& walls, const st
 
 std::vector<FacedPoint> SampleFaces(const std::vector<FacedSegment>& faces, double step_m) {
   std::vector<FacedPoint> out;
-  for (const FacedSegment& f : faces) {
-    const double len = f.length();
-    const int n = std::max(1, static_cast<int>(std::floor(len / step_m)));
+  for (size_t k = 0; k < faces.size(); ++k) {
+    const FacedSegment& f = faces[k];
+    const int n = std::max(1, static_cast<int>(std::floor(f.length() / step_m)));
     for (int i = 0; i < n; ++i) {
       const double t = (i + 0.5) / n;
-      out.push_back({f.a + t * (f.b - f.a), f.normal});
+      out.push_back({f.a + t * (f.b - f.a), f.normal, static_cast<int>(k)});
     }
   }
   return out;
@@ -215,13 +215,6 @@ Eigen::Matrix3d PairedWallInformation(const std::vector<FacedSegment>& target, c
                                       const std::vector<FacedPoint>& samples, const Pose2& T, double max_d,
                                       double cos_max, const FaceIndex& index, double s2,
                                       const RegistrationOptions& o) {
-  // Which source wall each sample lies on (SampleFaces' order and count).
-  std::vector<int> sample_wall;
-  sample_wall.reserve(samples.size());
-  for (size_t f = 0; f < source.size(); ++f) {
-    const int n = std::max(1, static_cast<int>(std::floor(source[f].length() / o.sample_step_m)));
-    sample_wall.insert(sample_wall.end(), n, static_cast<int>(f));
-  }
   struct Pair {
     int source = -1, target = -1;
     Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();  // sum w J, sum w J t
@@ -230,8 +223,7 @@ Eigen::Matrix3d PairedWallInformation(const std::vector<FacedSegment>& target, c
   std::vector<Pair> pairs;
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
   const double c = std::cos(T.theta), s = std::sin(T.theta);
-  for (size_t i = 0; i < samples.size(); ++i) {
-    const FacedPoint& fp = samples[i];
+  for (const FacedPoint& fp : samples) {
     const Vec2 q = T * fp.p;
     const Vec2 n(c * fp.normal.x() - s * fp.normal.y(), s * fp.normal.x() + c * fp.normal.y());
     double e = 0.0, d = 0.0;
@@ -245,10 +237,10 @@ Eigen::Matrix3d PairedWallInformation(const std::vector<FacedSegment>& target, c
     const Vec2 along = target[k].b - target[k].a;
     const double len = along.norm();
     const double t = len > 0.0 ? (q - target[k].a).dot(along) / len : 0.0;
-    const int sw = i < sample_wall.size() ? sample_wall[i] : -1;
-    auto it = std::find_if(pairs.begin(), pairs.end(), [&](const Pair& p) { return p.source == sw && p.target == k; });
+    auto it =
+        std::find_if(pairs.begin(), pairs.end(), [&](const Pair& p) { return p.source == fp.face && p.target == k; });
     if (it == pairs.end()) {
-      pairs.push_back({sw, k});
+      pairs.push_back({fp.face, k});
       it = pairs.end() - 1;
     }
     it->a += w * J;
@@ -259,7 +251,7 @@ Eigen::Matrix3d PairedWallInformation(const std::vector<FacedSegment>& target, c
   const double v = o.wall_end_sigma_m * o.wall_end_sigma_m;
   Eigen::Matrix3d M = s2 * H;
   for (const Pair& p : pairs) {
-    const double ls = std::max(o.sample_step_m, p.source >= 0 ? source[p.source].length() : 0.0);
+    const double ls = std::max(o.sample_step_m, source[p.source].length());
     const double lt = std::max(o.sample_step_m, target[p.target].length());
     const double var_offset = v;  // sigma^2 / 2 from each of the two walls
     const double var_tilt = 2.0 * v / (ls * ls) + 2.0 * v / (lt * lt);

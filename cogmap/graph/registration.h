@@ -146,6 +146,7 @@ Eigen::Matrix3d CovarianceInSourceFrame(const Registration& r);
 struct FacedPoint {
   Vec2 p;
   Vec2 normal;
+  int face = -1;  // the index of the segment it lies on
 };
 std::vector<FacedPoint> SampleFaces(const std::vector<FacedSegment>& faces, double step_m);
 

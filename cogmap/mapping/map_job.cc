@@ -211,9 +211,7 @@ MapJobSummary RunMapJob(io::LogReader& log, const MapJob& job) {
     store->SetMeta("run_id", folder->run_id());
     asr::SetRobotRadius(store.get(), robot.radius_m);
     asr::SetSensorReach(store.get(), SensorReach(robot, job.mapping.window_m));
-    double beam = 0.0;
-    for (const auto& s : robot.sensors) beam = std::max(beam, s.beam_width_rad);
-    asr::SetSensorBeam(store.get(), beam);
+    asr::SetSensorBeam(store.get(), sensors::WidestBeamRad(robot));
     pipeline = std::make_unique<MappingPipeline>(robot, mapping, store.get());
     const int stored_max = store->MaxId();
     const int stored_count = store->Count();

@@ -78,9 +78,7 @@ bool LaserOnly(const sensors::RobotDescription& robot) {
 
 void ConfigureWallLines(const sensors::RobotDescription& robot, bool on, vectorize::VectorizeOptions* v) {
   v->wall_lines = on;
-  double half = 0.0;
-  for (const auto& s : robot.sensors) half = std::max(half, 0.5 * s.beam_width_rad);
-  v->lines.beam_half_width_rad = half;
+  v->lines.beam_half_width_rad = 0.5 * sensors::WidestBeamRad(robot);
   v->lines.max_range_cells = v->clean.max_dist_cells;
   v->lines.path_clearance_m = robot.radius_m;
   // A sonar's cleaned faces hold the smear of door jambs in front of the
@@ -182,8 +180,7 @@ graph::MapOptimizerOptions GraphOptionsFor(const sensors::RobotDescription& robo
   // window (a laser's half degree: 1.3 cm at 3 m); a sonar's 30 degrees
   // spread 0.8 m there, and its walls keep the older model
   // (RegistrationOptions::wall_end_sigma_m).
-  double half = 0.0;
-  for (const auto& s : robot.sensors) half = std::max(half, 0.5 * s.beam_width_rad);
+  const double half = 0.5 * sensors::WidestBeamRad(robot);
   g.registration.wall_end_sigma_m = o.window_m * std::tan(half) <= o.cell_m ? o.cell_m / std::sqrt(12.0) : 0.0;
   return g;
 }

@@ -1,5 +1,7 @@
 #include "cogmap/sensors/robot.h"
 
+#include <algorithm>
+
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
 
@@ -91,6 +93,12 @@ RobotDescription BuiltinRobot(const std::string& name, const LaserOptions& laser
   for (const auto& k : BuiltinRobotNames()) known += (known.empty() ? "" : ", ") + k;
   throw InputError("unknown robot '" + name + "' (built in: " + known +
                    "; or give a robot JSON file)");
+}
+
+double WidestBeamRad(const RobotDescription& robot) {
+  double beam = 0.0;
+  for (const auto& s : robot.sensors) beam = std::max(beam, s.beam_width_rad);
+  return beam;
 }
 
 }  // namespace cogmap::sensors

@@ -44,6 +44,10 @@ std::vector<std::string> BuiltinRobotNames();
 // A planar laser of 'beams' beams over 'fov_rad', centred on the robot.
 RobotDescription MakeLaser(const LaserOptions& options, const std::string& name = "laser");
 
+// The widest beam of the robot's sensors (full cone angle, rad; 0 without
+// sensors): how far across its beam an echo may lie.
+double WidestBeamRad(const RobotDescription& robot);
+
 // World pose of a sensor when the robot is at 'world_from_robot' (eq. 3.5).
 inline Pose2 SensorPose(const Pose2& world_from_robot, const RangeSensor& s) {
   return world_from_robot * s.robot_from_sensor;
