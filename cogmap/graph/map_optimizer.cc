@@ -1472,23 +1472,21 @@ std::optional<WingSplit> SplitAtOneStep(const std::vector<double>& world, const 
   out.family.assign(n, 0);
   for (int k = best; k < n; ++k) out.family[order[k]] = 1;
   if (std::abs(FoldQuarter(b - a)) < LeastApart(world, out.family, out.directions, min_rad)) return std::nullopt;
-  // The step: three factors either side, kClear clear of the split, each
-  // less its side's mean.
-  double before = 0.0, after = 0.0;
-  for (int k = best - kClear - kWingStepRun; k < best - kClear; ++k) before += FoldQuarter(world[order[k]] - a);
-  for (int k = best + kClear; k < best + kClear + kWingStepRun; ++k) after += FoldQuarter(world[order[k]] - b);
-  if (std::abs(after - before) / kWingStepRun > tol_rad) return std::nullopt;
-  // And each side is level: the three factors at its far end read as the
-  // three next to the split (kClear clear of it) do. A ramp (a drift read
-  // at the held rates, or a wander) split in two has sides that turn as
-  // much as the step between them.
+  // The mean offset from side mean m of the three factors from 'from' on.
   auto offset = [&](int from, double m) {
     double sum = 0.0;
     for (int k = from; k < from + kWingStepRun; ++k) sum += FoldQuarter(world[order[k]] - m);
     return sum / kWingStepRun;
   };
-  if (std::abs(offset(0, a) - before / kWingStepRun) > tol_rad ||
-      std::abs(offset(n - kWingStepRun, b) - after / kWingStepRun) > tol_rad)
+  // The step: three factors either side, kClear clear of the split, each
+  // less its side's mean.
+  const double before = offset(best - kClear - kWingStepRun, a), after = offset(best + kClear, b);
+  if (std::abs(after - before) > tol_rad) return std::nullopt;
+  // And each side is level: the three factors at its far end read as the
+  // three next to the split (kClear clear of it) do. A ramp (a drift read
+  // at the held rates, or a wander) split in two has sides that turn as
+  // much as the step between them.
+  if (std::abs(offset(0, a) - before) > tol_rad || std::abs(offset(n - kWingStepRun, b) - after) > tol_rad)
     return std::nullopt;
   return out;
 }
