@@ -1228,6 +1228,11 @@ constexpr double kQuarterTurn = kPi / 2.0;
 // wall directions either side (a sparse ring's single room reads its walls
 // a few degrees off).
 constexpr int kWingStepRun = 3;
+// SplitAtOneStep: the factors left out either side of the split (the rooms
+// and corridor where the wings meet read between them), and so the least
+// on each side (they and a run of kWingStepRun).
+constexpr int kClear = 2;
+constexpr int kWingSplitLeast = kClear + kWingStepRun;
 // How many standard errors of their separation two groups of wall
 // directions may lie under building_direction_min_rad and still be apart:
 // the one-sided 99 % point of the normal.
@@ -1393,6 +1398,58 @@ std::optional<WingScan> ScanBuildingDirections(const std::vector<PoseGraph::Dire
   return WingScan{best_rate, best.count, single, best.directions};
 }
 
+namespace {
+// Angles in the order given, on the circle of a quarter turn (times 4),
+// as prefix sums: any run's circular scatter and mean in constant time.
+class QuarterRuns {
+ public:
+  explicit QuarterRuns(const std::vector<double>& angles) : c_(angles.size() + 1, 0.0), s_(angles.size() + 1, 0.0) {
+    for (size_t k = 0; k < angles.size(); ++k) {
+      c_[k + 1] = c_[k] + std::cos(4.0 * angles[k]);
+      s_[k + 1] = s_[k] + std::sin(4.0 * angles[k]);
+    }
+  }
+  int size() const { return static_cast<int>(c_.size()) - 1; }
+  // Run [a, b)'s scatter: its count less the length of its resultant.
+  double Scatter(int a, int b) const { return (b - a) - std::hypot(c_[b] - c_[a], s_[b] - s_[a]); }
+  double Mean(int a, int b) const { return 0.25 * std::atan2(s_[b] - s_[a], c_[b] - c_[a]); }
+  // The split into [0, k) and [k, n), each 'least' or more, with the
+  // least scatter summed: (k, that scatter), k -1 when there is none.
+  std::pair<int, double> BestSplit(int least) const {
+    std::pair<int, double> best{-1, std::numeric_limits<double>::infinity()};
+    const int n = size();
+    for (int k = least; k <= n - least; ++k) {
+      const double cost = Scatter(0, k) + Scatter(k, n);
+      if (cost < best.second) best = {k, cost};
+    }
+    return best;
+  }
+
+ private:
+  std::vector<double> c_, s_;
+};
+}  // namespace
+
+std::optional<double> ScanWingSplit(const std::vector<PoseGraph::DirectionTerm>& terms, double lo, double hi,
+                                    double step, int least) {
+  const int n = static_cast<int>(terms.size());
+  if (least < 1 || n < 2 * least || !(step > 0.0) || !(hi >= lo)) return std::nullopt;
+  std::vector<int> order(n);
+  for (int k = 0; k < n; ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return terms[a].node < terms[b].node; });
+  std::optional<double> best;
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::vector<double> u(n);
+  const int samples = static_cast<int>(std::floor((hi - lo) / step)) + 1;
+  for (int i = 0; i < samples; ++i) {
+    const double r = lo + i * step;
+    for (int k = 0; k < n; ++k) u[k] = terms[order[k]].world + r * terms[order[k]].slope;
+    const double cost = QuarterRuns(u).BestSplit(least).second;
+    if (cost < best_cost) best_cost = cost, best = r;
+  }
+  return best;
+}
+
 WingSteps CountWingSteps(const std::vector<double>& world, const std::vector<int>& node,
                          const std::vector<int>& family, const std::vector<double>& directions, double tol_rad,
                          int run) {
@@ -1443,30 +1500,18 @@ WingSteps CountWingSteps(const std::vector<double>& world, const std::vector<int
 
 std::optional<WingSplit> SplitAtOneStep(const std::vector<double>& world, const std::vector<int>& node,
                                         double min_rad, int min_count, double tol_rad) {
-  constexpr int kClear = 2;  // factors left out either side of the split
   const int n = static_cast<int>(world.size());
-  const int least = std::max(min_count, kClear + kWingStepRun);
+  const int least = std::max(min_count, kWingSplitLeast);
   if (n < 2 * least) return std::nullopt;
   std::vector<int> order(n);
   for (int k = 0; k < n; ++k) order[k] = k;
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return node[a] < node[b]; });
-  // Prefix sums of the angles on the circle of a quarter turn (times 4).
-  std::vector<double> c(n + 1, 0.0), s(n + 1, 0.0);
-  for (int k = 0; k < n; ++k) {
-    c[k + 1] = c[k] + std::cos(4.0 * world[order[k]]);
-    s[k + 1] = s[k] + std::sin(4.0 * world[order[k]]);
-  }
-  // A side's scatter: its count less the length of its resultant.
-  auto scatter = [&](int a, int b) { return (b - a) - std::hypot(c[b] - c[a], s[b] - s[a]); };
-  auto mean = [&](int a, int b) { return 0.25 * std::atan2(s[b] - s[a], c[b] - c[a]); };
-  int best = -1;
-  double best_cost = std::numeric_limits<double>::infinity();
-  for (int k = least; k <= n - least; ++k) {
-    const double cost = scatter(0, k) + scatter(k, n);
-    if (cost < best_cost) best_cost = cost, best = k;
-  }
+  std::vector<double> seen(n);
+  for (int k = 0; k < n; ++k) seen[k] = world[order[k]];
+  const QuarterRuns runs(seen);
+  const int best = runs.BestSplit(least).first;
   if (best < 0) return std::nullopt;
-  const double a = mean(0, best), b = mean(best, n);
+  const double a = runs.Mean(0, best), b = runs.Mean(best, n);
   WingSplit out;
   out.directions = {FoldQuarter(a), FoldQuarter(b)};
   out.family.assign(n, 0);
@@ -1588,6 +1633,14 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
         terms, -limit, limit, step, options_.building_direction_min_rad, options_.building_direction_min_asrs,
         options_.max_building_directions, {sources[0].second, sources[1].second}, width);
     if (scan) sources.emplace_back(&drift->held_state, scan->rate_rad_per_m);
+    // And at the rate at which they split best into two level runs, one
+    // before the robot passed into a wing and one after (ScanWingSplit): a
+    // sonar ring's walls, read 5-10 degrees off now and then, do not gather
+    // into groups 15-20 degrees apart by their directions alone, but they
+    // do by where along the run they were seen (SplitAtOneStep, below).
+    if (const std::optional<double> rate = ScanWingSplit(
+            terms, -limit, limit, step, std::max(options_.building_direction_min_asrs, kWingSplitLeast)))
+      sources.emplace_back(&drift->held_state, *rate);
   }
   // The least and the most the building directions lie apart, as solved.
   const auto spread = [&](double* least, double* most) {
@@ -1633,10 +1686,14 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
           CountWingSteps(world, node, family, dirs, 0.5 * options_.building_direction_min_rad, kWingStepRun);
       grouped = steps.supported >= 1 && steps.unsupported <= steps.supported / 4;
     }
-    // Read without drift (the held rates), walls the groups miss may still
-    // split once along the run at a step (SplitAtOneStep): each factor tied
-    // by where it was seen, not by its direction.
-    if (!grouped && &source == &sources.front().first) {
+    // Walls the groups miss may still split once along the run at a step
+    // (SplitAtOneStep): each factor tied by where it was seen, not by its
+    // direction. At every reading of the odometry, not only without drift:
+    // under a drift a wing's rooms read level at the drift's rate, and a
+    // sonar ring's rooms, each read 5-10 degrees off now and then, are
+    // tied to the wrong group by their directions (16 sonars at 2 deg/m,
+    // a 15-degree wing: 3 unsupported changes against 1 step).
+    if (!grouped) {
       const std::optional<WingSplit> split = SplitAtOneStep(
           world, node, options_.building_direction_min_rad, options_.building_direction_min_asrs,
           0.5 * options_.building_direction_min_rad);

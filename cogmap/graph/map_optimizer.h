@@ -418,6 +418,20 @@ std::optional<WingScan> ScanBuildingDirections(const std::vector<PoseGraph::Dire
                                                double hi, double step, double min_rad, int min_count, int most,
                                                const std::vector<double>& reference_rates, double width_rad = 0.0);
 
+// The common drift rate, among lo, lo + step, ... hi, at which the wall
+// directions, dead-reckoned as term.world + rate x term.slope and taken in
+// the order the robot saw them (by node), split once into two level runs
+// best: the least circular scatter (modulo a quarter turn) about each
+// side's mean, at the best split that leaves 'least' factors each side
+// (the cost SplitAtOneStep minimises). A wing on top of a drift: read at
+// the drift's rate, the walls before the robot passed into the wing lie
+// about one direction and those after it about another; read at any other
+// rate both runs ramp. Without a wing the best rate levels the walls
+// around one direction, and SplitAtOneStep finds no step there. None with
+// fewer than 2 x least factors.
+std::optional<double> ScanWingSplit(const std::vector<PoseGraph::DirectionTerm>& terms, double lo, double hi,
+                                    double step, int least);
+
 // Where two wall directions that follow each other along the run (the
 // ASRs by node order; 'world' each one's walls along the odometry, 'family'
 // the building direction each is tied to) are tied to different building

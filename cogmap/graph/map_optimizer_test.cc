@@ -806,6 +806,46 @@ TEST(ScanBuildingDirections, FindsTheDriftUnderAWingAndNoWingUnderADriftAlone) {
                    .has_value());
 }
 
+TEST(ScanWingSplit, FindsTheDriftUnderAWingWhoseRoomsReadSeveralDegreesOff) {
+  // 24 rooms 4 m apart at a drift of 2 deg/m, each room's walls read up to
+  // 6 degrees off (a sonar ring's), the last 12 a wing turned by 18
+  // degrees: too near the rest, with that scatter, for the groups of
+  // ScanBuildingDirections, but one split along the run at the drift's
+  // rate levels both sides.
+  const double d = DegToRad(1.0);
+  auto terms = [&](double wing_deg) {
+    std::vector<PoseGraph::DirectionTerm> t;
+    for (int i = 0; i < 24; ++i) {
+      const double s = 4.0 * i;
+      t.push_back({i, i, (i >= 12 ? wing_deg * d : 0.0) + 2.0 * d * s + 6.0 * d * std::sin(2.3 * i), -s, d});
+    }
+    return t;
+  };
+  auto level = [&](const std::vector<PoseGraph::DirectionTerm>& t, double rate) {
+    std::vector<double> world;
+    std::vector<int> node;
+    for (const auto& x : t) world.push_back(x.world + rate * x.slope), node.push_back(x.node);
+    return SplitAtOneStep(world, node, DegToRad(15.0), 3, 7.5 * d);
+  };
+  const std::optional<double> rate = ScanWingSplit(terms(18.0), -9.0 * d, 9.0 * d, 0.01 * d, 5);
+  ASSERT_TRUE(rate.has_value());
+  EXPECT_NEAR(*rate, 2.0 * d, 0.1 * d);
+  const std::optional<WingSplit> wing = level(terms(18.0), *rate);
+  ASSERT_TRUE(wing.has_value());
+  EXPECT_NEAR(std::abs(std::remainder(wing->directions[1] - wing->directions[0], kPi / 2.0)), 18.0 * d, 2.0 * d);
+  for (int i = 0; i < 24; ++i) EXPECT_EQ(wing->family[i], i >= 12 ? 1 : 0) << i;
+  // A drift alone: the rate levels every room about one direction, where
+  // no split finds a step.
+  const std::optional<double> alone = ScanWingSplit(terms(0.0), -9.0 * d, 9.0 * d, 0.01 * d, 5);
+  ASSERT_TRUE(alone.has_value());
+  EXPECT_NEAR(*alone, 2.0 * d, 0.1 * d);
+  EXPECT_FALSE(level(terms(0.0), *alone).has_value());
+  // Too few rooms for two sides of five.
+  std::vector<PoseGraph::DirectionTerm> few = terms(18.0);
+  few.resize(9);
+  EXPECT_FALSE(ScanWingSplit(few, -9.0 * d, 9.0 * d, 0.01 * d, 5).has_value());
+}
+
 // A wing turned by 30 degrees is a building direction of its own, not a
 // drift: with one building direction the graph fitted a drift of 0.31 deg/m
 // on a simulated building of two such wings with no drift at all (heading
