@@ -14,39 +14,56 @@
 #   15 degrees wide for a sparse ring, took half of each side, and no
 #   second group was found; the walls split once along the run at the
 #   step (graph::SplitAtOneStep): heading median 7.8 against 0.64.
-# Each map must keep two building directions and its headings must be no
-# worse than its odometry's.
+# Forty-seventh session, sonar rings on winged buildings:
+# - rand43-16: 8 sonars, 2 deg/m, a 15-degree wing. Read at any one rate,
+#   rooms read 5-10 degrees off fell into the wrong group; the wing was
+#   squared onto the rest (heading median 6.6 deg). Now split once along
+#   the run at the rate that levels both runs (graph::ScanWingSplit).
+# - rand43-6: 8 sonars, 2 deg/m, a 20-degree wing: the same (9.7 deg).
+# - rand41-5: 8 sonars, no drift, a 20-degree wing that fit the walls
+#   191:1 better than one direction but not by the test's margin: kept
+#   now that no drift was found (ATE 2.00 m, the odometry's 0.30).
+# Each map must keep two building directions, and its headings must be no
+# worse than its odometry's (under a drift: a median within 2 degrees).
 #   tests/wing_near_minimum_test.sh COGMAP
 set -eu
 cogmap=$1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-check() {  # name robot gen-building arguments...
-  name=$1 robot=$2
-  shift 2
+check() {  # name robot drift max-time gen-building arguments...
+  name=$1 robot=$2 drift=$3 most=$4
+  shift 4
   "$cogmap" gen-building "$@" -o "$work/$name.map" > /dev/null
-  "$cogmap" simulate "$work/$name.map" --robot "$robot" --drift-deg-per-m 0 --seed 11 --max-time 900 \
+  "$cogmap" simulate "$work/$name.map" --robot "$robot" --drift-deg-per-m "$drift" --seed 11 --max-time "$most" \
     -o "$work/$name.log" > /dev/null
   "$cogmap" map "$work/$name.log" --outputs geojson -o "$work/$name" > "$work/$name.txt" 2>&1 ||
     { cat "$work/$name.txt"; exit 1; }
   "$cogmap" eval "$work/$name" --json > "$work/$name.json"
-  python3 - "$name" "$work/$name.json" "$work/$name/report.json" <<'PY'
+  python3 - "$name" "$work/$name.json" "$work/$name/report.json" "$drift" <<'PY'
 import json, sys
-name, e = sys.argv[1], json.load(open(sys.argv[2]))
+name, e, drift = sys.argv[1], json.load(open(sys.argv[2])), float(sys.argv[4])
 dirs = json.load(open(sys.argv[3]))["pose_graph"]["building_directions_deg"]
 corrected, raw = e["heading_error_deg_median"], e["heading_error_deg_median_raw"]
 print(f"{name}: building directions {[round(d, 1) for d in dirs]}; heading median {corrected:.2f} deg "
       f"(odometry {raw:.2f})")
 if len(dirs) != 2:
     sys.exit(f"{name}: the wing was not kept")
-if corrected > raw + 0.5:
+if drift == 0 and corrected > raw + 0.5:
     sys.exit(f"{name}: the headings are worse than the odometry's")
+if drift != 0 and corrected > 2.0:
+    sys.exit(f"{name}: the headings are off by more than 2 degrees (median)")
 PY
 }
-check rand42-39 laser --rooms 12 --corridor-m 15 --corridor-width-m 2.5 --room-depth-m 8.0 --door-m 0.9 \
+check rand42-39 laser 0 900 --rooms 12 --corridor-m 15 --corridor-width-m 2.5 --room-depth-m 8.0 --door-m 0.9 \
   --wing-deg 15 --seed 30
-check rand42-3 pioneer16 --rooms 24 --corridor-m 40 --corridor-width-m 1.5 --room-depth-m 4.5 --door-m 1.2 \
+check rand42-3 pioneer16 0 900 --rooms 24 --corridor-m 40 --corridor-width-m 1.5 --room-depth-m 4.5 --door-m 1.2 \
   --wing-deg 20 --seed 18
-check rand42-17 pioneer8 --rooms 12 --corridor-m 25 --corridor-width-m 2.0 --room-depth-m 8.0 --door-m 0.8 \
+check rand42-17 pioneer8 0 900 --rooms 12 --corridor-m 25 --corridor-width-m 2.0 --room-depth-m 8.0 --door-m 0.8 \
   --wing-deg 15 --seed 33
+check rand43-16 pioneer8 2 100000 --rooms 24 --corridor-m 25 --corridor-width-m 2.0 --room-depth-m 3.5 --door-m 0.9 \
+  --wing-deg 15 --seed 15
+check rand43-6 pioneer8 2 100000 --rooms 24 --corridor-m 40 --corridor-width-m 1.5 --room-depth-m 3.5 --door-m 1.2 \
+  --wing-deg 20 --seed 22
+check rand41-5 pioneer8 0 100000 --rooms 8 --corridor-m 40 --corridor-width-m 2.0 --room-depth-m 3.5 --door-m 1.0 \
+  --wing-deg 20 --seed 15
 echo "ok"
