@@ -1691,7 +1691,7 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
     // direction. At every reading of the odometry, not only without drift:
     // under a drift a wing's rooms read level at the drift's rate, and a
     // sonar ring's rooms, each read 5-10 degrees off now and then, are
-    // tied to the wrong group by their directions (16 sonars at 2 deg/m,
+    // tied to the wrong group by their directions (8 sonars at 2 deg/m,
     // a 15-degree wing: 3 unsupported changes against 1 step).
     if (!grouped) {
       const std::optional<WingSplit> split = SplitAtOneStep(
