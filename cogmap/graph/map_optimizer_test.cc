@@ -728,6 +728,23 @@ TEST(CountWingSteps, AWingBeginsWithAStepNotWithAWander) {
                      {0, 1, 2, 3, 4, 5, 6, 7, 8}, {0, 0, 0, 1, 1, 0, 1, 1, 1}, {0.0, 20.0 * d}, 7.5 * d);
   EXPECT_EQ(misread.supported, 1);
   EXPECT_EQ(misread.unsupported, 0);
+  // The first room read 40 degrees off, tied to the wing's direction it
+  // is nearer (an 8-sonar ring's first ASR, its factor's sigma 15
+  // degrees): not a change, and the wing's one step stands. The same room
+  // in the middle of the run, between two rooms of one direction that
+  // agree, is the misread above; at the end it has one neighbour.
+  const WingSteps first =
+      CountWingSteps({44.0 * d, 0.9 * d, 0.0, 5.4 * d, 30.8 * d, 29.4 * d, 31.2 * d}, {0, 1, 2, 3, 4, 5, 6},
+                     {1, 0, 0, 0, 1, 1, 1}, {0.0, 30.0 * d}, 7.5 * d);
+  EXPECT_EQ(first.supported, 1);
+  EXPECT_EQ(first.unsupported, 0);
+  // A first room that reads as its neighbours do is no misread: a wing the
+  // run begins in, left at once, is two changes.
+  const WingSteps begins =
+      CountWingSteps({30.4 * d, 29.6 * d, 0.9 * d, 0.0, 5.4 * d, 30.8 * d, 29.4 * d}, {0, 1, 2, 3, 4, 5, 6},
+                     {1, 1, 0, 0, 0, 1, 1}, {0.0, 30.0 * d}, 7.5 * d);
+  EXPECT_EQ(begins.supported, 2);
+  EXPECT_EQ(begins.unsupported, 0);
   // The odometry's heading wandering a degree from room to room over 30
   // rooms, grouped as BuildingDirections groups it (7.5 and 26 degrees) and
   // each room tied to the nearer: where the group changes the walls turn
