@@ -1501,15 +1501,12 @@ WingSteps CountWingSteps(const std::vector<double>& world, const std::vector<int
     // and the wing was squared onto the rest, heading median 12.3 degrees
     // against the odometry's 0.8).
     auto end_misread = [&](size_t m) {
-      if (order.size() < 3) return false;
       const size_t l = order.size() - 1;
-      if (m == 0)
-        return fam(1) == fam(2) && fam(0) != fam(1) && step[1] == 0 &&
-               std::abs(FoldQuarter(world[order[0]] - world[order[1]])) > tol_rad;
-      if (m == l)
-        return fam(l - 1) == fam(l - 2) && fam(l) != fam(l - 1) && step[l] == 0 &&
-               std::abs(FoldQuarter(world[order[l]] - world[order[l - 1]])) > tol_rad;
-      return false;
+      if (order.size() < 3 || (m != 0 && m != l)) return false;
+      const size_t a = m == 0 ? 1 : l - 1, b = m == 0 ? 2 : l - 2;  // its neighbour, and the next
+      const size_t change = m == 0 ? 1 : l;                         // between it and its neighbour
+      return fam(a) == fam(b) && fam(m) != fam(a) && step[change] == 0 &&
+             std::abs(FoldQuarter(world[order[m]] - world[order[a]])) > tol_rad;
     };
     if (misread(k) || misread(k - 1) || end_misread(k) || end_misread(k - 1)) continue;
     ++(step[k] ? out.supported : out.unsupported);
@@ -1865,7 +1862,6 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
   // building direction.
   const Candidate* likelier = nullptr;
   double likelier_odds = 0.0;
-  bool likelier_after_drift = false;  // a drift was found with one direction
   if (!chosen || !(margin > 0.0) || !options_.keep_building_directions) {
     // No wing cleared the test: the map keeps one direction. But a wing
     // that fits the walls better than the map kept is a map the walls
@@ -1936,7 +1932,6 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
         if ((!drift->detected || best->held) && options_.keep_building_directions) {
           likelier = best;
           likelier_odds = held / total;
-          likelier_after_drift = drift->detected;
         }
       }
     }
@@ -1967,9 +1962,10 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
                   "a wing turned %.0f degrees against the rest is kept under the test's margin (chi2 %.1f, needed "
                   "%.1f): %s, and it fits the walls %.3g:1 better than one building direction",
                   RadToDeg(likelier->most_rad), x, q,
-                  !likelier_after_drift ? "no drift was found"
-                  : drift->detected     ? "a drift is found with it as with one direction"
-                                        : "with it no drift is found (the drift found with one direction was the wing)",
+                  // before_drift: as decided with one building direction.
+                  !before_drift.detected ? "no drift was found"
+                  : drift->detected      ? "a drift is found with it as with one direction"
+                                         : "with it no drift is found (the drift found with one direction was the wing)",
                   likelier_odds);
     drift->wing_warning = text;
   }
