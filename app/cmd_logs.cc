@@ -61,6 +61,7 @@ const bool kConvertRegistered = RegisterCommand(
        auto robot = std::make_shared<std::string>();
        auto out = std::make_shared<std::string>();
        auto as_sonar = std::make_shared<std::string>();
+       auto ring_timing = std::make_shared<std::string>("pioneer");
        auto topics = std::make_shared<std::vector<std::string>>();
        auto to = std::make_shared<std::string>("native");
        sub.add_option("LOG", *path, "The log (any format cogmap reads: a file, .gz accepted, the pioneer folder, a bag or bag folder; - for standard input)")->required();
@@ -86,10 +87,17 @@ const bool kConvertRegistered = RegisterCommand(
                       "reads the nearest laser return inside its beam cone, or max range (no echo) when none; "
                       "sonars pointing where the laser does not look get no readings; odometry and reference "
                       "poses are kept");
+       sub.add_option("--ring-timing", *ring_timing,
+                      "With --as-sonar, when the ring fires: pioneer (as a Pioneer's and cogmap simulate's: one "
+                      "sonar per bank of 8 every 40 ms by the log's clock, each reading taken from the laser scans "
+                      "before and after it, moved by the odometry; a sonar reads nothing where neither scan looked) "
+                      "or scans (the whole ring at each laser scan only)")
+           ->check(CLI::IsMember({"pioneer", "scans"}))
+           ->capture_default_str();
        sub.add_option("-o,--output", *out, "File to write (written atomically)");
        return [=] {
          if (out->empty()) throw InputError("convert: give the file to write (OUT or -o)");
-         io::LogToolOptions o{*format, *topics, *robot, *as_sonar};
+         io::LogToolOptions o{*format, *topics, *robot, *as_sonar, *ring_timing};
          ProgressBar bar("convert");
          const io::ConvertSummary s = io::ConvertLog(*path, o, *to, *out, [&bar](double f) { bar.Update(f); });
          bar.Finish();

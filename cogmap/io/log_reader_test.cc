@@ -351,8 +351,8 @@ TEST(ConvertLog, AsSonarTakesALaserLogAndASonarRing) {
   EXPECT_TRUE(std::filesystem::exists(::cogmap::testing_util::TestTempPath("as_sonar_out.log")));
 }
 
-// The ring fires where the laser scanned: three scans over 2 m of
-// odometry, with two odometry records between them.
+// --ring-timing scans: the ring fires where the laser scanned: three scans
+// over 2 m of odometry, with two odometry records between them.
 TEST(ConvertLog, AsSonarSaysHowOftenTheRingFires) {
   const std::string laser = WriteTemp("laser_sparse.clf",
                                       "FLASER 3 1.5 2.5 1.9 0 0 0 0 0 0 1.0 host 1.0\n"
@@ -362,9 +362,77 @@ TEST(ConvertLog, AsSonarSaysHowOftenTheRingFires) {
                                       "FLASER 3 1.5 2.5 1.9 2 0 0 2 0 0 5.0 host 5.0\n");
   LogToolOptions o;
   o.as_sonar = "pioneer16";
+  o.ring_timing = "scans";
   const ConvertSummary s = ConvertLog(laser, o, "native", ::cogmap::testing_util::TestTempPath("as_sonar_sparse.log"));
   EXPECT_THAT(s.text, HasSubstr("the ring fires at 3 of 5 records (the laser's scans): once every 0.67 m of the 2 m driven"))
       << s.text;
+  o.ring_timing = "sometimes";
+  EXPECT_THROW(ConvertLog(laser, o, "native", ::cogmap::testing_util::TestTempPath("as_sonar_sparse_bad.log")), InputError);
+  EXPECT_FALSE(std::filesystem::exists(::cogmap::testing_util::TestTempPath("as_sonar_sparse_bad.log")));
+}
+
+// --ring-timing pioneer (the default): one sonar per bank every 40 ms by
+// the log's clock, at most one sweep of each bank per record, odometry
+// records between scans included (their readings from the scans before and
+// after them). A laser scan every 0.5 s, odometry every 0.1 s: each record
+// fires 2 or 3 transducers of each of pioneer16's two banks, of which the
+// front bank's (0-7) are in the forward laser's view.
+TEST(ConvertLog, AsSonarFiresTheRingAsAPioneerDoes) {
+  std::string text;
+  for (int k = 0; k <= 20; ++k) {
+    const double t = 0.1 * k, x = 0.05 * k;
+    char line[200];
+    if (k % 5 == 0)  // a wall 3 m ahead of the start, 181 beams over 180 degrees
+    {
+      std::string ranges;
+      for (int b = 0; b < 181; ++b) {
+        const double c = std::cos((b - 90) * 3.14159265358979323846 / 180.0);
+        const double r = c > 1e-9 ? std::min((3.0 - x) / c, 8.1) : 8.1;
+        char v[32];
+        std::snprintf(v, sizeof v, " %.4f", r);
+        ranges += v;
+      }
+      std::snprintf(line, sizeof line, " %.3f 0 0 %.3f 0 0 %.2f host %.2f\n", x, x, t, t);
+      text += "FLASER 181" + ranges + line;
+    } else {
+      std::snprintf(line, sizeof line, "ODOM %.3f 0 0 0.5 0 0 %.2f host %.2f\n", x, t, t);
+      text += line;
+    }
+  }
+  const std::string laser = WriteTemp("laser_ring.clf", text);
+  LogToolOptions o;
+  o.as_sonar = "pioneer16";
+  const std::string out = ::cogmap::testing_util::TestTempPath("as_sonar_ring.log");
+  const ConvertSummary s = ConvertLog(laser, o, "native", out);
+  EXPECT_THAT(s.text, HasSubstr("the ring fires as a Pioneer's (one sonar per bank every 40 ms)")) << s.text;
+  auto reader = OpenLog(out);
+  sensors::LogRecord r;
+  int records = 0, with = 0, odometry_with = 0;
+  long readings = 0;
+  while (reader->Next(&r)) {
+    ++records;
+    with += r.ranges.empty() ? 0 : 1;
+    odometry_with += (!r.ranges.empty() && records % 5 != 1) ? 1 : 0;
+    readings += static_cast<long>(r.ranges.size());
+    for (const auto& q : r.ranges) {
+      // The rear bank looks where the laser does not, but for its side
+      // sonars (8 and 15, +-90 degrees behind the laser), whose axes an
+      // earlier scan taken farther back did see.
+      EXPECT_TRUE((q.sensor >= 0 && q.sensor <= 8) || q.sensor == 15) << q.sensor;
+      // The front sonars (3 and 4, +-10 degrees) see the wall 3 m from the
+      // start, less the distance driven and their mounts.
+      if (q.sensor == 3 || q.sensor == 4) {
+        EXPECT_GT(q.range_m, 3.0 - 0.05 * (records - 1) - 0.25);
+        EXPECT_LT(q.range_m, 3.0 - 0.05 * (records - 1));
+      }
+    }
+  }
+  EXPECT_EQ(records, 21);
+  EXPECT_GE(odometry_with, 12);  // the odometry records between scans fire too
+  // 2 s of clock: 50 slots of each bank, the first record firing none: the
+  // front bank's 50 (in view) and at most a quarter of the rear bank's.
+  EXPECT_GE(readings, 45);
+  EXPECT_LE(readings, 63);
 }
 
 TEST(LogFingerprint, TheSameLogOrItGrownSinceButNoOther) {

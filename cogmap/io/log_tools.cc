@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <limits>
 #include <optional>
 
@@ -157,20 +158,114 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
     as_sonar.emplace(robot, *sonar);
   }
   long records = 0, readings = 0;
-  // --as-sonar: how often the ring fires, per metre of odometry (a sonar
-  // ring fires as often as the log's laser scans: a CARMEN log's every 0.5 m).
+  // --as-sonar: how often the ring fires, per metre of odometry.
   long sweeps = 0;
   double travel_m = 0.0;
   std::optional<Pose2> last_odom;
-  // The next record, checked against the robot and turned to sonar if asked.
-  auto next = [&](sensors::LogRecord* r) {
+  const bool ring_timing = as_sonar && o.ring_timing == "pioneer";
+  if (as_sonar && !ring_timing && o.ring_timing != "scans")
+    throw InputError("--ring-timing " + o.ring_timing + ": not a timing (pioneer, scans)");
+  // The ring's timing (ring_timing): the target's sonars in banks of
+  // kBankSize by index, each bank firing its next transducer every
+  // kSonarInterval seconds of the log's clock (a Pioneer's, as cogmap
+  // simulate fires it). A record fires the transducers whose turn came since
+  // the record before, at most one sweep of each bank (a gap in the log is
+  // no burst of readings at one pose).
+  constexpr double kSonarInterval = 0.04;
+  constexpr int kBankSize = 8;
+  std::vector<std::vector<int>> banks;
+  if (sonar)
+    for (int k = 0; k < static_cast<int>(sonar->sensors.size()); ++k) {
+      if (banks.empty() || static_cast<int>(banks.back().size()) >= kBankSize) banks.emplace_back();
+      banks.back().push_back(k);
+    }
+  long slot = 0;
+  std::optional<double> fired_until;
+  auto due = [&](double t) {
+    std::vector<int> out;
+    if (!std::isfinite(t)) return out;  // no clock: fires nothing
+    if (!fired_until || t < *fired_until) fired_until = t;  // the first record, or the clock went back
+    long n = static_cast<long>(std::floor((t - *fired_until) / kSonarInterval + 1e-9));
+    const long sweep = banks.empty() ? 0 : static_cast<long>(banks.front().size());
+    if (n > sweep) {
+      n = sweep;
+      fired_until = t;
+    } else {
+      *fired_until += n * kSonarInterval;
+    }
+    for (long i = 0; i < n; ++i, ++slot)
+      for (const auto& bank : banks) out.push_back(bank[slot % static_cast<long>(bank.size())]);
+    return out;
+  };
+  // Records read but not yet written (ring_timing): those after the last
+  // scan wait for the next, whose echoes their readings also take; at most
+  // kMaxWaiting of them (the oldest then fire from the last scan alone).
+  struct Waiting {
+    sensors::LogRecord record;
+    std::vector<int> fire;
+  };
+  constexpr size_t kMaxWaiting = 512;
+  std::deque<Waiting> waiting;
+  std::deque<sensors::LogRecord> ready;
+  std::optional<sensors::SourceScan> last_scan;
+  bool source_done = false;
+  auto release = [&](Waiting w, const std::vector<const sensors::SourceScan*>& scans) {
+    w.record.ranges = as_sonar->FireAt(w.record.odom, w.fire, scans);
+    ready.push_back(std::move(w.record));
+  };
+  // The next source record, checked against the robot.
+  auto read = [&](sensors::LogRecord* r) {
     if (!reader->Next(r)) return false;
     for (const auto& q : r->ranges)
       if (q.sensor < 0 || q.sensor >= n_sensors)
         throw InputError(path, 0, "reading of sensor " + std::to_string(q.sensor) + " but robot '" + robot.name +
                                       "' has " + std::to_string(n_sensors) + " sensors");
+    return true;
+  };
+  // The next record to write, turned to sonar if asked.
+  auto next = [&](sensors::LogRecord* r) {
+    if (ring_timing) {
+      while (ready.empty() && !source_done) {
+        sensors::LogRecord in;
+        if (!read(&in)) {
+          source_done = true;
+          while (!waiting.empty()) {
+            release(std::move(waiting.front()), {&*last_scan});
+            waiting.pop_front();
+          }
+          break;
+        }
+        Waiting w{std::move(in), {}};
+        w.fire = due(w.record.time_s);
+        if (!w.record.ranges.empty()) {
+          sensors::SourceScan scan = as_sonar->Echoes(w.record.odom, w.record.ranges);
+          std::vector<const sensors::SourceScan*> both{&scan};
+          if (last_scan) both.push_back(&*last_scan);
+          while (!waiting.empty()) {
+            release(std::move(waiting.front()), both);
+            waiting.pop_front();
+          }
+          release(std::move(w), both);
+          last_scan = std::move(scan);
+        } else if (!last_scan) {
+          w.record.ranges.clear();
+          ready.push_back(std::move(w.record));  // nothing seen yet
+        } else {
+          waiting.push_back(std::move(w));
+          if (waiting.size() > kMaxWaiting) {
+            release(std::move(waiting.front()), {&*last_scan});
+            waiting.pop_front();
+          }
+        }
+      }
+      if (ready.empty()) return false;
+      *r = std::move(ready.front());
+      ready.pop_front();
+    } else {
+      if (!read(r)) return false;
+      if (as_sonar) r->ranges = as_sonar->Convert(r->ranges);
+    }
     if (as_sonar) {
-      r->ranges = as_sonar->Convert(r->ranges);
       sweeps += r->ranges.empty() ? 0 : 1;
       if (last_odom) travel_m += (r->odom.translation() - last_odom->translation()).norm();
       last_odom = r->odom;
@@ -213,11 +308,18 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
     if (unseen)
       AppendF(out, "%d of %zu sonars point where %s does not look: they have no readings\n", unseen,
                   sonar->sensors.size(), robot.name.c_str());
-    // The ring fires where the laser scanned: say how often, against the
-    // odometry's path (a Pioneer's ring fires every few centimetres).
-    if (sweeps > 0 && travel_m > 0.0)
+    // How often the ring fires, against the odometry's path (a Pioneer's
+    // ring fires every few centimetres).
+    if (!ring_timing && sweeps > 0 && travel_m > 0.0)
       AppendF(out, "the ring fires at %ld of %ld records (the laser's scans): once every %.2f m of the %.0f m driven\n",
               sweeps, records, travel_m / static_cast<double>(sweeps), travel_m);
+    if (ring_timing && readings > 0 && travel_m > 0.0)
+      AppendF(out,
+              "the ring fires as a Pioneer's (one sonar per bank every %.0f ms): %ld readings in %ld of %ld records, "
+              "one every %.3f m of the %.0f m driven; each from the laser scans before and after it\n",
+              1000.0 * kSonarInterval, readings, sweeps, records, travel_m / static_cast<double>(readings), travel_m);
+    if (readings == 0)
+      AppendF(out, "warning: no sonar readings were derived (no laser scan, or the log's clock never advances)\n");
   }
   return s;
 }

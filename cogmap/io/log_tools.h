@@ -16,6 +16,11 @@ struct LogToolOptions {
   std::vector<std::string> topics;   // bags: the topics to read ("" = by type)
   std::string robot;                 // a built-in robot or robot JSON ("" = the log's)
   std::string as_sonar;              // convert: a sonar robot whose readings the laser's become
+  // convert --as-sonar: when the ring fires. "pioneer": as a Pioneer's does
+  // (and cogmap simulate's), one transducer per bank of 8 every 40 ms by the
+  // log's clock, each reading made from the laser scans before and after it
+  // moved by the odometry; "scans": the whole ring at each laser scan.
+  std::string ring_timing = "pioneer";
 };
 
 struct LogSummary {

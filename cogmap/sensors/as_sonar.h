@@ -24,6 +24,13 @@ struct AsSonarOptions {
   bool no_echo_only_when_in_view = true;
 };
 
+// One sweep of the source (a laser scan): where the robot was (odometry) and
+// its echoes in the robot frame there.
+struct SourceScan {
+  Pose2 odom;
+  std::vector<Vec2> points;
+};
+
 // Derives a sonar ring's readings from a laser's (cogmap convert --as-sonar).
 // Each echo of the source (a reading with 0 < min_range <= range < max_range
 // of its sensor; at or over max range is no return) is the point at its range
@@ -41,6 +48,21 @@ class AsSonar {
   // name sensors of the source robot (others are ignored; the caller checks).
   std::vector<RangeReading> Convert(const std::vector<RangeReading>& source_readings) const;
 
+  // The source readings' echoes in the robot frame (what Convert reads).
+  SourceScan Echoes(const Pose2& odom, const std::vector<RangeReading>& source_readings) const;
+
+  // The readings of 'sonars' (target sensor indices) fired with the robot at
+  // 'odom', from the echoes of 'scans' (sweeps taken nearby, each moved into
+  // the robot frame at 'odom' by the odometry between them). Where the
+  // source looked is judged from the scans' own poses: a sonar reports the
+  // nearest echo in its cone when every point of its axis up to that echo
+  // lay in view of one of the scans (within one beam spacing of a source
+  // beam, inside its max range), no echo (max range) when its whole axis did
+  // and no echo lay in its cone, and nothing otherwise (what a sonar reads
+  // where no scan looked is not known). Uncovered sonars never fire.
+  std::vector<RangeReading> FireAt(const Pose2& odom, const std::vector<int>& sonars,
+                                   const std::vector<const SourceScan*>& scans) const;
+
   // Per target sensor: whether it gets readings (see AsSonarOptions).
   const std::vector<bool>& covered() const { return covered_; }
   // Per target sensor: whether it may report no echo (max range).
@@ -52,6 +74,17 @@ class AsSonar {
   std::vector<Pose2> sonar_from_robot_;
   std::vector<bool> covered_;
   std::vector<bool> no_echo_;
+  // The source's view: its sensors grouped by mount point, each group's
+  // bearings (from the mount, kViewBins bins over the circle) within one
+  // beam spacing of one of its sensors' headings, and its longest range.
+  static constexpr int kViewBins = 3600;
+  struct ViewGroup {
+    Vec2 mount;
+    double max_range_m = 0.0;
+    std::vector<bool> bearing;
+  };
+  std::vector<ViewGroup> view_;
+  bool InView(const Vec2& robot_point) const;
 };
 
 }  // namespace cogmap::sensors

@@ -187,5 +187,52 @@ TEST(AsSonar, OdometryOnlyRecordStaysWithoutReadings) {
   EXPECT_TRUE(conv.Convert({}).empty());
 }
 
+// Fired between scans (convert --ring-timing pioneer): a scan taken 1.5 m
+// back, its echoes moved by the odometry, gives what a scan from where the
+// robot now stands gives, to within the laser's 1-degree sampling.
+TEST(AsSonar, FiredAwayFromTheScanSeesWhatAScanFromThereSees) {
+  const auto laser = Laser();
+  const AsSonar conv(laser, OneSonar(0.0));
+  const SourceScan back = conv.Echoes({0.0, 0.0, 0.0}, WallAhead(laser, 3.5));
+  EXPECT_NEAR(Only(conv.FireAt({1.5, 0.0, 0.0}, {0}, {&back})), 2.0, 0.02);
+  // Turned 20 degrees to the left at the same place: the cone's near edge,
+  // at 5 degrees, meets the wall 2 / cos(5 deg) away.
+  EXPECT_NEAR(Only(conv.FireAt({1.5, 0.0, DegToRad(20.0)}, {0}, {&back})), 2.0 / std::cos(DegToRad(5.0)), 0.02);
+  // The scan at the firing pose itself gives Convert's reading exactly.
+  const SourceScan here = conv.Echoes({1.5, 0.0, 0.0}, WallAhead(laser, 2.0));
+  EXPECT_DOUBLE_EQ(Only(conv.FireAt({1.5, 0.0, 0.0}, {0}, {&here})), Only(conv.Convert(WallAhead(laser, 2.0))));
+}
+
+// A sonar whose axis leaves the scans' view reads nothing, not "no echo":
+// turned round, the robot's front sonar looks behind the laser that scanned
+// (no wall was seen there, but none was looked for).
+TEST(AsSonar, FiredWhereNoScanLookedReadsNothing) {
+  const auto laser = Laser();
+  const AsSonar conv(laser, OneSonar(0.0));
+  const SourceScan scan = conv.Echoes({0.0, 0.0, 0.0}, WallAhead(laser, 3.5));
+  EXPECT_TRUE(conv.FireAt({1.0, 0.0, kPi}, {0}, {&scan}).empty());
+  // A second scan that looked that way (taken facing back) lets it read
+  // "no echo" when that scan saw nothing within the sonar's range...
+  std::vector<RangeReading> open;
+  for (int i = 0; i < static_cast<int>(laser.sensors.size()); ++i) open.push_back({i, laser.sensors[i].max_range_m});
+  const SourceScan behind = conv.Echoes({1.0, 0.0, kPi}, open);
+  EXPECT_DOUBLE_EQ(Only(conv.FireAt({1.0, 0.0, kPi}, {0}, {&scan, &behind})), 5.0);
+  // ... and no scan at all gives no reading.
+  EXPECT_TRUE(conv.FireAt({1.0, 0.0, 0.0}, {0}, {}).empty());
+  // A sonar the source never covers never fires.
+  const AsSonar rear(laser, OneSonar(180.0));
+  EXPECT_TRUE(rear.FireAt({0.0, 0.0, 0.0}, {0}, {&scan, &behind}).empty());
+}
+
+// The echo beyond the sonar's range, moved: no echo (its whole axis in view).
+TEST(AsSonar, FiredWithTheWallOutOfRangeReadsNoEcho) {
+  const auto laser = Laser();
+  const AsSonar conv(laser, OneSonar(0.0));
+  const SourceScan scan = conv.Echoes({0.0, 0.0, 0.0}, WallAhead(laser, 7.5));
+  EXPECT_DOUBLE_EQ(Only(conv.FireAt({1.0, 0.0, 0.0}, {0}, {&scan})), 5.0);
+  // A sonar index outside the robot is ignored.
+  EXPECT_TRUE(conv.FireAt({1.0, 0.0, 0.0}, {3, -1}, {&scan}).empty());
+}
+
 }  // namespace
 }  // namespace cogmap::sensors
