@@ -433,6 +433,25 @@ TEST(ConvertLog, AsSonarFiresTheRingAsAPioneerDoes) {
   // front bank's 50 (in view) and at most a quarter of the rear bank's.
   EXPECT_GE(readings, 45);
   EXPECT_LE(readings, 63);
+  // A clock that never advances (stamps of six digits, as belgioioso's):
+  // the ring fires by the distance driven at 0.5 m/s, 1 m in 2 s, about as
+  // often as by the clock above.
+  std::string frozen;
+  for (size_t at = 0, end; at < text.size(); at = end + 1) {
+    end = text.find('\n', at);
+    std::string line = text.substr(at, end - at);
+    std::string::size_type cut = line.rfind(" host ");
+    const std::string::size_type stamp = line.rfind(' ', cut - 1);
+    line = line.substr(0, stamp) + " 1.01893e+09 host 1.01893e+09";
+    frozen += line + "\n";
+  }
+  const ConvertSummary f = ConvertLog(WriteTemp("laser_ring_frozen.clf", frozen), o, "native", out);
+  EXPECT_THAT(f.text, HasSubstr("the log's clock did not advance over 20 of 21 records where the robot moved")) << f.text;
+  auto again = OpenLog(out);
+  long frozen_readings = 0;
+  while (again->Next(&r)) frozen_readings += static_cast<long>(r.ranges.size());
+  EXPECT_GE(frozen_readings, 45);
+  EXPECT_LE(frozen_readings, 63);
 }
 
 TEST(LogFingerprint, TheSameLogOrItGrownSinceButNoOther) {

@@ -181,17 +181,40 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
     }
   long slot = 0;
   std::optional<double> fired_until;
-  auto due = [&](double t) {
+  // A clock that does not advance between records (belgioioso's stamps have
+  // six significant digits: 1.01893e+09 s) times the ring by the motion
+  // instead: the time the robot would take to drive and turn that far at a
+  // Pioneer's pace (kPaceMps, kPaceRadPerS), carried over between records.
+  constexpr double kPaceMps = 0.5, kPaceRadPerS = 100.0 * kPi / 180.0;
+  std::optional<Pose2> fired_at;
+  double owed_s = 0.0;
+  long clockless = 0;
+  auto due = [&](double t, const Pose2& odom) {
     std::vector<int> out;
-    if (!std::isfinite(t)) return out;  // no clock: fires nothing
-    if (!fired_until || t < *fired_until) fired_until = t;  // the first record, or the clock went back
-    long n = static_cast<long>(std::floor((t - *fired_until) / kSonarInterval + 1e-9));
     const long sweep = banks.empty() ? 0 : static_cast<long>(banks.front().size());
+    long n = 0;
+    if (std::isfinite(t) && fired_until && t > *fired_until) {
+      n = static_cast<long>(std::floor((t - *fired_until) / kSonarInterval + 1e-9));
+      *fired_until += n * kSonarInterval;
+      owed_s = 0.0;
+    } else {
+      // The first record starts the clock. One stamped at or before the
+      // last (intel holds a few stamped 0) says nothing of the time since.
+      if (std::isfinite(t) && !fired_until) fired_until = t;
+      if (fired_at) {
+        const double moved = std::max((odom.translation() - fired_at->translation()).norm() / kPaceMps,
+                                      std::abs(NormalizeAngle(odom.theta - fired_at->theta)) / kPaceRadPerS);
+        clockless += moved > 0.0 ? 1 : 0;
+        owed_s += moved;
+        n = static_cast<long>(std::floor(owed_s / kSonarInterval + 1e-9));
+        owed_s -= n * kSonarInterval;
+      }
+    }
+    fired_at = odom;
     if (n > sweep) {
       n = sweep;
-      fired_until = t;
-    } else {
-      *fired_until += n * kSonarInterval;
+      if (std::isfinite(t)) fired_until = t;
+      owed_s = 0.0;
     }
     for (long i = 0; i < n; ++i, ++slot)
       for (const auto& bank : banks) out.push_back(bank[slot % static_cast<long>(bank.size())]);
@@ -236,7 +259,7 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
           break;
         }
         Waiting w{std::move(in), {}};
-        w.fire = due(w.record.time_s);
+        w.fire = due(w.record.time_s, w.record.odom);
         if (!w.record.ranges.empty()) {
           sensors::SourceScan scan = as_sonar->Echoes(w.record.odom, w.record.ranges);
           std::vector<const sensors::SourceScan*> both{&scan};
@@ -318,6 +341,11 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
               "the ring fires as a Pioneer's (one sonar per bank every %.0f ms): %ld readings in %ld of %ld records, "
               "one every %.3f m of the %.0f m driven; each from the laser scans before and after it\n",
               1000.0 * kSonarInterval, readings, sweeps, records, travel_m / static_cast<double>(readings), travel_m);
+    if (ring_timing && clockless > 0)
+      AppendF(out,
+              "the log's clock did not advance over %ld of %ld records where the robot moved: the ring fired there by "
+              "the distance and turn driven, at %.1f m/s and %.0f deg/s\n",
+              clockless, records, kPaceMps, kPaceRadPerS * 180.0 / kPi);
     if (readings == 0)
       AppendF(out, "warning: no sonar readings were derived (no laser scan, or the log's clock never advances)\n");
   }
