@@ -1027,17 +1027,53 @@ bool MapOptimizer::LessConsistent(const Consistency& a, const Consistency& b) {
 MapOptimizer::DriftDecision MapOptimizer::TestDrift(bool likelihood_ratio_only) {
   DriftDecision out;
   graph_.SetRatesFixedAtZero(false);
-  const PoseGraph::SolveSummary with_drift = graph_.Solve(0, options_.full_iterations);
-  const double rate = MeanRate();
+  PoseGraph::SolveSummary with_drift = graph_.Solve(0, options_.full_iterations);
   // Is there drift at all? The graph with every rate held at zero is the
   // nested model; the rates stay only if they lower the (robust) cost by
   // more than the 99 % chi-square quantile of one degree of freedom
   // (likelihood-ratio test). A few wall directions far apart, each known
   // modulo a quarter turn, can otherwise fit a confident wrong drift.
-  const PoseGraph::State drift_state = graph_.Save();
+  PoseGraph::State drift_state = graph_.Save();
   graph_.SetRatesFixedAtZero(true);
-  const PoseGraph::SolveSummary no_drift = graph_.Solve(0, options_.full_iterations);
-  const PoseGraph::State no_drift_state = graph_.Save();
+  PoseGraph::SolveSummary no_drift = graph_.Solve(0, options_.full_iterations);
+  PoseGraph::State no_drift_state = graph_.Save();
+  // A likelihood ratio compares the two models at their own best fits, and
+  // the wall directions' quarter-turn branches give each model many local
+  // ones. The nested model solved from the drift's solution keeps that
+  // solution's branches: it is solved again from the odometry (the
+  // dead-reckoned poses; the stored nodes where they are), and the better
+  // of the two is its fit. When that fits better than the drift's own, the
+  // drift's solve had stopped in a worse basin (the nested model lies inside
+  // it): it is solved again from there. (CARMEN fhw as a 16-sonar ring, no
+  // drift: from the drift's solution the nested model's cost was 57.7,
+  // from the odometry 7.4, against the drift's 26.1; the test had found a
+  // drift of 2.26 deg/m, ATE 35.7 m against its exact input.)
+  {
+    const std::vector<Pose2> now = CurrentPoses();
+    for (int i = 0; i < static_cast<int>(nodes_.size()); ++i)
+      graph_.set_pose(i, nodes_[i].stored ? now[i] : nodes_[i].raw);
+    const PoseGraph::SolveSummary from_odometry = graph_.Solve(0, options_.full_iterations);
+    if (from_odometry.final_cost < no_drift.final_cost) {
+      no_drift = from_odometry;
+      no_drift_state = graph_.Save();
+    }
+    graph_.Restore(no_drift_state);
+    if (no_drift.final_cost < with_drift.final_cost) {
+      graph_.SetRatesFixedAtZero(false);
+      const PoseGraph::SolveSummary again = graph_.Solve(0, options_.full_iterations);
+      if (again.final_cost < with_drift.final_cost) {
+        with_drift = again;
+        drift_state = graph_.Save();
+      }
+      graph_.SetRatesFixedAtZero(true);
+      graph_.Restore(no_drift_state);
+    }
+  }
+  graph_.SetRatesFixedAtZero(false);
+  graph_.Restore(drift_state);
+  const double rate = MeanRate();
+  graph_.SetRatesFixedAtZero(true);
+  graph_.Restore(no_drift_state);
   out.free_state = drift_state;
   out.held_state = no_drift_state;
   out.chi2 = 2.0 * (no_drift.final_cost - with_drift.final_cost);
@@ -1051,6 +1087,12 @@ MapOptimizer::DriftDecision MapOptimizer::TestDrift(bool likelihood_ratio_only) 
   size_t best = 0;
   for (size_t k = 1; k < minima.size(); ++k)
     if (minima[k].cost < minima[best].cost) best = k;
+  // The drift model at its best fit: the likeliest of its minima (its solve
+  // may have stopped in a basin near no drift, the drift's own lying a few
+  // aliases away: CARMEN fhw as a 16-sonar ring at 1 deg/m, the solve from
+  // the nested model's fit at -0.11 deg/m, the scan's best at 1.0).
+  out.chi2 = 2.0 * (no_drift.final_cost - minima[best].cost);
+  out.detected = out.chi2 > quantile;
   // Each minimum is a hypothesis of the map, weighed by its likelihood
   // relative to the best: the covariances (Finish) hold them all, whichever
   // is kept, since a Gaussian about the kept one alone says nothing of a
