@@ -62,6 +62,7 @@ const bool kConvertRegistered = RegisterCommand(
        auto out = std::make_shared<std::string>();
        auto as_sonar = std::make_shared<std::string>();
        auto ring_timing = std::make_shared<std::string>("pioneer");
+       auto ring_history = std::make_shared<double>(-1.0);
        auto topics = std::make_shared<std::vector<std::string>>();
        auto to = std::make_shared<std::string>("native");
        sub.add_option("LOG", *path, "The log (any format cogmap reads: a file, .gz accepted, the pioneer folder, a bag or bag folder; - for standard input)")->required();
@@ -94,10 +95,15 @@ const bool kConvertRegistered = RegisterCommand(
                       "or scans (the whole ring at each laser scan only)")
            ->check(CLI::IsMember({"pioneer", "scans"}))
            ->capture_default_str();
+       sub.add_option("--ring-history-m", *ring_history,
+                      "With --ring-timing pioneer, how far back along the path (metres) the earlier laser scans a "
+                      "reading also takes reach, kept at least 0.25 m apart: a rear sonar reads the walls the laser "
+                      "saw on the way in; default: the ring's longest max range; 0: the scans either side only")
+           ->check(CLI::NonNegativeNumber);
        sub.add_option("-o,--output", *out, "File to write (written atomically)");
        return [=] {
          if (out->empty()) throw InputError("convert: give the file to write (OUT or -o)");
-         io::LogToolOptions o{*format, *topics, *robot, *as_sonar, *ring_timing};
+         io::LogToolOptions o{*format, *topics, *robot, *as_sonar, *ring_timing, *ring_history};
          ProgressBar bar("convert");
          const io::ConvertSummary s = io::ConvertLog(*path, o, *to, *out, [&bar](double f) { bar.Update(f); });
          bar.Finish();

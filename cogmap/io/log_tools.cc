@@ -222,7 +222,26 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
   };
   // Records read but not yet written (ring_timing): those after the last
   // scan wait for the next, whose echoes their readings also take; at most
-  // kMaxWaiting of them (the oldest then fire from the last scan alone).
+  // kMaxWaiting of them (the oldest then fire from the scans before alone).
+  // Besides the scans either side, each reading takes the earlier scans of
+  // the last metres driven, as far as the ring reaches (its longest max
+  // range): a rear sonar reads the walls a forward laser saw on the way
+  // in, where it looks. Those kept lie at least kHistoryStep apart along
+  // the path (the cost of a reading stays bounded at any scan rate).
+  constexpr double kHistoryStep = 0.25;
+  double reach_m = 0.0;
+  if (sonar)
+    for (const auto& x : sonar->sensors) reach_m = std::max(reach_m, x.max_range_m);
+  if (!std::isfinite(o.ring_history_m))
+    throw InputError("--ring-history-m: not a distance (" + std::to_string(o.ring_history_m) + ")");
+  if (o.ring_history_m >= 0.0) reach_m = o.ring_history_m;
+  struct Past {
+    sensors::SourceScan scan;
+    double driven_m;
+  };
+  std::deque<Past> history;  // newest first
+  double driven_m = 0.0;     // odometry path length of the records read
+  std::optional<Pose2> read_odom;
   struct Waiting {
     sensors::LogRecord record;
     std::vector<int> fire;
@@ -232,10 +251,22 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
   std::deque<sensors::LogRecord> ready;
   std::optional<sensors::SourceScan> last_scan;
   bool source_done = false;
-  auto release = [&](Waiting w, const std::vector<const sensors::SourceScan*>& scans) {
+  // The scans a reading takes: those given, and the history's.
+  auto release = [&](Waiting w, std::vector<const sensors::SourceScan*> scans) {
+    for (const Past& p : history) scans.push_back(&p.scan);
     w.record.ranges = as_sonar->FireAt(w.record.odom, w.fire, scans);
     ready.push_back(std::move(w.record));
   };
+  // The last scan passes into the history when the next arrives, if it lies
+  // a step beyond the history's newest; scans farther back than the ring
+  // reaches leave it.
+  auto remember = [&](sensors::SourceScan scan, double at_m) {
+    if (!(reach_m > 0.0)) return;
+    if (history.empty() || at_m - history.front().driven_m >= kHistoryStep)
+      history.push_front({std::move(scan), at_m});
+    while (!history.empty() && driven_m - history.back().driven_m > reach_m) history.pop_back();
+  };
+  double last_scan_m = 0.0;
   // The next source record, checked against the robot.
   auto read = [&](sensors::LogRecord* r) {
     if (!reader->Next(r)) return false;
@@ -258,6 +289,8 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
           }
           break;
         }
+        if (read_odom) driven_m += (in.odom.translation() - read_odom->translation()).norm();
+        read_odom = in.odom;
         Waiting w{std::move(in), {}};
         w.fire = due(w.record.time_s, w.record.odom);
         if (!w.record.ranges.empty()) {
@@ -269,7 +302,9 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
             waiting.pop_front();
           }
           release(std::move(w), both);
+          if (last_scan) remember(std::move(*last_scan), last_scan_m);
           last_scan = std::move(scan);
+          last_scan_m = driven_m;
         } else if (!last_scan) {
           w.record.ranges.clear();
           ready.push_back(std::move(w.record));  // nothing seen yet
@@ -328,9 +363,17 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
   if (as_sonar) {
     int unseen = 0;
     for (bool c : as_sonar->covered()) unseen += c ? 0 : 1;
-    if (unseen)
+    if (unseen && !ring_timing)
       AppendF(out, "%d of %zu sonars point where %s does not look: they have no readings\n", unseen,
                   sonar->sensors.size(), robot.name.c_str());
+    if (unseen && ring_timing && reach_m > 0.0)
+      AppendF(out,
+              "%d of %zu sonars point where %s does not look from the robot: they read only what its scans of "
+              "the last %.0f m saw there\n",
+              unseen, sonar->sensors.size(), robot.name.c_str(), reach_m);
+    if (unseen && ring_timing && !(reach_m > 0.0))
+      AppendF(out, "%d of %zu sonars point where %s does not look from the robot: they read only what the scans "
+                   "either side saw there\n", unseen, sonar->sensors.size(), robot.name.c_str());
     // How often the ring fires, against the odometry's path (a Pioneer's
     // ring fires every few centimetres).
     if (!ring_timing && sweeps > 0 && travel_m > 0.0)

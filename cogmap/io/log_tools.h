@@ -21,6 +21,10 @@ struct LogToolOptions {
   // log's clock, each reading made from the laser scans before and after it
   // moved by the odometry; "scans": the whole ring at each laser scan.
   std::string ring_timing = "pioneer";
+  // ... and how far back along the path the earlier scans a reading takes
+  // reach (metres; negative: the ring's longest max range; 0: the scans
+  // either side only).
+  double ring_history_m = -1.0;
 };
 
 struct LogSummary {

@@ -131,7 +131,7 @@ std::vector<RangeReading> AsSonar::FireAt(const Pose2& odom, const std::vector<i
   };
   constexpr int kAxisSamples = 20;
   for (int k : sonars) {
-    if (k < 0 || k >= static_cast<int>(sonar_.sensors.size()) || !covered_[k]) continue;
+    if (k < 0 || k >= static_cast<int>(sonar_.sensors.size())) continue;
     const RangeSensor& s = sonar_.sensors[k];
     const double half = 0.5 * s.beam_width_rad + 1e-12;
     double nearest = std::numeric_limits<double>::infinity();

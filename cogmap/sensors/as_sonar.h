@@ -59,7 +59,9 @@ class AsSonar {
   // lay in view of one of the scans (within one beam spacing of a source
   // beam, inside its max range), no echo (max range) when its whole axis did
   // and no echo lay in its cone, and nothing otherwise (what a sonar reads
-  // where no scan looked is not known). Uncovered sonars never fire.
+  // where no scan looked is not known). A sonar pointing where the source
+  // never looks from the robot (covered()) reads what earlier scans saw
+  // there: a rear sonar, the corridor a forward laser saw on the way in.
   std::vector<RangeReading> FireAt(const Pose2& odom, const std::vector<int>& sonars,
                                    const std::vector<const SourceScan*>& scans) const;
 

@@ -219,9 +219,13 @@ TEST(AsSonar, FiredWhereNoScanLookedReadsNothing) {
   EXPECT_DOUBLE_EQ(Only(conv.FireAt({1.0, 0.0, kPi}, {0}, {&scan, &behind})), 5.0);
   // ... and no scan at all gives no reading.
   EXPECT_TRUE(conv.FireAt({1.0, 0.0, 0.0}, {0}, {}).empty());
-  // A sonar the source never covers never fires.
+  // A rear sonar, which the forward laser never covers from the robot,
+  // reads nothing from the scan ahead alone, and what another scan saw
+  // where it looks: here, the open floor the scan facing back saw.
   const AsSonar rear(laser, OneSonar(180.0));
-  EXPECT_TRUE(rear.FireAt({0.0, 0.0, 0.0}, {0}, {&scan, &behind}).empty());
+  EXPECT_FALSE(rear.covered()[0]);
+  EXPECT_TRUE(rear.FireAt({0.0, 0.0, 0.0}, {0}, {&scan}).empty());
+  EXPECT_DOUBLE_EQ(Only(rear.FireAt({0.0, 0.0, 0.0}, {0}, {&scan, &behind})), 5.0);
 }
 
 // The echo beyond the sonar's range, moved: no echo (its whole axis in view).
