@@ -160,8 +160,6 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
   long records = 0, readings = 0;
   // --as-sonar: how often the ring fires, per metre of odometry.
   long sweeps = 0;
-  double travel_m = 0.0;
-  std::optional<Pose2> last_odom;
   const bool ring_timing = as_sonar && o.ring_timing == "pioneer";
   if (as_sonar && !ring_timing && o.ring_timing != "scans")
     throw InputError("--ring-timing " + o.ring_timing + ": not a timing (pioneer, scans)");
@@ -242,6 +240,8 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
   std::deque<Past> history;  // newest first
   double driven_m = 0.0;     // odometry path length of the records read
   std::optional<Pose2> read_odom;
+  // (the records are written in the order read: over the whole log this is
+  // also the path of those written)
   struct Waiting {
     sensors::LogRecord record;
     std::vector<int> fire;
@@ -270,6 +270,8 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
   // The next source record, checked against the robot.
   auto read = [&](sensors::LogRecord* r) {
     if (!reader->Next(r)) return false;
+    if (read_odom) driven_m += (r->odom.translation() - read_odom->translation()).norm();
+    read_odom = r->odom;
     for (const auto& q : r->ranges)
       if (q.sensor < 0 || q.sensor >= n_sensors)
         throw InputError(path, 0, "reading of sensor " + std::to_string(q.sensor) + " but robot '" + robot.name +
@@ -289,8 +291,6 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
           }
           break;
         }
-        if (read_odom) driven_m += (in.odom.translation() - read_odom->translation()).norm();
-        read_odom = in.odom;
         Waiting w{std::move(in), {}};
         w.fire = due(w.record.time_s, w.record.odom);
         if (!w.record.ranges.empty()) {
@@ -323,11 +323,7 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
       if (!read(r)) return false;
       if (as_sonar) r->ranges = as_sonar->Convert(r->ranges);
     }
-    if (as_sonar) {
-      sweeps += r->ranges.empty() ? 0 : 1;
-      if (last_odom) travel_m += (r->odom.translation() - last_odom->translation()).norm();
-      last_odom = r->odom;
-    }
+    if (as_sonar) sweeps += r->ranges.empty() ? 0 : 1;
     ++records;
     readings += static_cast<long>(r->ranges.size());
     if (records % 1024 == 0 && progress) progress(reader->progress());
@@ -376,14 +372,14 @@ ConvertSummary ConvertLog(const std::string& path, const LogToolOptions& o, cons
                    "either side saw there\n", unseen, sonar->sensors.size(), robot.name.c_str());
     // How often the ring fires, against the odometry's path (a Pioneer's
     // ring fires every few centimetres).
-    if (!ring_timing && sweeps > 0 && travel_m > 0.0)
+    if (!ring_timing && sweeps > 0 && driven_m > 0.0)
       AppendF(out, "the ring fires at %ld of %ld records (the laser's scans): once every %.2f m of the %.0f m driven\n",
-              sweeps, records, travel_m / static_cast<double>(sweeps), travel_m);
-    if (ring_timing && readings > 0 && travel_m > 0.0)
+              sweeps, records, driven_m / static_cast<double>(sweeps), driven_m);
+    if (ring_timing && readings > 0 && driven_m > 0.0)
       AppendF(out,
               "the ring fires as a Pioneer's (one sonar per bank every %.0f ms): %ld readings in %ld of %ld records, "
               "one every %.3f m of the %.0f m driven; each from the laser scans before and after it\n",
-              1000.0 * kSonarInterval, readings, sweeps, records, travel_m / static_cast<double>(readings), travel_m);
+              1000.0 * kSonarInterval, readings, sweeps, records, driven_m / static_cast<double>(readings), driven_m);
     if (ring_timing && clockless > 0)
       AppendF(out,
               "the log's clock did not advance over %ld of %ld records where the robot moved: the ring fired there by "
