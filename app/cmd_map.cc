@@ -167,7 +167,11 @@ std::function<int()> SetupMap(CLI::App& sub) {
                "With --no-graph: keep the corrections as computed while mapping (no revision at the end of the run)");
   sub.add_flag("--no-graph", a->no_graph,
                "Default mode without the pose graph (docs/pose-graph.md): the drift filter's odometry "
-               "pre-correction, heading correction and smoothing only (the default before the pose graph)");
+               "pre-correction, heading correction and smoothing only (the default before the pose graph). The filter "
+               "takes a drift for granted and checks its map against nothing: on a building that is not square it "
+               "can settle on a false drift and turn the map without a warning (the CARMEN logs as sonar without "
+               "drift: heading median up to 56 deg; docs/BENCHMARKS.md); the pose graph tests whether there is a "
+               "drift at all");
   sub.add_flag("--pre-bend", a->job.mapping.pre_bend,
                "Pose graph: once the graph has pinned the odometry's drift rate, build the rooms mapped next on "
                "odometry with that drift removed (sharper walls under strong drift; not the default: on real "
