@@ -467,7 +467,9 @@ WingSteps CountWingSteps(const std::vector<double>& world, const std::vector<int
 // there: the mean offsets of three factors either side, two factors clear
 // of the split (the rooms and corridor where the wings meet read between
 // them), within tol_rad of each other; and each side level: the three
-// factors at its far end within tol_rad of those three. A ramp (a drift
+// factors at its far end within tol_rad of those three, or within half the
+// step between the means when that is more (a wing's sides turn by what
+// the heading wanders along them, not with its step). A ramp (a drift
 // read at the held rates, or a slow wander of the heading) splits too,
 // but its sides turn as much as the step. 'family' is per input factor (0
 // before the split, 1 after).
