@@ -140,6 +140,10 @@ std::function<int()> SetupBuilding(CLI::App& sub) {
                  "Not 0: a second wing like the first (seed + 1), turned by this many degrees (at most 60 either way) "
                  "and joined to its east end by a stretch of corridor; its rooms have no truth boxes (docs/simulator.md)")
       ->capture_default_str();
+  sub.add_option("--wall-m", a->options.wall_m,
+                 "Wall thickness, metres: 0 draws each wall as a line (one face each side); more draws its two "
+                 "faces and ends, doors keeping their width (docs/simulator.md)")
+      ->capture_default_str();
   sub.add_option("-o,--output", a->output, "2D-Map file to write")->required();
   return [a] { return RunBuilding(*a); };
 }

@@ -12,6 +12,9 @@ plan::PlanOptions PlanOptionsOfStore(const asr::AsrStore& store, const plan::Pla
   if (const auto r = asr::RobotRadius(store)) o.robot_radius_m = *r;
   if (const auto r = asr::SensorReach(store)) o.reach_m = *r;
   if (const auto b = asr::SensorBeam(store)) o.beam_width_rad = *b;
+  // The faces' offset from the wall's surface, by the beam, when the caller
+  // left it unset (plan::FaceBehindForBeam).
+  if (o.face_behind_m == 0.0) o.face_behind_m = plan::FaceBehindForBeam(o.beam_width_rad, o.reach_m, o.cell_m);
   return o;
 }
 

@@ -14,7 +14,8 @@ namespace cogmap::mapping {
 // the plan.json that `cogmap map` wrote with the same store.
 plan::Plan FloorPlanOfStore(const asr::AsrStore& store, const plan::PlanOptions& options = {});
 
-// 'options' with the robot radius and sensor reach of the store's last run
+// 'options' with the robot radius, sensor reach and beam of the store's last run
+// (and the faces' offset from the wall surface that beam gives, when unset)
 // where the store has them: what `cogmap map` and FloorPlanOfStore plan with.
 plan::PlanOptions PlanOptionsOfStore(const asr::AsrStore& store, const plan::PlanOptions& options = {});
 

@@ -24,6 +24,13 @@
 #include "cogmap/graph/registration.h"
 
 namespace cogmap::plan {
+
+double FaceBehindForBeam(double beam_rad, double reach_m, double cell_m) {
+  if (!(beam_rad > 0.0)) return 0.0;
+  // Unknown reach: the thesis's window (3 m).
+  return beam_rad * (reach_m > 0.0 ? reach_m : 3.0) >= cell_m ? -0.025 : 0.03;
+}
+
 namespace {
 
 namespace bg = boost::geometry;
@@ -1790,6 +1797,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
 
   // ---------------------------------------------------------------- thin walls: opposite faces that coincide
   {
+    const double thin_seen = o.thin_wall_m - 2.0 * o.face_behind_m;
     CellHash hash(2.0);
     auto box = [](const Piece& p, Vec2* lo, Vec2* hi) {
       *lo = Vec2(1e300, 1e300), *hi = -*lo;
@@ -1809,7 +1817,7 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
     for (size_t i = 0; i < n_pieces; ++i) {
       Vec2 lo, hi;
       box(pieces[i], &lo, &hi);
-      const Vec2 m(o.thin_wall_m, o.thin_wall_m);
+      const Vec2 m(std::max(0.0, thin_seen), std::max(0.0, thin_seen));
       for (int j : hash.Query(lo - m, hi + m)) {
         if (j <= static_cast<int>(i)) continue;
         Piece& A = pieces[i];
@@ -1831,7 +1839,9 @@ Plan BuildPlanFrom(const std::vector<asr::Asr>& asrs, const std::map<int, int>& 
             // (same_face_m).
             const Vec2 a0 = A.c + o0 * A.u, a1 = A.c + o1 * A.u, b0 = B.Foot(a0), b1 = B.Foot(a1);
             const double s0 = -A.n.dot(b0 - a0), s1 = -A.n.dot(b1 - a1);
-            if (s0 >= o.thin_wall_m || s1 >= o.thin_wall_m || s0 <= -o.same_face_m || s1 <= -o.same_face_m) continue;
+            // Seen closer than a thin wall's faces are (thin_wall_m less
+            // the sensor's two face offsets, face_behind_m).
+            if (s0 >= thin_seen || s1 >= thin_seen || s0 <= -o.same_face_m || s1 <= -o.same_face_m) continue;
             Piece t;
             const Vec2 m0 = 0.5 * (a0 + b0), m1 = 0.5 * (a1 + b1);
             t.c = m0;

@@ -71,6 +71,16 @@ struct Plan {
 };
 
 // How BuildPlan fuses walls and cuts rooms (docs/floor-plan.md).
+// How far behind a wall's surface a sensor's fitted faces lie (metres;
+// negative: in front), by its beam: a cone wider than a cell at the reach
+// (a sonar; grid::MhimmOptions::cone_hits' test) returns the nearest echo in
+// it and its faces lie in front, 0.025 m; a ray's (a laser's) hits mark
+// their cell and its neighbours, the band's middle is kept, and its faces
+// lie 0.03 m behind. Measured with simulated 16-sonar and laser runs on
+// walls of known place, medians per run: sonar -0.009 to -0.041, laser
+// +0.012 to +0.050 (docs/floor-plan.md, walls step 8).
+double FaceBehindForBeam(double beam_rad, double reach_m, double cell_m);
+
 struct PlanOptions {
   // Walls: the ASRs' wall segments, each with the side the robot saw it from
   // (graph::FaceWalls), are grouped into faces and each face fitted as one line.
@@ -79,7 +89,13 @@ struct PlanOptions {
   double face_angle_deg = 20.0;        // ... its free-side normal agrees this well
   double join_gap_m = 0.4;             // ... and it lies within this of the face's extent along it
   double min_wall_m = 0.4;             // fused faces shorter than this are dropped (notches)
-  double thin_wall_m = 0.15;           // opposite faces closer than this (or crossed by less than same_face_m) are one thin wall seen from both sides
+  double thin_wall_m = 0.15;           // opposite faces of a wall thinner than this (or crossed by less than same_face_m) are one thin wall seen from both sides
+  // Where a sensor's fitted wall faces lie against the wall's surface,
+  // metres behind it (negative: in front of it): two faces of one wall t
+  // thick are seen t - 2 face_behind_m apart, and are one thin wall when
+  // that is under thin_wall_m - 2 face_behind_m. `cogmap map` sets it from
+  // the robot's beam (FaceBehindForBeam); 0: faces on the surface.
+  double face_behind_m = 0.0;
   double residual_floor_m = 0.03;      // floor of a face's fit residual (1 sigma)
   double correlation_length_m = 0.5;   // residuals along a wall are correlated over this (one independent error)
   double heading_floor_deg = 1.0;      // model error of a wall's direction (ASR heading), added to its fit error

@@ -452,6 +452,31 @@ TEST(BuildPlan, ThinWallSeenFromBothSidesIsOneWall) {
   EXPECT_EQ(middle[0]->asr_ids, (std::vector<int>{0, 1}));
 }
 
+// A sensor's faces do not lie on the wall's surface (PlanOptions::
+// face_behind_m): a laser's 0.03 m behind it, so a 0.2 m wall's two faces
+// are seen 0.14 apart, and a sonar's 0.025 in front, so a thin wall's are
+// seen up to 0.2 apart. Faces 0.13 apart: one thin wall to a sensor whose
+// faces lie on the surface, two faces of a thick wall to a laser; faces
+// 0.18 apart: two walls, but one thin wall to a sonar ring.
+TEST(BuildPlan, ThinWallIsJudgedByTheSensorsFaceOffset) {
+  auto count_middle = [](const Plan& plan, double x0, double x1) {
+    int n = 0;
+    for (const Wall& w : plan.walls)
+      if (OnLine(w, true, x0, 0.01) || OnLine(w, true, x1, 0.01) || OnLine(w, true, 0.5 * (x0 + x1), 0.01)) ++n;
+    return n;
+  };
+  PlanOptions surface, laser, sonar;
+  laser.face_behind_m = FaceBehindForBeam(DegToRad(0.5), 3.0, 0.1);
+  sonar.face_behind_m = FaceBehindForBeam(DegToRad(30.0), 3.0, 0.1);
+  EXPECT_DOUBLE_EQ(laser.face_behind_m, 0.03);
+  EXPECT_DOUBLE_EQ(sonar.face_behind_m, -0.025);
+  EXPECT_DOUBLE_EQ(FaceBehindForBeam(0.0, 3.0, 0.1), 0.0);  // no beam known: faces on the surface
+  EXPECT_EQ(count_middle(BuildPlan(TwoRooms(0.13), {}, surface), 4.0, 4.13), 1);
+  EXPECT_EQ(count_middle(BuildPlan(TwoRooms(0.13), {}, laser), 4.0, 4.13), 2);
+  EXPECT_EQ(count_middle(BuildPlan(TwoRooms(0.18), {}, surface), 4.0, 4.18), 2);
+  EXPECT_EQ(count_middle(BuildPlan(TwoRooms(0.18), {}, sonar), 4.0, 4.18), 1);
+}
+
 // Each room's face of the wall between them lies 0.2 m inside the other room
 // (laser faces sit a few centimetres behind the wall, and the two rooms were
 // placed 0.1 m apart): no wall has its faces that way round, so it is one

@@ -112,7 +112,33 @@ FloorPlan GenerateBuilding(const BuildingOptions& o) {
   within("--room-depth-m", o.room_depth_m, 100.0);
   within("--door-m", o.door_width_m, 10.0);
   if (o.rooms > 100000) throw InputError("gen-building: --rooms " + std::to_string(o.rooms) + ": at most 100000");
-  return o.wing_deg != 0.0 ? TwoWings(o) : OneWing(o);
+  if (!(o.wall_m >= 0.0)) throw InputError("gen-building: --wall-m must be 0 or more");
+  within("--wall-m", o.wall_m, std::min(1.0, 0.25 * o.corridor_width_m));
+  FloorPlan plan = o.wing_deg != 0.0 ? TwoWings(o) : OneWing(o);
+  if (o.wall_m > 0.0) {
+    // Each wall's line becomes the outline of a wall wall_m thick: two
+    // faces and two ends (a wall of zero length stays none).
+    const double h = 0.5 * o.wall_m;
+    std::vector<Segment2> thick;
+    for (const Segment2& w : plan.walls) {
+      const Vec2 d = w.b - w.a;
+      const double len = d.norm();
+      if (!(len > 1e-9)) continue;
+      const Vec2 n = Vec2(-d.y(), d.x()) * (h / len);
+      const Vec2 a0 = w.a + n, a1 = w.a - n, b0 = w.b + n, b1 = w.b - n;
+      thick.push_back({a0, b0});
+      thick.push_back({a1, b1});
+      thick.push_back({a0, a1});
+      thick.push_back({b0, b1});
+    }
+    plan.walls = std::move(thick);
+    for (const Segment2& w : plan.walls)
+      for (const Vec2& p : {w.a, w.b}) {
+        plan.min = plan.min.cwiseMin(p);
+        plan.max = plan.max.cwiseMax(p);
+      }
+  }
+  return plan;
 }
 
 namespace {

@@ -21,6 +21,14 @@ struct BuildingOptions {
   // at an angle are. Its rooms have no truth boxes (a 2D-Map's room extents
   // are axis-aligned); its walls, doors and route are turned with it.
   double wing_deg = 0.0;
+  // Not 0: every wall this thick, drawn as its two faces and its two ends
+  // around the line it would be (the thesis's worlds and a 2D-Map's walls
+  // are lines: one face each side, no thickness). Doors keep their width
+  // (a corridor wall's piece ends square at the jamb); where walls meet,
+  // the ends and faces that fall inside another wall are hidden from the
+  // sensors by its faces. Rooms keep their truth boxes, to the walls' middle
+  // lines.
+  double wall_m = 0.0;
 };
 
 // Walls, Room and Doorway truth (the corridor is a room named "corridor"),
@@ -29,7 +37,8 @@ struct BuildingOptions {
 // with waypoints named wp0001, wp0002, ... Throws InputError when the rooms
 // cannot fit (each room needs at least 2 m of corridor), or a size is no
 // number or more than a building has (a corridor of 100 km, 50 m wide, rooms
-// 100 m deep, doors 10 m wide, 100000 rooms).
+// 100 m deep, doors 10 m wide, 100000 rooms, walls 1 m thick; the walls at
+// most a quarter of the corridor's width).
 FloorPlan GenerateBuilding(const BuildingOptions& options);
 
 }  // namespace cogmap::sim

@@ -131,6 +131,44 @@ TEST(Building, SizesNoBuildingHasAreErrorsNamingTheOption) {
   BuildingOptions many = o;
   many.rooms = 100000000;
   EXPECT_EQ(message(many), "gen-building: --rooms 100000000: at most 100000");
+  BuildingOptions thick = o;
+  thick.wall_m = -0.1;
+  EXPECT_EQ(message(thick), "gen-building: --wall-m must be 0 or more");
+  thick.wall_m = 0.6;  // over a quarter of the 2 m corridor
+  EXPECT_EQ(message(thick), "gen-building: --wall-m 0.6: at most 0.5 m");
+}
+
+// --wall-m: each wall's line becomes a wall's outline, two faces the
+// thickness apart and two ends; the doors keep their width, and the robot
+// still drives the whole route through them.
+TEST(Building, ThickWallsAreTwoFacesAndTwoEndsAndStayDrivable) {
+  BuildingOptions o;
+  o.rooms = 4;
+  o.corridor_m = 16;
+  const FloorPlan thin = GenerateBuilding(o);
+  o.wall_m = 0.25;
+  const FloorPlan plan = GenerateBuilding(o);
+  ASSERT_EQ(plan.walls.size(), 4 * thin.walls.size());
+  for (size_t k = 0; k < thin.walls.size(); ++k) {
+    const Segment2& line = thin.walls[k];
+    const Segment2* w = &plan.walls[4 * k];
+    // The two faces: parallel to the line, 0.125 m either side of it.
+    for (int f = 0; f < 2; ++f) {
+      EXPECT_NEAR((w[f].b - w[f].a).norm(), (line.b - line.a).norm(), 1e-9);
+      const Vec2 d = (line.b - line.a).normalized(), n(-d.y(), d.x());
+      EXPECT_NEAR(std::abs(n.dot(w[f].a - line.a)), 0.125, 1e-9);
+      EXPECT_NEAR(std::abs(n.dot(w[f].b - line.a)), 0.125, 1e-9);
+    }
+    // The ends: 0.25 m across, through the line's ends.
+    EXPECT_NEAR((w[2].b - w[2].a).norm(), 0.25, 1e-9);
+    EXPECT_NEAR((0.5 * (w[2].a + w[2].b) - line.a).norm(), 0.0, 1e-9);
+    EXPECT_NEAR((0.5 * (w[3].a + w[3].b) - line.b).norm(), 0.0, 1e-9);
+  }
+  for (size_t k = 0; k < plan.doorways.size(); ++k)
+    EXPECT_NEAR((plan.doorways[k].line.b - plan.doorways[k].line.a).norm(), 0.9, 1e-9);
+  const SimStats s = Simulate(plan, sensors::BuiltinRobot("pioneer16"), {}, {});
+  EXPECT_EQ(s.waypoints_reached, static_cast<int>(plan.route.size()));
+  EXPECT_TRUE(s.warnings.empty());
 }
 
 }  // namespace
