@@ -634,9 +634,10 @@ std::string MapSummaryText(const MapJobSummary& s, const MapJob& job) {
       for (const auto& e : r.graph.asrs)
         if (e.direction_factor && e.building_direction >= 0 && e.building_direction < static_cast<int>(dirs.size()))
           ++count[e.building_direction];
-      // Named as found, not judged: directions a wing's kept that drew
-      // together when solved (MapOptimizer's warning says so) are listed too.
-      AppendF(&out, "building directions (each modulo a quarter turn, and the ASRs held to it):");
+      // Listed as found, not called a wing: a wing kept under the test's
+      // margin may draw together when solved with the whole map, and
+      // MapOptimizer's warning then says so.
+      AppendF(&out, "building directions (each modulo a quarter turn, and the ASRs held to each):");
       for (size_t k = 0; k < dirs.size(); ++k) {
         AppendF(&out, "%s %.1f deg (%d ASRs)", k ? "," : "", dirs[k], count[k]);
       }
