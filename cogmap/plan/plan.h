@@ -70,7 +70,6 @@ struct Plan {
   double direction_scatter_rad = 0.0;   // wall-direction scatter the squaring test allowed for (BuildPlan)
 };
 
-// How BuildPlan fuses walls and cuts rooms (docs/floor-plan.md).
 // How far behind a wall's surface a sensor's fitted faces lie (metres;
 // negative: in front), by its beam: a cone wider than a cell at the reach
 // (a sonar; grid::MhimmOptions::cone_hits' test) returns the nearest echo in
@@ -81,6 +80,7 @@ struct Plan {
 // +0.012 to +0.050 (docs/floor-plan.md, walls step 8).
 double FaceBehindForBeam(double beam_rad, double reach_m, double cell_m);
 
+// How BuildPlan fuses walls and cuts rooms (docs/floor-plan.md).
 struct PlanOptions {
   // Walls: the ASRs' wall segments, each with the side the robot saw it from
   // (graph::FaceWalls), are grouped into faces and each face fitted as one line.

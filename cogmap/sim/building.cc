@@ -12,6 +12,16 @@ namespace cogmap::sim {
 namespace {
 FloorPlan OneWing(const BuildingOptions& o);
 
+// The plan's box: the least and the most of its walls' ends.
+void FitBoundsToWalls(FloorPlan* plan) {
+  plan->min = plan->max = plan->walls.front().a;
+  for (const Segment2& w : plan->walls)
+    for (const Vec2& p : {w.a, w.b}) {
+      plan->min = plan->min.cwiseMin(p);
+      plan->max = plan->max.cwiseMax(p);
+    }
+}
+
 // Two wings: 'a' along x from 0 to its corridor's length, 'b' turned by
 // wing_deg about the far end of a joining corridor.
 FloorPlan TwoWings(const BuildingOptions& o) {
@@ -86,12 +96,7 @@ FloorPlan TwoWings(const BuildingOptions& o) {
     std::snprintf(name, sizeof name, "wp%04zu", k + 1);
     plan.route.push_back({name, route[k]});
   }
-  plan.min = plan.max = plan.walls.front().a;
-  for (const Segment2& w : plan.walls)
-    for (const Vec2& p : {w.a, w.b}) {
-      plan.min = plan.min.cwiseMin(p);
-      plan.max = plan.max.cwiseMax(p);
-    }
+  FitBoundsToWalls(&plan);
   return plan;
 }
 }  // namespace
@@ -132,11 +137,7 @@ FloorPlan GenerateBuilding(const BuildingOptions& o) {
       thick.push_back({b0, b1});
     }
     plan.walls = std::move(thick);
-    for (const Segment2& w : plan.walls)
-      for (const Vec2& p : {w.a, w.b}) {
-        plan.min = plan.min.cwiseMin(p);
-        plan.max = plan.max.cwiseMax(p);
-      }
+    FitBoundsToWalls(&plan);
   }
   return plan;
 }
