@@ -1923,7 +1923,10 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
       if (c.directions.size() <= chosen->directions.size()) continue;
       const auto [x, q] = test(c);
       if (!(x - q > 0.0)) continue;
-      const int extra = static_cast<int>(c.directions.size() - chosen->directions.size());
+      // A grouping that needs a drift where the one chosen needs none
+      // adds the drift too, a parameter more.
+      const int extra = static_cast<int>(c.directions.size() - chosen->directions.size()) +
+                        (c.needs_drift && !chosen->needs_drift ? 1 : 0);
       const double q_more =
           ChiSquareQuantile(1.0 - (1.0 - options_.building_direction_test_probability) / tried, extra);
       const double profile = apart(c) && apart(*chosen) ? 2.0 * (chosen->neg_log_l - c.neg_log_l)
