@@ -2022,8 +2022,8 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
           likelier = best;
           likelier_odds = held / total;
         }
-      } else if (best_undrifted && drift->detected &&
-                 total < undrifted * std::exp(0.5 * ChiSquareQuantile(options_.drift_test_probability, 1))) {
+      } else if (const double margin_odds = std::exp(0.5 * drift_quantile);
+                 best_undrifted && drift->detected && total < undrifted * margin_odds) {
         // A drift found, and a wing that needs none fitting the walls less
         // well but not by the margin the drift itself had to clear against
         // none (its likelihood ratio at the drift test's quantile, 27.6:1):
@@ -2039,7 +2039,7 @@ int MapOptimizer::TryBuildingDirections(DriftDecision* drift, double* chi2_out) 
                       "drift fits the walls nearly as well (the drift only %.3g:1 against it, under the drift test's "
                       "%.3g:1): the map keeps the drift, the uncertainties hold both; compare with --no-correct",
                       RadToDeg(drift->hypotheses.front().rate), RadToDeg(best_undrifted->most_rad), total / undrifted,
-                      std::exp(0.5 * ChiSquareQuantile(options_.drift_test_probability, 1)));
+                      margin_odds);
         drift->wing_warning = text;
       }
     }

@@ -837,7 +837,6 @@ TEST(MappingPipeline, AThirdDirectionAndADriftAreTwoParametersMore) {
   EXPECT_LT(run.errors_deg.back(), 6.0);
 }
 
-
 // A wing turned 15 degrees (six rooms on a 25 m corridor 3 m wide, and six
 // in the wing), the 8-sonar ring, exact odometry. The walls find a drift of
 // 0.23 deg/m with one building direction (the wing read as a ramp), and the
