@@ -31,6 +31,7 @@ struct MapArgs {
   double remove_drift_deg_per_m = 0.0;
   bool second_pass = false;
   std::string scan_match = "auto";
+  std::string distance_scale = "auto";
   std::vector<std::string> topics;
 };
 
@@ -69,6 +70,7 @@ int RunMap(MapArgs& a) {
   job.mapping.add_drift_rad_per_m = DegToRad(a.add_drift_deg_per_m);
   job.mapping.remove_drift_rad_per_m = DegToRad(a.remove_drift_deg_per_m);
   job.mapping.scan_match = mapping::ParseScanMatch(a.scan_match);
+  job.mapping.distance_scale = mapping::ParseDistanceScale(a.distance_scale);
   job.mapping.Validate();
   job.outputs = mapping::OutputChoice::Parse(a.outputs);
   if (!a.geo_anchor.empty()) job.geo_anchor = io::ParseGeoAnchor(a.geo_anchor);
@@ -199,6 +201,14 @@ std::function<int()> SetupMap(CLI::App& sub) {
                  "corridor, the wheels are kept); the corrected odometry is the run's odometry in the store. auto: "
                  "when the first scans come at most 0.5 m or 15 degrees apart on average (default mode; paper "
                  "mode: never); on: always; off: never. No effect on sonar (docs/inputs.md 'Laser odometry')")
+      ->capture_default_str();
+  sub.add_option("--distance-scale", a->distance_scale,
+                 "Default mode, correcting: the odometry's distance scale (true distance over odometry distance). "
+                 "auto: measured while mapping by the range sensors looking along the way as the robot drives "
+                 "straight at a wall (a sonar's run only with a side wall along it), applied from then on, shrunk "
+                 "towards 1 by its evidence (report.json distance_scale); a number: that scale from the start (a "
+                 "calibration); off: the odometry's distances as they come. The scaled odometry is the run's "
+                 "odometry in the store (docs/pose-graph.md 'Distance scale')")
       ->capture_default_str();
   sub.add_option("--add-drift-deg-per-m", a->add_drift_deg_per_m,
                  "Add a systematic heading drift to the log's odometry, degrees per metre driven (CCW positive; "

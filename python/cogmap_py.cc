@@ -247,7 +247,7 @@ mapping::MappingOptions Options(const std::string& mode, double cell_m, double w
 py::object MapLog(const std::string& path, const std::string& output, const std::string& format,
                   const std::string& robot, const std::string& mode, const std::string& outputs, bool resume,
                   const std::string& world, double add_drift_deg_per_m, bool correct, bool pose_graph,
-                  int threads, bool second_pass, const std::string& scan_match) {
+                  int threads, bool second_pass, const std::string& scan_match, const std::string& distance_scale) {
   mapping::MapJob job;
   job.second_pass = second_pass;
   job.log_path = path;
@@ -255,6 +255,7 @@ py::object MapLog(const std::string& path, const std::string& output, const std:
   job.robot_spec = robot;
   job.mapping = Options(mode, 0.1, 3.0, correct, pose_graph, add_drift_deg_per_m, threads);
   job.mapping.scan_match = mapping::ParseScanMatch(scan_match);
+  job.mapping.distance_scale = mapping::ParseDistanceScale(distance_scale);
   job.outputs = mapping::OutputChoice::Parse(outputs);
   job.output_dir = output;
   job.resume = resume;
@@ -399,9 +400,10 @@ PYBIND11_MODULE(cogmap, m) {
         py::arg("robot") = "", py::arg("mode") = "default", py::arg("outputs") = "default",
         py::arg("resume") = false, py::arg("world") = "", py::arg("add_drift_deg_per_m") = 0.0,
         py::arg("correct") = true, py::arg("pose_graph") = true, py::arg("threads") = 2,
-        py::arg("second_pass") = false, py::arg("scan_match") = "auto",
+        py::arg("second_pass") = false, py::arg("scan_match") = "auto", py::arg("distance_scale") = "auto",
         "Maps a log into an output folder exactly as `cogmap map` does (second_pass: `--second-pass`, "
-        "scan_match: `--scan-match`, auto, on or off); returns report.json as a dict");
+        "scan_match: `--scan-match`, auto, on or off; distance_scale: `--distance-scale`, auto, off or a "
+        "number); returns report.json as a dict");
   m.def("robot", [](const std::string& spec) { return RobotDict(cogmap::sensors::ResolveRobot(spec)); },
         py::arg("spec"), "A built-in robot by name, or a robot JSON file");
   py::class_<Mapper>(m, "Mapper", "The mapping pipeline, record by record, into a store on disk")

@@ -262,6 +262,7 @@ def main():
     ref_report = json.load(open(ref_files["report.json"]))
     ref_meta, ref_rows, _ = read_store(ref_files["map.sqlite"], scratch)
     ref_asrs, ref_rooms = ref_report["asr_count"], ref_report.get("pose_graph", {}).get("rooms")
+    scaled = ((ref_report.get("distance_scale") or {}).get("applied", 1.0)) != 1.0
     check(integrity(ref_files["map.sqlite"], scratch) == "ok", "reference store integrity")
     ref_ate = ate_against(cogmap, ref, world)
     header_end, odoms = index_log(log)
@@ -351,6 +352,13 @@ def main():
                 end_time = last[10]  # end_time_s
                 pose = [float(v) for v in meta["last_raw_pose"].split()]
                 start, dist = find_resume_record(odoms, end_time, pose)
+                # A run that scaled its odometry (report.json distance_scale)
+                # stored its last pose scaled: the record is the one it names.
+                if (start is None or dist >= 1e-6) and scaled and "last_record" in meta:
+                    n = int(meta["last_record"])
+                    check(1 <= n <= len(odoms) and odoms[n - 1][1] >= end_time - 1e-9,
+                          "trial %d: last_record %d is no ODOM line at or after the last ASR's end" % (trial, n))
+                    start, dist = odoms[max(0, min(n, len(odoms)) - 1)][0], 0.0
                 check(start is not None and dist < 1e-6,
                       "trial %d: no ODOM line at last_raw_pose %s (nearest %s)" % (trial, pose, dist))
                 rdir = store_alone(partial, j("resume"))

@@ -55,6 +55,10 @@ void MappingOptions::Validate() const {
     throw InputError("--add-drift-deg-per-m " + Num(RadToDeg(add_drift_rad_per_m)) + ": must be in [-90, 90]");
   if (!std::isfinite(remove_drift_rad_per_m) || std::abs(remove_drift_rad_per_m) > DegToRad(90.0))
     throw InputError("--remove-drift-deg-per-m " + Num(RadToDeg(remove_drift_rad_per_m)) + ": must be in [-90, 90]");
+  if (!std::isnan(distance_scale) && !(distance_scale >= 0.5 && distance_scale <= 2.0))
+    throw InputError("--distance-scale " + Num(distance_scale) + ": must be auto, off or in [0.5, 2]");
+  if (!(distance_scale_prior > 0.0 && distance_scale_prior <= 0.2))
+    throw InputError("distance scale prior " + Num(distance_scale_prior) + ": must be in (0, 0.2]");
   if (remove_drift_rad_per_m != 0.0 && pre_bend)
     throw InputError("--remove-drift-deg-per-m and --pre-bend: one drift removed while mapping, not both");
 }
@@ -201,6 +205,16 @@ MappingPipeline::MappingPipeline(sensors::RobotDescription robot, MappingOptions
     result_.scan_match_active = localize::HasLaser(robot_);
   } else if (options_.scan_match == ScanMatch::kAuto && !options_.paper && localize::HasLaser(robot_)) {
     scan_density_ = std::make_unique<localize::ScanDensity>(robot_);
+  }
+  // The distance scale: default mode, when correcting (paper mode and
+  // --no-correct take the odometry as it comes).
+  if (!options_.paper && options_.correct) {
+    if (std::isnan(options_.distance_scale)) {
+      scale_estimator_ = std::make_unique<localize::OdometryScaleEstimator>(robot_);
+      result_.distance_scale_measured = true;
+    } else {
+      scaler_.SetScale(options_.distance_scale);
+    }
   }
   if (store_ && store_->MaxId() < 0 && !store_->GetMeta(asr::kMetaFinishedThrough))
     store_->SetMeta(asr::kMetaFinishedThrough, "-1");
@@ -388,6 +402,40 @@ ScanMatch ParseScanMatch(const std::string& s) {
   throw InputError("--scan-match " + s + ": expected auto, on or off");
 }
 
+double ParseDistanceScale(const std::string& s) {
+  if (s == "auto") return std::numeric_limits<double>::quiet_NaN();
+  if (s == "off") return 1.0;
+  size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != s.size() || !(v >= 0.5 && v <= 2.0))
+    throw InputError("--distance-scale " + s + ": expected auto, off or a scale in [0.5, 2] (true distance / odometry distance)");
+  return v;
+}
+
+std::vector<std::string> DistanceScaleWarnings(const MappingOptions& options, const RunResult& run) {
+  std::vector<std::string> out;
+  (void)options;
+  const localize::OdometryScaleEstimate& e = run.distance_scale_estimate;
+  if (!run.distance_scale_measured || !e.valid) return out;
+  // Three sigmas and 3 %: beyond what tyres and load do to a calibrated robot.
+  const double off = e.scale - 1.0;
+  if (std::abs(off) > 3.0 * e.sigma && std::abs(off) > 0.03) {
+    std::string w;
+    AppendF(&w,
+            "the range sensors measure the odometry's distances %.1f %% %s (+- %.1f %%, %d runs towards walls): is the "
+            "robot's wheel diameter or ticks per metre set right? The odometry was scaled by %.4f",
+            100.0 * std::abs(off) / e.scale, off < 0.0 ? "long" : "short", 100.0 * e.sigma, e.runs,
+            run.distance_scale_applied);
+    out.push_back(w);
+  }
+  return out;
+}
+
 std::vector<std::string> ScanMatchWarnings(const MappingOptions& options, const RunResult& run) {
   std::vector<std::string> out;
   // Asked for: say when it could not help. (auto decides for itself.)
@@ -448,6 +496,17 @@ void MappingPipeline::DecideScanMatch() {
 
 void MappingPipeline::Process(sensors::LogRecord rec) {
   if (scan_odometry_) rec.odom = scan_odometry_->Correct(rec.odom, rec.ranges);
+  if (scale_estimator_) {
+    scale_estimator_->Add(rec);
+    // Re-estimated as the runs grow by a twentieth (a long run holds
+    // thousands): the scale from the next record on.
+    const size_t runs = scale_estimator_->runs().size();
+    if (runs >= scale_runs_next_) {
+      scale_runs_next_ = std::max(runs + 1, static_cast<size_t>(std::ceil(1.05 * static_cast<double>(runs))));
+      scaler_.SetScale(localize::ShrunkScale(scale_estimator_->Estimate(), options_.distance_scale_prior));
+    }
+  }
+  rec.odom = scaler_.Apply(rec.odom);
   if (result_.records == 0) result_.first_time_s = rec.time_s;
   if (!result_.world_from_map && rec.truth) result_.world_from_map = *rec.truth * rec.odom.inverse();
   result_.last_time_s = rec.time_s;
@@ -464,6 +523,11 @@ const RunResult& MappingPipeline::Finish() {
   if (finished_) return result_;
   DecideScanMatch();  // a run too short to decide on: the wheels
   if (scan_odometry_) result_.scan_match = scan_odometry_->stats();
+  if (scale_estimator_) {
+    scale_estimator_->Finish();
+    result_.distance_scale_estimate = scale_estimator_->Estimate();
+  }
+  result_.distance_scale_applied = scaler_.scale();
   finished_ = true;
   mapper_->Finish();
   result_.mapper = mapper_->stats();

@@ -9,6 +9,7 @@
 //   while (log->Next(&rec)) p.Push(rec);
 //   const mapping::RunResult& r = p.Finish();   // placements written to the store
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -22,6 +23,7 @@
 #include "cogmap/graph/map_optimizer.h"
 #include "cogmap/localize/heading_corrector.h"
 #include "cogmap/localize/odometry_corrector.h"
+#include "cogmap/localize/odometry_scale.h"
 #include "cogmap/localize/scan_odometry.h"
 #include "cogmap/sensors/reading.h"
 #include "cogmap/sensors/robot.h"
@@ -81,6 +83,14 @@ struct MappingOptions {
   // reference scan (localize::ScanOdometry) before it is mapped; the
   // corrected odometry is what the store keeps as the run's odometry.
   ScanMatch scan_match = ScanMatch::kAuto;
+  // Default mode, correcting: the odometry's distance scale. auto (NaN): measured by the
+  // range sensors looking along the way (localize::OdometryScaleEstimator) and
+  // applied from the next record on as it firms up, shrunk towards 1 under a
+  // prior of distance_scale_prior (localize::ShrunkScale); a number: that
+  // scale from the start; 1: off. The scaled odometry is the run's odometry
+  // in the store (docs/pose-graph.md, "Distance scale").
+  double distance_scale = std::numeric_limits<double>::quiet_NaN();
+  double distance_scale_prior = 0.01;
   // Default mode: walls as lines in each room's cleaned cells (docs/walls.md);
   // false: the chain pipeline (simplify + fit). Paper mode: always the chains.
   bool wall_lines = false;
@@ -147,7 +157,22 @@ struct RunResult {
   double scan_match_mean_step = 0.0;
   int scan_match_gaps = 0;
   localize::ScanOdometryStats scan_match;
+  // The distance scale: measured (estimate.runs == 0 when not), and the one
+  // the odometry was scaled by at the end of the run.
+  bool distance_scale_measured = false;
+  localize::OdometryScaleEstimate distance_scale_estimate;
+  double distance_scale_applied = 1.0;
 };
+
+// --distance-scale: "auto" (NaN: measured), "off" (1) or a number. Throws
+// InputError naming the option for anything else.
+double ParseDistanceScale(const std::string& s);
+
+// What the distance scale warns of (report.json distance_scale.warnings and
+// the command's warnings): a scale measured far from 1 (a wheel diameter or
+// ticks per metre set wrong), and one applied that its evidence barely
+// supports.
+std::vector<std::string> DistanceScaleWarnings(const MappingOptions& options, const RunResult& run);
 
 // What `cogmap map --scan-match` warns of (report.json scan_match.warnings
 // and the command's warnings): a robot without a laser, scans farther apart
@@ -251,6 +276,11 @@ class MappingPipeline {
   std::unique_ptr<localize::ScanOdometry> scan_odometry_;
   std::unique_ptr<localize::ScanDensity> scan_density_;
   std::vector<sensors::LogRecord> scan_pending_;
+  // The distance scale (MappingOptions::distance_scale): its estimator while
+  // measured, and the odometry scaled by it.
+  std::unique_ptr<localize::OdometryScaleEstimator> scale_estimator_;
+  localize::DistanceScaler scaler_;
+  size_t scale_runs_next_ = 1;  // re-estimated when this many runs are in
   void Process(sensors::LogRecord rec);
   void DecideScanMatch();
   // Laser odometry from here on (scan_match auto, decided dense now or by

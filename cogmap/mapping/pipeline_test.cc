@@ -267,6 +267,66 @@ TEST(MappingPipeline, ScanMatchingCorrectsALasersOdometryBeforeMapping) {
   EXPECT_EQ(sonar.scan_match_gaps, 0);
 }
 
+// The distance scale: wheels that read 5 % long, measured by the sonars
+// looking along the way (nine_rooms' route drives square at its walls) and
+// taken out of the rooms' odometry as the run goes on; off, the odometry
+// stays 5 % long.
+TEST(MappingPipeline, TheRingMeasuresTheOdometrysDistanceScale) {
+  const FloorPlan plan = io::ReadAriaMap(std::string(COGMAP_SHARED_DIR) + "/worlds/nine_rooms.map").plan;
+  sim::SimulatorOptions so;
+  so.seed = 4;
+  so.odometry.drift_rad_per_m = DegToRad(1.0);
+  so.odometry.scale_error = 0.05;
+  std::vector<sensors::LogRecord> records;
+  sim::Simulate(plan, sensors::BuiltinRobot("pioneer16"), so,
+                [&records](const sensors::LogRecord& r) { records.push_back(r); });
+  auto run = [&](double scale, const std::string& name, double* over_truth) {
+    auto store = asr::SqliteAsrStore::Open(TestTempPath(name), asr::SqliteAsrStore::OpenMode::kReplace);
+    MappingOptions mo;
+    mo.distance_scale = scale;
+    MappingPipeline p(sensors::BuiltinRobot("pioneer16"), mo, store.get());
+    double odometry = 0.0, truth = 0.0;  // the second half of the run's rooms
+    auto length = [](const std::vector<Pose2>& path) {
+      double l = 0.0;
+      for (size_t k = 1; k < path.size(); ++k) l += (path[k].translation() - path[k - 1].translation()).norm();
+      return l;
+    };
+    p.OnAsrClosed([&](const asr::Asr& x, const AsrSummary&) {
+      if (x.id < 8 || x.true_path.size() != x.path.size()) return;
+      odometry += length(x.path);
+      truth += length(x.true_path);
+    });
+    for (const auto& r : records) p.Push(r);
+    RunResult out = p.Finish();
+    *over_truth = odometry / truth;
+    return out;
+  };
+  double measured_ratio = 0.0, off_ratio = 0.0;
+  const RunResult measured = run(std::numeric_limits<double>::quiet_NaN(), "scale_auto.sqlite", &measured_ratio);
+  const RunResult off = run(1.0, "scale_off.sqlite", &off_ratio);
+  const localize::OdometryScaleEstimate& e = measured.distance_scale_estimate;
+  ASSERT_TRUE(measured.distance_scale_measured);
+  ASSERT_TRUE(e.valid);
+  EXPECT_GE(e.runs, 10);
+  EXPECT_LT(std::abs(e.scale - 1.0 / 1.05), 3.0 * e.sigma + 0.002) << e.scale << " +- " << e.sigma;
+  // Shrunk towards 1, by little: the estimate is sure.
+  EXPECT_LT(measured.distance_scale_applied, 0.97);
+  EXPECT_GT(measured.distance_scale_applied, e.scale);
+  EXPECT_NEAR(off_ratio, 1.05, 0.01);
+  EXPECT_NEAR(measured_ratio, 1.0, 0.015);
+  EXPECT_FALSE(off.distance_scale_measured);
+  EXPECT_EQ(off.distance_scale_applied, 1.0);
+  // 5 % is more than tyres do: the user hears of it.
+  ASSERT_EQ(DistanceScaleWarnings({}, measured).size(), 1u);
+  EXPECT_NE(DistanceScaleWarnings({}, measured)[0].find("long"), std::string::npos);
+  // Paper mode and --no-correct leave the odometry as it comes.
+  MappingOptions paper;
+  paper.paper = true;
+  MappingPipeline pp(sensors::BuiltinRobot("pioneer16"), paper, nullptr);
+  for (size_t i = 0; i < 2000 && i < records.size(); ++i) pp.Push(records[i]);
+  EXPECT_FALSE(pp.Finish().distance_scale_measured);
+}
+
 // Scans taken every 0.8 m or 30 degrees (as in the CARMEN logs) are too far
 // apart to match against one another: auto keeps the wheels, and the map is
 // the one made without it.

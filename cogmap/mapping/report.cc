@@ -58,6 +58,24 @@ nlohmann::json ScanMatchJson(const MappingOptions& mo, const RunResult& run) {
   return j;
 }
 
+// The distance scale: null when neither measured nor given (paper mode,
+// --no-correct); else the estimate and the scale applied at the end.
+nlohmann::json DistanceScaleJson(const MappingOptions& mo, const RunResult& run) {
+  if (!run.distance_scale_measured && run.distance_scale_applied == 1.0) return nullptr;
+  const localize::OdometryScaleEstimate& e = run.distance_scale_estimate;
+  nlohmann::json j = {{"mode", run.distance_scale_measured ? "auto" : "given"},
+                      {"applied", run.distance_scale_applied}};
+  if (run.distance_scale_measured) {
+    j["estimate"] = e.valid ? nlohmann::json(e.scale) : nlohmann::json(nullptr);
+    j["sigma"] = e.valid ? nlohmann::json(e.sigma) : nlohmann::json(nullptr);
+    j["runs"] = e.runs;
+    j["travel_m"] = e.travel_m;
+    j["prior_sigma"] = mo.distance_scale_prior;
+    j["warnings"] = DistanceScaleWarnings(mo, run);
+  }
+  return j;
+}
+
 nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStreams* streams) {
   nlohmann::json uncertain = nlohmann::json::array();
   int accepted = 0, same_room = 0;
@@ -209,6 +227,7 @@ void WriteReport(const ReportContext& c, std::ostream& out) {
       {"smoothed_asrs", run.smoothed},
       {"added_drift_deg_per_m", RadToDeg(job.mapping.add_drift_rad_per_m)},
       {"scan_match", ScanMatchJson(job.mapping, run)},
+      {"distance_scale", DistanceScaleJson(job.mapping, run)},
       {"resumed", job.resume},
       {"replayed_asrs", run.replayed},
       {"resumed_after_record", run.skipped_records},

@@ -85,6 +85,22 @@ def test_map_log_second_pass_equals_the_command(sim_log, tmp_path):
         np.testing.assert_allclose(a.asr(i)["pose"], b.asr(i)["pose"], atol=1e-9)
 
 
+def test_map_log_distance_scale_equals_the_command(tmp_path, sim_log):
+    """distance_scale is `cogmap map --distance-scale`: measured by default, a number applied as given."""
+    out = tmp_path / "cmd"
+    subprocess.run([COGMAP, "map", sim_log, "--distance-scale", "0.98", "-o", str(out)], check=True,
+                   capture_output=True)
+    with open(out / "report.json") as f:
+        cmd_report = json.load(f)
+    report = cogmap.map_log(sim_log, str(tmp_path / "py"), distance_scale="0.98")
+    assert report["distance_scale"] == cmd_report["distance_scale"] == {"mode": "given", "applied": 0.98}
+    measured = cogmap.map_log(sim_log, str(tmp_path / "auto"))["distance_scale"]
+    assert measured["mode"] == "auto" and measured["runs"] > 0
+    assert cogmap.map_log(sim_log, str(tmp_path / "off"), distance_scale="off")["distance_scale"] is None
+    with pytest.raises(Exception, match="--distance-scale"):
+        cogmap.map_log(sim_log, str(tmp_path / "bad"), distance_scale="two")
+
+
 def test_map_log_scan_match_equals_the_command(tmp_path):
     """scan_match="on" is `cogmap map --scan-match on`: a laser's scans correct its odometry first."""
     log = tmp_path / "laser.log"
