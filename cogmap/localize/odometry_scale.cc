@@ -201,10 +201,15 @@ void DistanceScaler::SetScale(double scale) {
   identity_ = false;
 }
 
-double ShrunkScale(const OdometryScaleEstimate& e, double prior_sigma) {
-  if (!e.valid || !(prior_sigma > 0.0)) return 1.0;
-  const double p2 = prior_sigma * prior_sigma, s2 = e.sigma * e.sigma;
-  return 1.0 + (e.scale - 1.0) * p2 / (p2 + s2);
+double ShrunkScale(const OdometryScaleEstimate& e, double prior_sigma, double prior_calibrated) {
+  if (!e.valid || !(prior_sigma > 0.0) || !(e.sigma > 0.0)) return 1.0;
+  const double p2 = prior_sigma * prior_sigma, s2 = e.sigma * e.sigma, d = e.scale - 1.0;
+  // The odds of "off by N(0, prior_sigma^2)" against "calibrated" given d.
+  const double log_bf = 0.5 * std::log(s2 / (s2 + p2)) + 0.5 * d * d * (1.0 / s2 - 1.0 / (s2 + p2));
+  const double pc = std::clamp(prior_calibrated, 0.0, 1.0);
+  const double odds = (1.0 - pc) * std::exp(std::min(log_bf, 700.0));
+  const double off = pc > 0.0 ? odds / (odds + pc) : 1.0;
+  return 1.0 + off * d * p2 / (p2 + s2);
 }
 
 OdometryScaleEstimate CombineScaleRuns(const std::vector<OdometryScaleRun>& all, int min_runs,

@@ -157,11 +157,13 @@ class DistanceScaler {
 };
 
 // The scale to drive with, given an estimate: its posterior mean under a
-// prior of N(1, prior_sigma^2) on a robot's distance scale (a wheel's
-// diameter and tyres: wheel odometry reads within a percent or two), so that
-// an estimate from few runs moves the odometry only by what its evidence
-// supports. 1 while the estimate is not valid.
-double ShrunkScale(const OdometryScaleEstimate& e, double prior_sigma);
+// prior that a robot is either calibrated (scale 1, with probability
+// prior_calibrated) or off by N(0, prior_sigma^2) (a wheel's diameter and
+// tyres: wheel odometry reads within a percent or two), so that an
+// estimate within its own noise of 1 (a calibrated robot measured by a few
+// runs) moves the odometry little, and a clear one nearly all the way.
+// 1 while the estimate is not valid.
+double ShrunkScale(const OdometryScaleEstimate& e, double prior_sigma, double prior_calibrated = 0.5);
 
 // The runs of sensors looking the same way over overlapping stretches of the
 // way (a laser's neighbouring beams, a ring's two forward transducers) are

@@ -127,10 +127,17 @@ TEST(OdometryScale, ShrunkTowardsOneByItsEvidence) {
   OdometryScaleEstimate e;
   e.valid = true;
   e.scale = 0.98;
+  e.sigma = 0.001;  // 20 sigma from 1: surely off, shrunk by its noise alone
+  EXPECT_NEAR(ShrunkScale(e, 0.01), 1.0 - 0.02 * 100.0 / 101.0, 1e-9);
+  // Without the calibrated hypothesis: the Gaussian posterior mean.
   e.sigma = 0.01;
-  EXPECT_NEAR(ShrunkScale(e, 0.01), 0.99, 1e-12);  // as sure as the prior: half way
-  e.sigma = 0.001;
-  EXPECT_NEAR(ShrunkScale(e, 0.01), 1.0 - 0.02 * 100.0 / 101.0, 1e-12);
+  EXPECT_NEAR(ShrunkScale(e, 0.01, 0.0), 0.99, 1e-12);
+  // With it, one sigma from 1 and as noisy as the prior: the odds are
+  // sqrt(1/2) exp(1/4) = 0.908 for "off", so 0.476 of the way to 0.99.
+  e.scale = 0.99;
+  const double odds = std::sqrt(0.5) * std::exp(0.25);
+  EXPECT_NEAR(ShrunkScale(e, 0.01), 1.0 - 0.005 * odds / (odds + 1.0), 1e-12);
+  EXPECT_GT(ShrunkScale(e, 0.01), 0.9975);
   e.valid = false;
   EXPECT_EQ(ShrunkScale(e, 0.01), 1.0);
 }
