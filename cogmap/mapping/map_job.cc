@@ -655,6 +655,17 @@ std::string MapSummaryText(const MapJobSummary& s, const MapJob& job) {
     AppendF(&out, "estimated heading drift: %.3f +- %.3f deg/m\n", RadToDeg(r.drift_rate_rad_per_m),
             RadToDeg(r.drift_rate_sigma_rad_per_m));
   }
+  // The distance scale (docs/pose-graph.md, "Distance scale").
+  if (r.distance_scale_measured) {
+    const localize::OdometryScaleEstimate& e = r.distance_scale_estimate;
+    if (e.valid)
+      AppendF(&out, "distance scale: %.4f +- %.4f from %d runs at walls; odometry scaled by %.4f\n", e.scale, e.sigma,
+              e.runs, r.distance_scale_applied);
+    else
+      AppendF(&out, "distance scale: not measured (%d runs at walls, 5 needed); odometry as it came\n", e.runs);
+  } else if (r.distance_scale_applied != 1.0) {
+    AppendF(&out, "distance scale: odometry scaled by %.4f (given)\n", r.distance_scale_applied);
+  }
   std::string listed;
   for (const auto& w : s.written) listed += w + " ";
   AppendF(&out, "outputs in %s: %swalls.json report.json\n", job.output_dir.c_str(), listed.c_str());
