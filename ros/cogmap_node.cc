@@ -90,6 +90,7 @@ class Node {
     pnh.param<std::string>("frame", frame_, "odom");
     pnh.param<double>("reorder_window", o.reorder_window_s, 0.5);
     pnh.param<std::string>("scan_match", o.scan_match, "auto");
+    pnh.param<std::string>("distance_scale", o.distance_scale, "auto");
     std::string topics;
     pnh.param<std::string>("topics", topics,
                            "/RosAria/sonar:sensor_msgs/PointCloud,/RosAria/pose:nav_msgs/Odometry,"

@@ -301,6 +301,7 @@ void LiveMapper::Impl::Run(std::function<void()> on_asr) {
     mapping::MappingOptions mo;
     mo.paper = options.mode == "paper";
     mo.scan_match = mapping::ParseScanMatch(options.scan_match);
+    mo.distance_scale = mapping::ParseDistanceScale(options.distance_scale);
     mapping::MappingPipeline pipeline(robot, mo, store.get());
     mapping::MapJob job;
     job.log_path = "-";

@@ -31,6 +31,7 @@ struct LiveOptions {
   // arrive over separate connections in any order, are put back in stamp order.
   double reorder_window_s = 0.5;
   std::string scan_match = "auto";  // a laser's scans correct the odometry first (`cogmap map --scan-match`)
+  std::string distance_scale = "auto";  // the odometry's distance scale (`cogmap map --distance-scale`)
 };
 
 // What the node publishes, in the map frame (metres).
