@@ -267,6 +267,26 @@ TEST(MappingPipeline, ScanMatchingCorrectsALasersOdometryBeforeMapping) {
   EXPECT_EQ(sonar.scan_match_gaps, 0);
 }
 
+TEST(MappingOptions, DistanceScaleIsAutoOffOrAScaleInRange) {
+  EXPECT_TRUE(std::isnan(ParseDistanceScale("auto")));
+  EXPECT_EQ(ParseDistanceScale("off"), 1.0);
+  EXPECT_EQ(ParseDistanceScale("0.98"), 0.98);
+  for (const char* bad : {"nan", "inf", "-1", "2.5", "0.4", "abc", "0.98x", ""}) {
+    try {
+      ParseDistanceScale(bad);
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--distance-scale"), std::string::npos) << bad;
+    }
+  }
+  MappingOptions o;
+  o.distance_scale = 3.0;
+  EXPECT_THROW(o.Validate(), InputError);
+  o.distance_scale = 1.01;
+  o.distance_scale_prior = 0.0;
+  EXPECT_THROW(o.Validate(), InputError);
+}
+
 // The distance scale: wheels that read 5 % long, measured by the sonars
 // looking along the way (nine_rooms' route drives square at its walls) and
 // taken out of the rooms' odometry as the run goes on; off, the odometry
