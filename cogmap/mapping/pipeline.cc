@@ -131,6 +131,10 @@ namespace {
 // Whether the run's laser odometry ran (--scan-match auto, decided on its
 // first scans): "1" or "0"; a resumed run keeps the decision.
 constexpr const char* kMetaScanOdometry = "scan_odometry";
+// The distance scale a finished run ended with (--distance-scale auto, when
+// it had an estimate): a resumed run drives on with it until its own runs
+// give an estimate.
+constexpr const char* kMetaDistanceScale = "distance_scale";
 
 localize::HeadingCorrectionOptions HeadingOptionsFor(const sensors::RobotDescription& robot,
                                                      const MappingOptions& o) {
@@ -329,6 +333,16 @@ void MappingPipeline::Resume() {
       if (*decided == "1") MatchScans();
     }
   }
+  // The distance scale the stored run ended with, until this run's own
+  // estimate is valid (a scale in [0.5, 2]; anything else is a damaged store).
+  if (scale_estimator_) {
+    if (const auto carried = store_->GetMetaPositive(kMetaDistanceScale)) {
+      if (*carried < 0.5 || *carried > 2.0)
+        throw InputError("a damaged store: its distance_scale " + Num(*carried) + " is outside [0.5, 2]");
+      scaler_.SetScale(*carried);
+      result_.distance_scale_carried = *carried;
+    }
+  }
   // On --resume the correctors continue from the stored run: its last
   // correction and reference direction (docs/store.md).
   const int last = store_->MaxId();
@@ -503,7 +517,10 @@ void MappingPipeline::Process(sensors::LogRecord rec) {
     const size_t runs = scale_estimator_->runs().size();
     if (runs >= scale_runs_next_) {
       scale_runs_next_ = std::max(runs + 1, static_cast<size_t>(std::ceil(1.05 * static_cast<double>(runs))));
-      scaler_.SetScale(localize::ShrunkScale(scale_estimator_->Estimate(), options_.distance_scale_prior));
+      // Not before it is valid: until then the scale stays (1, or a resumed
+      // run's carried one).
+      const localize::OdometryScaleEstimate e = scale_estimator_->Estimate();
+      if (e.valid) scaler_.SetScale(localize::ShrunkScale(e, options_.distance_scale_prior));
     }
   }
   rec.odom = scaler_.Apply(rec.odom);
@@ -531,6 +548,8 @@ const RunResult& MappingPipeline::Finish() {
   finished_ = true;
   mapper_->Finish();
   result_.mapper = mapper_->stats();
+  if (store_ && scale_estimator_ && result_.distance_scale_applied != 1.0)
+    store_->SetMeta(kMetaDistanceScale, Num(result_.distance_scale_applied));
   std::map<int, double> revised;  // ASR id -> heading correction after the revision
   if (result_.correction == Correction::kPoseGraph) {
     result_.graph = optimizer_->Finish();

@@ -162,6 +162,7 @@ struct RunResult {
   bool distance_scale_measured = false;
   localize::OdometryScaleEstimate distance_scale_estimate;
   double distance_scale_applied = 1.0;
+  std::optional<double> distance_scale_carried;  // --resume: the stored run's, driven with until measured
 };
 
 // --distance-scale: "auto" (NaN: measured), "off" (1) or a number. Throws

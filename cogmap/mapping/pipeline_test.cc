@@ -339,6 +339,36 @@ TEST(MappingPipeline, TheRingMeasuresTheOdometrysDistanceScale) {
   // 5 % is more than tyres do: the user hears of it.
   ASSERT_EQ(DistanceScaleWarnings({}, measured).size(), 1u);
   EXPECT_NE(DistanceScaleWarnings({}, measured)[0].find("long"), std::string::npos);
+  // A run resumed on the store drives on with the scale its run ended with
+  // (until its own runs give an estimate): its first rooms are not 5 % long.
+  {
+    auto store = asr::SqliteAsrStore::Open(TestTempPath("scale_auto.sqlite"), asr::SqliteAsrStore::OpenMode::kOpenExisting);
+    const double stored = std::stod(store->GetMeta("distance_scale").value_or("0"));
+    EXPECT_NEAR(stored, measured.distance_scale_applied, 1e-5);
+    MappingPipeline p(sensors::BuiltinRobot("pioneer16"), {}, store.get());
+    p.Resume();
+    double odometry = 0.0, truth = 0.0;
+    p.OnAsrClosed([&](const asr::Asr& x, const AsrSummary&) {
+      for (size_t k = 1; k < x.path.size() && x.path.size() == x.true_path.size(); ++k) {
+        odometry += (x.path[k].translation() - x.path[k - 1].translation()).norm();
+        truth += (x.true_path[k].translation() - x.true_path[k - 1].translation()).norm();
+      }
+    });
+    for (size_t i = 0; i < records.size() / 4; ++i) p.Push(records[i]);
+    const RunResult& resumed = p.Finish();
+    ASSERT_TRUE(resumed.distance_scale_carried.has_value());
+    EXPECT_EQ(*resumed.distance_scale_carried, stored);
+    EXPECT_NEAR(odometry / truth, 1.0, 0.015);
+    // A damaged value is refused, naming the store's key.
+    store->SetMeta("distance_scale", "7");
+    MappingPipeline q(sensors::BuiltinRobot("pioneer16"), {}, store.get());
+    try {
+      q.Resume();
+      ADD_FAILURE();
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("distance_scale"), std::string::npos);
+    }
+  }
   // Paper mode and --no-correct leave the odometry as it comes.
   MappingOptions paper;
   paper.paper = true;
