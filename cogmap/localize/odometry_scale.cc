@@ -91,10 +91,10 @@ void OdometryScaleEstimator::Add(const sensors::LogRecord& record) {
     if (i < 0 || i >= static_cast<int>(along_.size())) continue;
     const auto& sensor = robot_.sensors[i];
     const double r = reading.range_m;
+    const bool echo = std::isfinite(r) && r >= sensor.min_range_m && r < options_.max_range_fraction * sensor.max_range_m;
     if (side_[i]) {
       auto& v = seen_[i];
-      if (std::isfinite(r) && r >= sensor.min_range_m && r < options_.max_range_fraction * sensor.max_range_m)
-        v.push_back({s_, r});
+      if (echo) v.push_back({s_, r});
       // Kept over the longest run a sonar can make (its max range) and more.
       const double keep = 2.0 * sensor.max_range_m + 2.0;
       size_t drop = 0;
@@ -103,7 +103,6 @@ void OdometryScaleEstimator::Add(const sensors::LogRecord& record) {
     }
     if (along_[i] == 0) continue;
     Open& run = open_[i];
-    const bool echo = std::isfinite(r) && r >= sensor.min_range_m && r < options_.max_range_fraction * sensor.max_range_m;
     if (!echo) {
       Close(i);
       continue;
@@ -133,12 +132,11 @@ void OdometryScaleEstimator::Close(int sensor) {
                                       std::numeric_limits<double>::infinity());
   if (line.n < std::max(3, options_.min_readings) || line.hi - line.lo < options_.min_run_m) return;
   if (!(line.sss > 0.0) || line.rms > options_.max_rms_m) return;
-  const double smin = line.lo, smax = line.hi, ms = line.ms, mr = line.mr, slope = line.slope, rms = line.rms;
-  const int n = line.n;
-  double scale = -along_[sensor] * slope, sigma = rms / std::sqrt(line.sss), side = 0.0;
-  if (robot_.sensors[sensor].kind == sensors::SensorKind::kSonar) {
+  const bool sonar = robot_.sensors[sensor].kind == sensors::SensorKind::kSonar;
+  double scale = -along_[sensor] * line.slope, sigma = line.rms / std::sqrt(line.sss), side = 0.0;
+  if (sonar) {
     double side_sigma = 0.0;
-    if (!SideSlope(smin, smax, &side, &side_sigma)) return;
+    if (!SideSlope(line.lo, line.hi, &side, &side_sigma)) return;
     if (std::abs(side) > options_.max_side_slope) return;
     // Ahead k cos(a), aside k sin(a): k = hypot (its sigma by propagation).
     const double k = std::hypot(scale, side);
@@ -149,18 +147,18 @@ void OdometryScaleEstimator::Close(int sensor) {
   OdometryScaleRun out;
   out.sensor = sensor;
   out.side_slope = side;
-  out.sonar = robot_.sensors[sensor].kind == sensors::SensorKind::kSonar;
-  out.line_s = ms;
-  out.line_r = mr;
-  out.line_slope = slope;
+  out.sonar = sonar;
+  out.line_s = line.ms;
+  out.line_r = line.mr;
+  out.line_slope = line.slope;
   out.look = along_[sensor];
-  out.s_begin = smin;
-  out.s_end = smax;
-  out.travel_m = smax - smin;
-  out.readings = n;
+  out.s_begin = line.lo;
+  out.s_end = line.hi;
+  out.travel_m = line.hi - line.lo;
+  out.readings = line.n;
   out.scale = scale;
   out.sigma = sigma;
-  out.rms_m = rms;
+  out.rms_m = line.rms;
   runs_.push_back(out);
 }
 

@@ -586,7 +586,7 @@ MapJobSummary WriteMapOutputs(asr::SqliteAsrStore& store_ref, const RunResult& r
   out.run = run;
   out.warnings = run.graph.warnings;
   for (const std::string& w : ScanMatchWarnings(job.mapping, run)) out.warnings.push_back(w);
-  for (const std::string& w : DistanceScaleWarnings(job.mapping, run)) out.warnings.push_back(w);
+  for (const std::string& w : DistanceScaleWarnings(run)) out.warnings.push_back(w);
   return out;
 }
 

@@ -338,7 +338,8 @@ void MappingPipeline::Resume() {
   if (scale_estimator_) {
     if (const auto carried = store_->GetMetaPositive(kMetaDistanceScale)) {
       if (*carried < 0.5 || *carried > 2.0)
-        throw InputError("a damaged store: its distance_scale " + Num(*carried) + " is outside [0.5, 2]");
+        throw InputError(store_->path(), 0,
+                         "a damaged store: meta distance_scale is " + Num(*carried) + ", outside [0.5, 2]");
       scaler_.SetScale(*carried);
       result_.distance_scale_carried = *carried;
     }
@@ -431,9 +432,8 @@ double ParseDistanceScale(const std::string& s) {
   return v;
 }
 
-std::vector<std::string> DistanceScaleWarnings(const MappingOptions& options, const RunResult& run) {
+std::vector<std::string> DistanceScaleWarnings(const RunResult& run) {
   std::vector<std::string> out;
-  (void)options;
   const localize::OdometryScaleEstimate& e = run.distance_scale_estimate;
   if (!run.distance_scale_measured || !e.valid) return out;
   // Three sigmas and 3 %: beyond what tyres and load do to a calibrated robot.

@@ -173,7 +173,7 @@ double ParseDistanceScale(const std::string& s);
 // the command's warnings): a scale measured far from 1 (a wheel diameter or
 // ticks per metre set wrong), and one applied that its evidence barely
 // supports.
-std::vector<std::string> DistanceScaleWarnings(const MappingOptions& options, const RunResult& run);
+std::vector<std::string> DistanceScaleWarnings(const RunResult& run);
 
 // What `cogmap map --scan-match` warns of (report.json scan_match.warnings
 // and the command's warnings): a robot without a laser, scans farther apart

@@ -337,8 +337,8 @@ TEST(MappingPipeline, TheRingMeasuresTheOdometrysDistanceScale) {
   EXPECT_FALSE(off.distance_scale_measured);
   EXPECT_EQ(off.distance_scale_applied, 1.0);
   // 5 % is more than tyres do: the user hears of it.
-  ASSERT_EQ(DistanceScaleWarnings({}, measured).size(), 1u);
-  EXPECT_NE(DistanceScaleWarnings({}, measured)[0].find("long"), std::string::npos);
+  ASSERT_EQ(DistanceScaleWarnings(measured).size(), 1u);
+  EXPECT_NE(DistanceScaleWarnings(measured)[0].find("long"), std::string::npos);
   // A run resumed on the store drives on with the scale its run ended with
   // (until its own runs give an estimate): its first rooms are not 5 % long.
   {

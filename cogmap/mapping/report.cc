@@ -72,7 +72,7 @@ nlohmann::json DistanceScaleJson(const MappingOptions& mo, const RunResult& run)
     j["travel_m"] = e.travel_m;
     j["prior_sigma"] = mo.distance_scale_prior;
     j["carried"] = run.distance_scale_carried ? nlohmann::json(*run.distance_scale_carried) : nlohmann::json(nullptr);
-    j["warnings"] = DistanceScaleWarnings(mo, run);
+    j["warnings"] = DistanceScaleWarnings(run);
   }
   return j;
 }
