@@ -129,7 +129,7 @@ int RunEval(const EvalArgs& a) {
 
 std::function<int()> SetupEval(CLI::App& sub) {
   auto a = std::make_shared<EvalArgs>();
-  sub.add_option("OUTDIR", a->dir, "A folder written by cogmap vectorize or cogmap map (or its walls.json); with a map.sqlite beside it, also ASR count, room precision/recall, heading errors, the trajectory errors (ATE, RPE over 1/5/20 m; corrected and raw odometry) and, for a map placed by the pose graph, the calibration of its covariances (pose_calibration_3sigma: share of placed ASRs whose true pose, relative to the first ASR, is within 3 sigma); with a plan.json beside it, the floor plan's wall precision (p50/p95), recall, duplication, room IoU median, room overlap and vertices per metre (docs/floor-plan.md)")->required();
+  sub.add_option("OUTDIR", a->dir, "A folder written by cogmap vectorize or cogmap map (or its walls.json); with a map.sqlite beside it, also ASR count, room precision/recall, heading errors, the trajectory errors (ATE, RPE over 1/5/20 m; corrected, and the odometry as the store holds it, keys ending _raw: scaled when map applied a distance scale) and, for a map placed by the pose graph, the calibration of its covariances (pose_calibration_3sigma: share of placed ASRs whose true pose, relative to the first ASR, is within 3 sigma); with a plan.json beside it, the floor plan's wall precision (p50/p95), recall, duplication, room IoU median, room overlap and vertices per metre (docs/floor-plan.md)")->required();
   sub.add_option("--world", a->world,
                  "The world the log was driven in (ARIA 2D-Map or PNG); without it only the heading errors "
                  "(against the log's reference poses) and the sizes are reported");
