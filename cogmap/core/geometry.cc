@@ -57,4 +57,25 @@ std::vector<Polyline> Transform(const Pose2& pose, const std::vector<Polyline>& 
   return out;
 }
 
+Pose2 AlignPoints(const std::vector<Vec2>& from, const std::vector<Vec2>& to) {
+  const size_t n = std::min(from.size(), to.size());
+  if (n == 0) return {};
+  Vec2 cf(0, 0), ct(0, 0);
+  for (size_t i = 0; i < n; ++i) cf += from[i], ct += to[i];
+  cf /= static_cast<double>(n);
+  ct /= static_cast<double>(n);
+  // The rotation maximising sum (R a_i) . b_i for centred a, b: atan2 of the
+  // summed cross and dot products.
+  double dot = 0.0, cross = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    const Vec2 a = from[i] - cf, b = to[i] - ct;
+    dot += a.dot(b);
+    cross += a.x() * b.y() - a.y() * b.x();
+  }
+  const double theta = (dot == 0.0 && cross == 0.0) ? 0.0 : std::atan2(cross, dot);
+  const Pose2 rotation{0.0, 0.0, theta};
+  const Vec2 t = ct - rotation * cf;
+  return {t.x(), t.y(), theta};
+}
+
 }  // namespace cogmap

@@ -72,4 +72,10 @@ double SignedArea(const std::vector<Vec2>& ring);
 Polyline Transform(const Pose2& pose, const Polyline& line);
 std::vector<Polyline> Transform(const Pose2& pose, const std::vector<Polyline>& lines);
 
+// The rigid move (rotation + translation, no scale) that maps the points
+// 'from' onto 'to' (pairwise, equal sizes) with the least sum of squared
+// distances: the 2D closed form of Horn / Umeyama. Identity when empty; a
+// pure translation when the points of 'from' all coincide.
+Pose2 AlignPoints(const std::vector<Vec2>& from, const std::vector<Vec2>& to);
+
 }  // namespace cogmap

@@ -29,23 +29,9 @@ std::string DistanceName(double d) {
 Pose2 AlignPositions(const std::vector<Pose2>& from, const std::vector<Pose2>& to) {
   assert(from.size() == to.size());
   const size_t n = std::min(from.size(), to.size());
-  if (n == 0) return {};
-  Vec2 cf(0, 0), ct(0, 0);
-  for (size_t i = 0; i < n; ++i) cf += from[i].translation(), ct += to[i].translation();
-  cf /= static_cast<double>(n);
-  ct /= static_cast<double>(n);
-  // The rotation maximising sum (R a_i) . b_i for centred a, b: atan2 of the
-  // summed cross and dot products (the 2D closed form of Horn / Umeyama).
-  double dot = 0.0, cross = 0.0;
-  for (size_t i = 0; i < n; ++i) {
-    const Vec2 a = from[i].translation() - cf, b = to[i].translation() - ct;
-    dot += a.dot(b);
-    cross += a.x() * b.y() - a.y() * b.x();
-  }
-  const double theta = (dot == 0.0 && cross == 0.0) ? 0.0 : std::atan2(cross, dot);
-  const Pose2 rotation{0.0, 0.0, theta};
-  const Vec2 t = ct - rotation * cf;
-  return {t.x(), t.y(), theta};
+  std::vector<Vec2> a(n), b(n);
+  for (size_t i = 0; i < n; ++i) a[i] = from[i].translation(), b[i] = to[i].translation();
+  return AlignPoints(a, b);
 }
 
 AteStats AbsoluteTrajectoryError(const std::vector<Pose2>& estimate, const std::vector<Pose2>& reference) {

@@ -2401,6 +2401,7 @@ OptimizerResult MapOptimizer::Finish() {
   // scale) was, which no residual of a graph without loops can see.
   t0 = std::chrono::steady_clock::now();
   std::vector<Eigen::Matrix3d> cov;
+  std::vector<double> aligned_var;  // position variance after the map's best rigid alignment
   double cov_chi2 = res.chi2_weighted;  // (weighted) chi-square of the model the covariances come from
   if (res.solution != "odometry") {
     // With the rates free even when the test kept them at zero: an
@@ -2437,6 +2438,7 @@ OptimizerResult MapOptimizer::Finish() {
     // covariance must hold (covariance_direction_bend).
     if (options_.covariance_direction_bend) graph_.SetDirectionBend(true, rate_var);
     cov = graph_.Covariances();
+    if (!cov.empty()) aligned_var = graph_.AlignedPositionVariances();
     if (options_.covariance_direction_bend) graph_.SetDirectionBend(false);
     for (const auto& [k, f] : fitted) graph_.SetSigmaFactor(k, f);
     if (zero) graph_.SetRatesFixedAtZero(true);
@@ -2463,17 +2465,24 @@ OptimizerResult MapOptimizer::Finish() {
   double total = 0.0;
   for (const auto& h : drift.hypotheses)
     if (usable(h)) total += h.weight;
+  std::vector<double> aligned_spread(N, 0.0);  // the same, each offset less its best rigid fit
   for (const auto& h : drift.hypotheses) {
     if (!usable(h) || !(total > 0.0)) continue;
     const double w = h.weight / total;
     res.drift_hypotheses.push_back({h.rate, w, h.building_directions});
     if (cov.empty()) continue;
+    std::vector<Vec2> from, to;
     for (int i = 0; i < N && i < static_cast<int>(h.poses.size()); ++i) {
+      from.emplace_back(h.poses[i].x, h.poses[i].y);
+      to.emplace_back(chosen[i].x, chosen[i].y);
       if (nodes_[i].stored) continue;
       const Eigen::Vector3d d(h.poses[i].x - chosen[i].x, h.poses[i].y - chosen[i].y,
                               NormalizeAngle(h.poses[i].theta - chosen[i].theta));
       spread[i] += w * d * d.transpose();
     }
+    const Pose2 fit = AlignPoints(from, to);
+    for (size_t i = 0; i < from.size(); ++i)
+      if (!nodes_[i].stored) aligned_spread[i] += w * (fit * from[i] - to[i]).squaredNorm();
   }
   res.drift_rate_spread_sigma_rad_per_m =
       DriftSpreadSigma(res.drift_rate_rad_per_m, res.drift_rate_sigma_rad_per_m, res.drift_hypotheses);
@@ -2548,7 +2557,10 @@ OptimizerResult MapOptimizer::Finish() {
     if (!cov.empty()) {
       e.covariance = inflate * cov[i] + spread[i];
       e.has_covariance = true;
-      const double sp = std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1)));
+      const double sp = aligned_var.size() == static_cast<size_t>(N)
+                            ? std::sqrt(std::max(0.0, inflate * aligned_var[i] + aligned_spread[i]))
+                            : std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1)));
+      e.position_sigma_aligned_m = sp;
       const double st = std::sqrt(std::max(0.0, e.covariance(2, 2)));
       if (i > 0) {  // the first node is the frame: fixed
         moved.push_back({i,

@@ -702,6 +702,62 @@ std::vector<Eigen::Matrix3d> PoseGraph::Covariances() const {
   return out;
 }
 
+std::vector<double> PoseGraph::AlignedPositionVariances() const {
+  const size_t N = impl_->nodes.size();
+  if (N == 0) return {};
+  // e' = e - G a, a = A sum_i G_i^T W e_i: node i's error less the rigid
+  // move (translation, rotation about the centroid) fitted to the position
+  // errors (W keeps x and y), A = (sum_i G_i^T W G_i)^-1. Its covariance
+  // needs Sigma W G (three solves with H's factorisation) besides the
+  // marginal blocks: Cov(e'_i) = S_ii - G_i A X_i^T - X_i A G_i^T + G_i A M A G_i^T,
+  // X = Sigma W G, M = G^T W Sigma W G.
+  Vec2 c(0.0, 0.0);
+  for (size_t n = 0; n < N; ++n) c += Vec2(impl_->nodes[n][0], impl_->nodes[n][1]);
+  c /= static_cast<double>(N);
+  auto G = [&](size_t n) {
+    Eigen::Matrix3d g = Eigen::Matrix3d::Identity();
+    g(0, 2) = -(impl_->nodes[n][1] - c.y());
+    g(1, 2) = impl_->nodes[n][0] - c.x();
+    return g;
+  };
+  Eigen::Matrix3d W = Eigen::Matrix3d::Zero();
+  W(0, 0) = W(1, 1) = 1.0;
+  Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+  for (size_t n = 0; n < N; ++n) info += G(n).transpose() * W * G(n);
+  if (std::abs(info.determinant()) < 1e-12) return {};
+  const Eigen::Matrix3d A = info.inverse();
+  const Linearized lin = Linearize(!impl_->rates_zero);
+  std::vector<int> node_col(N, -1);
+  for (size_t n = 0; n < N; ++n) {
+    if (impl_->fixed[n]) continue;
+    auto it = lin.first_col.find(impl_->nodes[n].data());
+    if (it != lin.first_col.end()) node_col[n] = it->second;
+  }
+  std::vector<double> out(N, 0.0);
+  if (lin.cols == 0) return out;
+  SelectedInverse S;
+  if (!Invert(lin, SingularPivot(lin), &S)) return {};
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(lin.cols, 3);
+  for (size_t n = 0; n < N; ++n)
+    if (node_col[n] >= 0) B.block<3, 3>(node_col[n], 0) = W * G(n);
+  const Eigen::MatrixXd X = impl_->symbolic->ldlt.solve(B);
+  if (impl_->symbolic->ldlt.info() != Eigen::Success || !X.allFinite()) return {};
+  const Eigen::Matrix3d M = B.transpose() * X;
+  for (size_t n = 0; n < N; ++n) {
+    Eigen::Matrix3d Sii = Eigen::Matrix3d::Zero(), Xi = Eigen::Matrix3d::Zero();
+    const int col = node_col[n];
+    if (col >= 0) {
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) Sii(a, b) = S(col + a, col + b);
+      Xi = X.block<3, 3>(col, 0);
+    }
+    const Eigen::Matrix3d g = G(n);
+    const Eigen::Matrix3d C = Sii - g * A * Xi.transpose() - Xi * A * g.transpose() + g * A * M * A * g.transpose();
+    out[n] = std::max(0.0, C(0, 0) + C(1, 1));
+  }
+  return out;
+}
+
 std::vector<double> PoseGraph::RateVariances() const {
   std::vector<double> var(impl_->nodes.size(), 0.0);
   if (impl_->rates_zero) return var;

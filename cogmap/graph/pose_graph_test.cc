@@ -134,6 +134,54 @@ TEST(PoseGraph, ARelativeFactorsCovarianceIsAlongTheMeasuredPosesAxes) {
   EXPECT_NEAR(g.pose(1).theta, DegToRad(90.0), 1e-3);
 }
 
+// Two nodes a measured 4 m apart: once the map is laid on the truth by its
+// best rigid move, only the distance between them is uncertain, shared by
+// the two (each moves half of it along the line): both positions' variance
+// is the along-line variance / 4, whatever the across-line and heading
+// variances (the move takes them), where the first ASR's frame puts all of
+// it on the second.
+TEST(PoseGraph, AlignedPositionVariancesKeepOnlyWhatARigidMoveCannotTake) {
+  PoseGraph g;
+  g.AddNode({0, 0, 0}, true);
+  g.AddNode({4, 0, 0});
+  g.SetRatesFixedAtZero(true);
+  const Eigen::Matrix3d cov = Eigen::Vector3d(0.04, 0.09, 1e-3).asDiagonal();
+  g.AddRelative(0, 1, {4, 0, 0}, cov, FactorKind::kRegistration, 0.0);
+  g.Solve();
+  const auto anchored = g.Covariances();
+  const auto aligned = g.AlignedPositionVariances();
+  ASSERT_EQ(aligned.size(), 2u);
+  EXPECT_NEAR(anchored[1](0, 0) + anchored[1](1, 1), 0.13, 1e-9);
+  EXPECT_NEAR(aligned[0], 0.01, 1e-9);
+  EXPECT_NEAR(aligned[1], 0.01, 1e-9);
+}
+
+// A chain driven straight: the anchored variance grows from the fixed first
+// node to the last; laid on the truth by the best rigid move, both ends are
+// the least sure and the middle the surest, and no node is surer than a
+// tenth of the anchored far end nor as unsure as it.
+TEST(PoseGraph, AlignedPositionVariancesAreLeastAtTheMiddleOfAChain) {
+  PoseGraph g;
+  g.AddNode({0, 0, 0}, true);
+  g.SetRatesFixedAtZero(true);
+  const Eigen::Matrix3d step = Eigen::Vector3d(0.01, 0.01, DegToRad(1.0) * DegToRad(1.0)).asDiagonal();
+  for (int i = 1; i <= 10; ++i) {
+    g.AddNode({2.0 * i, 0, 0});
+    g.AddRelative(i - 1, i, {2, 0, 0}, step, FactorKind::kRegistration, 0.0);
+  }
+  g.Solve();
+  const auto anchored = g.Covariances();
+  const auto aligned = g.AlignedPositionVariances();
+  ASSERT_EQ(aligned.size(), 11u);
+  const double far = anchored[10](0, 0) + anchored[10](1, 1);
+  EXPECT_GT(aligned[0], aligned[5]);
+  EXPECT_GT(aligned[10], aligned[5]);
+  EXPECT_LT(aligned[10], far);
+  for (double v : aligned) EXPECT_GT(v, 0.0);
+  // Symmetric: the chain reversed is the same chain.
+  EXPECT_NEAR(aligned[0], aligned[10], 0.05 * aligned[10]);
+}
+
 // The odometry of TurningOdometry's path as mapped with 'offset' removed:
 // the path re-integrated under that rate (asr::CorrectedPath).
 OdometryMeasurement PreBent(double length_m, double rate, double offset) {

@@ -31,6 +31,7 @@ nlohmann::json PlacementJson(const graph::AsrEstimate& e) {
     j["sigma_x_m"] = std::sqrt(std::max(0.0, e.covariance(0, 0)));
     j["sigma_y_m"] = std::sqrt(std::max(0.0, e.covariance(1, 1)));
     j["sigma_theta_deg"] = RadToDeg(std::sqrt(std::max(0.0, e.covariance(2, 2))));
+    j["sigma_position_aligned_m"] = e.position_sigma_aligned_m;
   }
   return j;
 }
