@@ -2401,7 +2401,7 @@ OptimizerResult MapOptimizer::Finish() {
   // scale) was, which no residual of a graph without loops can see.
   t0 = std::chrono::steady_clock::now();
   std::vector<Eigen::Matrix3d> cov;
-  std::vector<double> aligned_var;  // position variance after the map's best rigid alignment
+  std::vector<Eigen::Matrix3d> aligned_cov;  // after the map's best rigid alignment
   double cov_chi2 = res.chi2_weighted;  // (weighted) chi-square of the model the covariances come from
   if (res.solution != "odometry") {
     // With the rates free even when the test kept them at zero: an
@@ -2438,7 +2438,7 @@ OptimizerResult MapOptimizer::Finish() {
     // covariance must hold (covariance_direction_bend).
     if (options_.covariance_direction_bend) graph_.SetDirectionBend(true, rate_var);
     cov = graph_.Covariances();
-    if (!cov.empty()) aligned_var = graph_.AlignedPositionVariances();
+    if (!cov.empty()) aligned_cov = graph_.AlignedCovariances();
     if (options_.covariance_direction_bend) graph_.SetDirectionBend(false);
     for (const auto& [k, f] : fitted) graph_.SetSigmaFactor(k, f);
     if (zero) graph_.SetRatesFixedAtZero(true);
@@ -2465,7 +2465,7 @@ OptimizerResult MapOptimizer::Finish() {
   double total = 0.0;
   for (const auto& h : drift.hypotheses)
     if (usable(h)) total += h.weight;
-  std::vector<double> aligned_spread(N, 0.0);  // the same, each offset less its best rigid fit
+  std::vector<double> aligned_spread(N, 0.0);  // the same for the position, each offset less its best rigid fit
   for (const auto& h : drift.hypotheses) {
     if (!usable(h) || !(total > 0.0)) continue;
     const double w = h.weight / total;
@@ -2557,11 +2557,18 @@ OptimizerResult MapOptimizer::Finish() {
     if (!cov.empty()) {
       e.covariance = inflate * cov[i] + spread[i];
       e.has_covariance = true;
-      const double sp = aligned_var.size() == static_cast<size_t>(N)
-                            ? std::sqrt(std::max(0.0, inflate * aligned_var[i] + aligned_spread[i]))
-                            : std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1)));
-      e.position_sigma_aligned_m = sp;
+      // The position uncertain as the map is laid on the building (its best
+      // rigid move), not against the first ASR's frame (docs/pose-graph.md,
+      // "Uncertain ASRs"); against the first ASR when that fails.
+      const bool laid = aligned_cov.size() == static_cast<size_t>(N);
+      const double sp = laid ? std::sqrt(std::max(0.0, inflate * (aligned_cov[i](0, 0) + aligned_cov[i](1, 1)) +
+                                                           aligned_spread[i]))
+                             : std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1)));
+      // The heading stays against the first ASR's frame: laid likewise, it
+      // let a map worse than its odometry go without a warning (docs/pose-
+      // graph.md, "Uncertain ASRs").
       const double st = std::sqrt(std::max(0.0, e.covariance(2, 2)));
+      e.position_sigma_aligned_m = sp;
       if (i > 0) {  // the first node is the frame: fixed
         moved.push_back({i,
                          Eigen::Vector3d(chosen[i].x - odo_poses[i].x, chosen[i].y - odo_poses[i].y,

@@ -282,9 +282,10 @@ struct AsrEstimate {
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   bool has_covariance = false;
   // The position's 1-sigma once the whole map is laid on the building by
-  // its best rigid move (PoseGraph::AlignedPositionVariances, the drift
-  // hypotheses' spread likewise aligned): what "uncertain" tests, since
-  // covariance holds the uncertainty of the frame the first ASR fixes.
+  // its best rigid move (PoseGraph::AlignedCovariances, the drift
+  // hypotheses' spread likewise laid): what "uncertain" tests for the
+  // position, since covariance holds the uncertainty of the frame the first
+  // ASR fixes.
   double position_sigma_aligned_m = 0.0;
   int room_id = -1;                // the physical room (the first visit's ASR id)
   double drift_rate_rad_per_m = 0.0;  // estimated on the way out of it (0: odometry solution)

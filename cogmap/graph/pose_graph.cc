@@ -702,7 +702,7 @@ std::vector<Eigen::Matrix3d> PoseGraph::Covariances() const {
   return out;
 }
 
-std::vector<double> PoseGraph::AlignedPositionVariances() const {
+std::vector<Eigen::Matrix3d> PoseGraph::AlignedCovariances() const {
   const size_t N = impl_->nodes.size();
   if (N == 0) return {};
   // e' = e - G a, a = A sum_i G_i^T W e_i: node i's error less the rigid
@@ -733,7 +733,7 @@ std::vector<double> PoseGraph::AlignedPositionVariances() const {
     auto it = lin.first_col.find(impl_->nodes[n].data());
     if (it != lin.first_col.end()) node_col[n] = it->second;
   }
-  std::vector<double> out(N, 0.0);
+  std::vector<Eigen::Matrix3d> out(N, Eigen::Matrix3d::Zero());
   if (lin.cols == 0) return out;
   SelectedInverse S;
   if (!Invert(lin, SingularPivot(lin), &S)) return {};
@@ -752,8 +752,7 @@ std::vector<double> PoseGraph::AlignedPositionVariances() const {
       Xi = X.block<3, 3>(col, 0);
     }
     const Eigen::Matrix3d g = G(n);
-    const Eigen::Matrix3d C = Sii - g * A * Xi.transpose() - Xi * A * g.transpose() + g * A * M * A * g.transpose();
-    out[n] = std::max(0.0, C(0, 0) + C(1, 1));
+    out[n] = Sii - g * A * Xi.transpose() - Xi * A * g.transpose() + g * A * M * A * g.transpose();
   }
   return out;
 }

@@ -224,15 +224,15 @@ class PoseGraph {
   // Marginal covariances of every node's (x, y, theta), the fixed nodes held
   // (zero for them). Empty when the computation fails (rank deficient).
   std::vector<Eigen::Matrix3d> Covariances() const;
-  // The variance of every node's position (x plus y) once the map is laid
-  // on the truth by the one rigid move (SE(2)) that fits its node positions
-  // best, as the absolute trajectory error lays a map: what the position
-  // uncertainty leaves after the frame the first node fixes (which grows
-  // with the distance driven from it) is taken out. The move fitted is the
-  // least-squares one over every node's position (the fixed ones too); the
-  // variance is the marginal covariance with that fit's own uncertainty
+  // The covariance of every node's pose once the map is laid on the truth
+  // by the one rigid move (SE(2)) that fits its node positions best, as the
+  // absolute trajectory error lays a map: what the uncertainty of the frame
+  // the first node fixes adds (growing with the distance driven from it) is
+  // taken out. The move is the least-squares one over every node's position
+  // (the fixed ones too; headings do not weigh in, but the move's turn turns
+  // them); the covariance is the marginal one with the fit's own uncertainty
   // removed. Empty when the computation fails (rank deficient).
-  std::vector<double> AlignedPositionVariances() const;
+  std::vector<Eigen::Matrix3d> AlignedCovariances() const;
 
   // Per factor: its whitened squared residual (chi^2 without the robust loss)
   // and its dimension, at the current estimate.

@@ -140,7 +140,7 @@ TEST(PoseGraph, ARelativeFactorsCovarianceIsAlongTheMeasuredPosesAxes) {
 // is the along-line variance / 4, whatever the across-line and heading
 // variances (the move takes them), where the first ASR's frame puts all of
 // it on the second.
-TEST(PoseGraph, AlignedPositionVariancesKeepOnlyWhatARigidMoveCannotTake) {
+TEST(PoseGraph, AlignedCovariancesKeepOnlyWhatARigidMoveCannotTake) {
   PoseGraph g;
   g.AddNode({0, 0, 0}, true);
   g.AddNode({4, 0, 0});
@@ -149,18 +149,23 @@ TEST(PoseGraph, AlignedPositionVariancesKeepOnlyWhatARigidMoveCannotTake) {
   g.AddRelative(0, 1, {4, 0, 0}, cov, FactorKind::kRegistration, 0.0);
   g.Solve();
   const auto anchored = g.Covariances();
-  const auto aligned = g.AlignedPositionVariances();
+  const auto aligned = g.AlignedCovariances();
   ASSERT_EQ(aligned.size(), 2u);
   EXPECT_NEAR(anchored[1](0, 0) + anchored[1](1, 1), 0.13, 1e-9);
-  EXPECT_NEAR(aligned[0], 0.01, 1e-9);
-  EXPECT_NEAR(aligned[1], 0.01, 1e-9);
+  EXPECT_NEAR(aligned[0](0, 0) + aligned[0](1, 1), 0.01, 1e-9);
+  EXPECT_NEAR(aligned[1](0, 0) + aligned[1](1, 1), 0.01, 1e-9);
+  // The move turns by the across-line error over the 4 m (a quarter of the
+  // second's y), and so turns both headings: var 0.09 / 16 on the first,
+  // that plus the measured 1e-3 on the second.
+  EXPECT_NEAR(aligned[0](2, 2), 0.09 / 16.0, 1e-9);
+  EXPECT_NEAR(aligned[1](2, 2), 1e-3 + 0.09 / 16.0, 1e-9);
 }
 
 // A chain driven straight: the anchored variance grows from the fixed first
 // node to the last; laid on the truth by the best rigid move, both ends are
 // the least sure and the middle the surest, and no node is surer than a
 // tenth of the anchored far end nor as unsure as it.
-TEST(PoseGraph, AlignedPositionVariancesAreLeastAtTheMiddleOfAChain) {
+TEST(PoseGraph, AlignedPositionsAreSurestAtTheMiddleOfAChain) {
   PoseGraph g;
   g.AddNode({0, 0, 0}, true);
   g.SetRatesFixedAtZero(true);
@@ -171,7 +176,8 @@ TEST(PoseGraph, AlignedPositionVariancesAreLeastAtTheMiddleOfAChain) {
   }
   g.Solve();
   const auto anchored = g.Covariances();
-  const auto aligned = g.AlignedPositionVariances();
+  std::vector<double> aligned;
+  for (const Eigen::Matrix3d& c : g.AlignedCovariances()) aligned.push_back(c(0, 0) + c(1, 1));
   ASSERT_EQ(aligned.size(), 11u);
   const double far = anchored[10](0, 0) + anchored[10](1, 1);
   EXPECT_GT(aligned[0], aligned[5]);
