@@ -2437,8 +2437,7 @@ OptimizerResult MapOptimizer::Finish() {
     // (the rate x the spread of where they were seen) is an error the
     // covariance must hold (covariance_direction_bend).
     if (options_.covariance_direction_bend) graph_.SetDirectionBend(true, rate_var);
-    cov = graph_.Covariances();
-    if (!cov.empty()) aligned_cov = graph_.AlignedCovariances();
+    cov = graph_.Covariances(&aligned_cov);
     if (options_.covariance_direction_bend) graph_.SetDirectionBend(false);
     for (const auto& [k, f] : fitted) graph_.SetSigmaFactor(k, f);
     if (zero) graph_.SetRatesFixedAtZero(true);

@@ -282,7 +282,7 @@ struct AsrEstimate {
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   bool has_covariance = false;
   // The position's 1-sigma once the whole map is laid on the building by
-  // its best rigid move (PoseGraph::AlignedCovariances, the drift
+  // its best rigid move (PoseGraph::Covariances' aligned, the drift
   // hypotheses' spread likewise laid): what "uncertain" tests for the
   // position, since covariance holds the uncertainty of the frame the first
   // ASR fixes.

@@ -672,13 +672,14 @@ double PoseGraph::SingularPivot(const Linearized& lin) const {
   return tol * tol;
 }
 
-std::vector<Eigen::Matrix3d> PoseGraph::Covariances() const {
+std::vector<Eigen::Matrix3d> PoseGraph::Covariances(std::vector<Eigen::Matrix3d>* aligned) const {
   // The marginal covariance of each free node: its 3 x 3 block of H^-1 for
   // the Jacobian Ceres would use (every enabled factor, its loss applied),
   // from the selected inverse. ceres::Covariance (SPARSE_QR) solved for every
   // column and took a time growing with the square of the graph (1.1 s of a
   // 1000-room building's 14 s).
   const size_t N = impl_->nodes.size();
+  if (aligned) aligned->clear();
   std::vector<Eigen::Matrix3d> out(N, Eigen::Matrix3d::Zero());
   const Linearized lin = Linearize(!impl_->rates_zero);
   std::vector<int> node_col(N, -1);
@@ -690,7 +691,10 @@ std::vector<Eigen::Matrix3d> PoseGraph::Covariances() const {
     node_col[n] = it->second;
     any = true;
   }
-  if (!any) return out;
+  if (!any) {
+    if (aligned && N > 1) aligned->assign(N, Eigen::Matrix3d::Zero());
+    return out;
+  }
   SelectedInverse S;
   if (!Invert(lin, SingularPivot(lin), &S)) return {};
   for (size_t n = 0; n < N; ++n) {
@@ -699,18 +703,20 @@ std::vector<Eigen::Matrix3d> PoseGraph::Covariances() const {
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) out[n](a, b) = S(c + a, c + b);
   }
+  if (aligned) LaidCovariances(out, node_col, lin.cols, aligned);
   return out;
 }
 
-std::vector<Eigen::Matrix3d> PoseGraph::AlignedCovariances() const {
-  const size_t N = impl_->nodes.size();
-  if (N == 0) return {};
+void PoseGraph::LaidCovariances(const std::vector<Eigen::Matrix3d>& marginal, const std::vector<int>& node_col,
+                                int cols, std::vector<Eigen::Matrix3d>* out) const {
   // e' = e - G a, a = A sum_i G_i^T W e_i: node i's error less the rigid
   // move (translation, rotation about the centroid) fitted to the position
   // errors (W keeps x and y), A = (sum_i G_i^T W G_i)^-1. Its covariance
-  // needs Sigma W G (three solves with H's factorisation) besides the
-  // marginal blocks: Cov(e'_i) = S_ii - G_i A X_i^T - X_i A G_i^T + G_i A M A G_i^T,
+  // needs Sigma W G (three solves with H's factorisation, the one the
+  // marginal blocks came from) besides those blocks:
+  // Cov(e'_i) = S_ii - G_i A X_i^T - X_i A G_i^T + G_i A M A G_i^T,
   // X = Sigma W G, M = G^T W Sigma W G.
+  const size_t N = impl_->nodes.size();
   Vec2 c(0.0, 0.0);
   for (size_t n = 0; n < N; ++n) c += Vec2(impl_->nodes[n][0], impl_->nodes[n][1]);
   c /= static_cast<double>(N);
@@ -724,37 +730,20 @@ std::vector<Eigen::Matrix3d> PoseGraph::AlignedCovariances() const {
   W(0, 0) = W(1, 1) = 1.0;
   Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
   for (size_t n = 0; n < N; ++n) info += G(n).transpose() * W * G(n);
-  if (std::abs(info.determinant()) < 1e-12) return {};
+  if (std::abs(info.determinant()) < 1e-12) return;  // one node, or all at one place: no move to fit
   const Eigen::Matrix3d A = info.inverse();
-  const Linearized lin = Linearize(!impl_->rates_zero);
-  std::vector<int> node_col(N, -1);
-  for (size_t n = 0; n < N; ++n) {
-    if (impl_->fixed[n]) continue;
-    auto it = lin.first_col.find(impl_->nodes[n].data());
-    if (it != lin.first_col.end()) node_col[n] = it->second;
-  }
-  std::vector<Eigen::Matrix3d> out(N, Eigen::Matrix3d::Zero());
-  if (lin.cols == 0) return out;
-  SelectedInverse S;
-  if (!Invert(lin, SingularPivot(lin), &S)) return {};
-  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(lin.cols, 3);
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(cols, 3);
   for (size_t n = 0; n < N; ++n)
     if (node_col[n] >= 0) B.block<3, 3>(node_col[n], 0) = W * G(n);
   const Eigen::MatrixXd X = impl_->symbolic->ldlt.solve(B);
-  if (impl_->symbolic->ldlt.info() != Eigen::Success || !X.allFinite()) return {};
+  if (impl_->symbolic->ldlt.info() != Eigen::Success || !X.allFinite()) return;
   const Eigen::Matrix3d M = B.transpose() * X;
+  out->assign(N, Eigen::Matrix3d::Zero());
   for (size_t n = 0; n < N; ++n) {
-    Eigen::Matrix3d Sii = Eigen::Matrix3d::Zero(), Xi = Eigen::Matrix3d::Zero();
-    const int col = node_col[n];
-    if (col >= 0) {
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) Sii(a, b) = S(col + a, col + b);
-      Xi = X.block<3, 3>(col, 0);
-    }
+    const Eigen::Matrix3d Xi = node_col[n] >= 0 ? Eigen::Matrix3d(X.block<3, 3>(node_col[n], 0)) : Eigen::Matrix3d::Zero();
     const Eigen::Matrix3d g = G(n);
-    out[n] = Sii - g * A * Xi.transpose() - Xi * A * g.transpose() + g * A * M * A * g.transpose();
+    (*out)[n] = marginal[n] - g * A * Xi.transpose() - Xi * A * g.transpose() + g * A * M * A * g.transpose();
   }
-  return out;
 }
 
 std::vector<double> PoseGraph::RateVariances() const {

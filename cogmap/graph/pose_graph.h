@@ -223,16 +223,16 @@ class PoseGraph {
 
   // Marginal covariances of every node's (x, y, theta), the fixed nodes held
   // (zero for them). Empty when the computation fails (rank deficient).
-  std::vector<Eigen::Matrix3d> Covariances() const;
-  // The covariance of every node's pose once the map is laid on the truth
-  // by the one rigid move (SE(2)) that fits its node positions best, as the
-  // absolute trajectory error lays a map: what the uncertainty of the frame
-  // the first node fixes adds (growing with the distance driven from it) is
-  // taken out. The move is the least-squares one over every node's position
-  // (the fixed ones too; headings do not weigh in, but the move's turn turns
+  // With 'aligned', also from the same factorisation: the covariance of
+  // every node's pose once the map is laid on the truth by the one rigid
+  // move (SE(2)) that fits its node positions best, as the absolute
+  // trajectory error lays a map: what the uncertainty of the frame the first
+  // node fixes adds (growing with the distance driven from it) is taken
+  // out. The move is the least-squares one over every node's position (the
+  // fixed ones too; headings do not weigh in, but the move's turn turns
   // them); the covariance is the marginal one with the fit's own uncertainty
-  // removed. Empty when the computation fails (rank deficient).
-  std::vector<Eigen::Matrix3d> AlignedCovariances() const;
+  // removed. 'aligned' is left empty when either fails (and with one node).
+  std::vector<Eigen::Matrix3d> Covariances(std::vector<Eigen::Matrix3d>* aligned = nullptr) const;
 
   // Per factor: its whitened squared residual (chi^2 without the robust loss)
   // and its dimension, at the current estimate.
@@ -280,6 +280,10 @@ class PoseGraph {
   struct Impl;
   struct Linearized;
   struct SelectedInverse;
+  // Covariances' 'aligned', from the marginal blocks, each free node's first
+  // column (-1: held) and the factorisation Invert left in impl_.
+  void LaidCovariances(const std::vector<Eigen::Matrix3d>& marginal, const std::vector<int>& node_col, int cols,
+                       std::vector<Eigen::Matrix3d>* out) const;
   // The enabled factors' weighted whitened Jacobian and normal matrix over
   // the free parameters (the rates free or held).
   Linearized Linearize(bool rates_free) const;
