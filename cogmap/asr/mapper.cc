@@ -439,12 +439,21 @@ void CognitiveMapper::BuildWalls(Current& c) {
   a.seconds.fit = v.seconds.fit;
   if (options_.grid_orientation) {
     // The orientation of the occupied cells, for the heading correction.
-    const auto& g = c.grid->values();
-    std::vector<Vec2> cells;
-    for (int y = 0; y < g.limits().height(); ++y)
-      for (int x = 0; x < g.limits().width(); ++x)
-        if (options_.vectorize.clean.classes.IsOccupied(g.at(x, y))) cells.push_back(Vec2(x + 0.5, y + 0.5));
-    const vectorize::Orientation o = vectorize::DominantOrientation(cells);
+    auto orientation = [this](const grid::Grid2D<float>& g) {
+      std::vector<Vec2> cells;
+      for (int y = 0; y < g.limits().height(); ++y)
+        for (int x = 0; x < g.limits().width(); ++x)
+          if (options_.vectorize.clean.classes.IsOccupied(g.at(x, y))) cells.push_back(Vec2(x + 0.5, y + 0.5));
+      return vectorize::DominantOrientation(cells);
+    };
+    vectorize::Orientation o = orientation(c.grid->values());
+    // A ring that looks only forward: the cone grid's, where it is within
+    // the lean of the axis grid's (MapperOptions::orientation_from_cone).
+    if (options_.orientation_from_cone && c.cone_grid && o.valid) {
+      const vectorize::Orientation cone = orientation(c.cone_grid->values());
+      if (cone.valid && std::abs(std::remainder(cone.angle_rad - o.angle_rad, 0.5 * kPi)) <= options_.orientation_cone_window_rad)
+        o = cone;
+    }
     a.grid_orientation = {o.valid, o.angle_rad, o.contrast, o.points};
   }
   a.free_hull_local = FreeSpaceHull(c.grid->values(), options_.vectorize.clean.classes, options_.free_opening_m,

@@ -43,6 +43,19 @@ struct MapperOptions {
   // correction and the pose graph work on the walls of the axis grid
   // (Asr::output_walls_local; docs/walls.md, "Sonar cone").
   bool cone_output_walls = false;
+  // With cone_output_walls: the dominant orientation of the room's occupied
+  // cells (Asr::grid_orientation, which the heading estimate and the pose
+  // graph's wall-direction factor refine to) taken on the cone grid rather
+  // than the axis grid. For rings that look only forward
+  // (sensors::SeesOnlyForward; `cogmap map --cone-orientation`): on the axis
+  // grid their walls lean with the direction of travel (docs/walls.md, "A
+  // ring that looks only forward").
+  bool orientation_from_cone = false;
+  // ... where the two grids' orientations differ by at most this (modulo a
+  // quarter turn): the most such a ring leans (up to 4.8 degrees on
+  // nine_rooms without noise); beyond it the cone grid saw another room
+  // shape, not the same walls placed better, and the axis grid's stays.
+  double orientation_cone_window_rad = DegToRad(5.0);
   // Every hit of the room's grids tagged with the distance driven in the
   // ASR, and each wall vertex with the mean over the hits near it
   // (Asr::walls_seen_s): the pose graph bends the walls by the drift where

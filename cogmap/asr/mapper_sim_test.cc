@@ -3,6 +3,7 @@
 // (issue 5's acceptance runs, 16-sonar Pioneer, no drift).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 
@@ -51,6 +52,44 @@ TEST(MapperOnSimulatedRuns, HallwayInFixedLengthModeGivesAsrsOfTheSetLength) {
     for (size_t k = 1; k < p.size(); ++k) length += (p[k].translation() - p[k - 1].translation()).norm();
     EXPECT_NEAR(length, 4.0, 0.1) << "ASR " << i;
   }
+}
+
+// A ring that looks only forward (the Pioneer's 8 front sonars), noiseless
+// odometry and ranges on nine_rooms, whose walls all lie at 0 or 90 degrees:
+// each room's orientation (Asr::grid_orientation, in the odometry frame,
+// which here is the world's) leans with the way the robot drove round the
+// room on the axis grid, each echo placed on its unit's axis; on the cone
+// grid, the echo on its arc where the wall is, it leans far less.
+TEST(MapperOnSimulatedRuns, AForwardRingsRoomsAreSquarerOnItsConeGrid) {
+  const FloorPlan plan = io::ReadAriaMap(std::string(COGMAP_SHARED_DIR) + "/worlds/nine_rooms.map").plan;
+  const auto robot = sensors::BuiltinRobot("pioneer8");
+  ASSERT_TRUE(sensors::SeesOnlyForward(robot));
+  auto median_lean_deg = [&](bool from_cone) {
+    MapperOptions o;
+    o.cone_output_walls = true;
+    o.orientation_from_cone = from_cone;
+    sim::SimulatorOptions so;
+    so.seed = 1;
+    so.odometry = sim::OdometryNoiseOptions{0, 0, 0, 0, 0};
+    so.sensor.sonar_range_sigma_m = so.sensor.sonar_range_sigma_frac = 0;
+    so.sensor.sonar_crosstalk_probability = 0;
+    std::vector<double> lean;
+    MemoryAsrStore store;
+    CognitiveMapper mapper(robot, o, &store, [&lean](const Asr& a) {
+      if (!a.grid_orientation.valid) return;
+      const double world = a.grid_orientation.angle_rad + a.world_from_local_raw.theta;
+      lean.push_back(std::abs(RadToDeg(std::remainder(world, kPi / 2.0))));
+    });
+    sim::Simulate(plan, robot, so, [&mapper](const sensors::LogRecord& r) { mapper.Push(r); });
+    mapper.Finish();
+    EXPECT_GE(lean.size(), 8u);
+    std::sort(lean.begin(), lean.end());
+    return lean.empty() ? 90.0 : lean[lean.size() / 2];
+  };
+  const double axis = median_lean_deg(false), cone = median_lean_deg(true);
+  EXPECT_GT(axis, 2.0);  // measured 2.56 deg
+  EXPECT_LT(cone, 1.5);  // measured 1.07 deg
+  EXPECT_LT(cone, 0.6 * axis);
 }
 
 // The spread (radians, circular 1-sigma) of an ASR's wall directions about

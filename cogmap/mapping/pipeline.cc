@@ -103,6 +103,10 @@ asr::MapperOptions MapperOptionsFor(const sensors::RobotDescription& robot, cons
   // "Sonar cone"). A laser's beam is narrower than a cell: its cone grid
   // would be the same grid.
   m.cone_output_walls = !o.paper && !o.cone_hits && o.cone_walls && !LaserOnly(robot);
+  // On request (--cone-orientation), a ring that looks only forward: the
+  // rooms' orientation from that cone grid too (its axis grid's walls lean
+  // with the way driven; docs/walls.md, "A ring that looks only forward").
+  m.orientation_from_cone = m.cone_output_walls && o.cone_orientation && sensors::SeesOnlyForward(robot);
   // Where each wall was heard from, for the pose graph's bend (docs/pose-graph.md).
   m.seen_distances = o.correction() == Correction::kPoseGraph;
   m.vectorize = o.paper ? vectorize::VectorizeOptions::Paper() : vectorize::VectorizeOptions{};

@@ -67,6 +67,11 @@ struct MappingOptions {
   double direction_split_m = 3.0;      // pose graph, laser walls: direction factors per this much path, tried in Finish (0: off)
   bool cone_hits = false;              // default mode, --sonar-cone: MHIMM over the sonar's cone (grid::MhimmOptions::cone_hits)
   bool cone_walls = true;              // default mode, sonar: the walls kept are a cone grid's (asr::MapperOptions::cone_output_walls); --axis-walls: false
+  // Default mode, a sonar ring that looks only forward (sensors::SeesOnlyForward),
+  // --cone-orientation: each room's orientation from its cone grid
+  // (asr::MapperOptions::orientation_from_cone). Off by default: docs/walls.md,
+  // "A ring that looks only forward".
+  bool cone_orientation = false;
   bool correct = true;                 // false: every ASR at its odometry pose
   bool pose_graph = true;              // default mode: the pose graph (false: the drift filter)
   bool pre_bend = false;               // pose graph, --pre-bend: the drift it has pinned is removed while the next rooms are mapped

@@ -124,6 +124,26 @@ TEST(MapperOptionsFor, WallLinesFollowTheModeAndTheRobot) {
   EXPECT_FALSE(MapperOptionsFor(sensors::BuiltinRobot("pioneer16"), o).vectorize.wall_lines);
 }
 
+// --cone-orientation takes the rooms' orientation from the cone grid for a
+// ring that looks only forward, and only there: not by default, not on a
+// full ring or a laser, not without the cone grid (--axis-walls, paper mode).
+TEST(MapperOptionsFor, ConeOrientationForAForwardRingOnRequest) {
+  const auto front = sensors::BuiltinRobot("pioneer8");
+  MappingOptions o;
+  EXPECT_FALSE(MapperOptionsFor(front, o).orientation_from_cone);
+  o.cone_orientation = true;
+  EXPECT_TRUE(MapperOptionsFor(front, o).orientation_from_cone);
+  EXPECT_TRUE(MapperOptionsFor(sensors::BuiltinRobot("pioneer8-course"), o).orientation_from_cone);
+  EXPECT_FALSE(MapperOptionsFor(sensors::BuiltinRobot("pioneer16"), o).orientation_from_cone);
+  EXPECT_FALSE(MapperOptionsFor(sensors::BuiltinRobot("laser"), o).orientation_from_cone);
+  MappingOptions axis = o;
+  axis.cone_walls = false;
+  EXPECT_FALSE(MapperOptionsFor(front, axis).orientation_from_cone);
+  MappingOptions paper = o;
+  paper.paper = true;
+  EXPECT_FALSE(MapperOptionsFor(front, paper).orientation_from_cone);
+}
+
 // The hits' distances are kept for the pose graph's bend only.
 TEST(MapperOptionsFor, SeenDistancesWithThePoseGraphOnly) {
   const auto robot = sensors::BuiltinRobot("pioneer16");

@@ -40,6 +40,18 @@ nlohmann::json PlacementJson(const graph::AsrEstimate& e) {
 // placements) left as streams of 'streams'.
 // Laser odometry: null when it was never considered (off, paper mode, no
 // laser); else the mode, whether it ran and why, and its figures.
+// Which of a room's grids gave the walls kept and the room's orientation: the
+// axis grid (the thesis's MHIMM, each echo on its unit's axis) or the cone
+// grid (each echo on its arc; docs/walls.md, "Sonar cone" and "A ring that
+// looks only forward"); the orientation null where none is taken (a laser).
+nlohmann::json GridsJson(const sensors::RobotDescription& robot, const MappingOptions& mo) {
+  const asr::MapperOptions m = MapperOptionsFor(robot, mo);
+  const bool one_cone = m.mhimm.cone_hits;
+  return {{"walls_kept", one_cone || m.cone_output_walls ? "cone" : "axis"},
+          {"orientation", !m.grid_orientation ? nlohmann::json(nullptr)
+                          : nlohmann::json(one_cone || m.orientation_from_cone ? "cone" : "axis")}};
+}
+
 nlohmann::json ScanMatchJson(const MappingOptions& mo, const RunResult& run) {
   if (!(run.scan_match_active || run.scan_match_gaps > 0 || mo.scan_match == ScanMatch::kOn)) return nullptr;
   const localize::ScanOdometryStats& sm = run.scan_match;
@@ -224,6 +236,7 @@ void WriteReport(const ReportContext& c, std::ostream& out) {
       {"asr_length_m", job.mapping.asr_length_m},
       {"cell_m", job.mapping.cell_m},
       {"window_m", job.mapping.window_m},
+      {"grids", GridsJson(*c.robot, job.mapping)},
       {"corrected", job.mapping.correct},
       {"drift_filter", drift_filter},
       {"smoothed_asrs", run.smoothed},

@@ -1,6 +1,7 @@
 #include "cogmap/sensors/robot.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "cogmap/core/angles.h"
 #include "cogmap/core/error.h"
@@ -93,6 +94,18 @@ RobotDescription BuiltinRobot(const std::string& name, const LaserOptions& laser
   for (const auto& k : BuiltinRobotNames()) known += (known.empty() ? "" : ", ") + k;
   throw InputError("unknown robot '" + name + "' (built in: " + known +
                    "; or give a robot JSON file)");
+}
+
+bool SeesOnlyForward(const RobotDescription& robot) {
+  bool any = false;
+  for (const auto& s : robot.sensors) {
+    if (s.kind != SensorKind::kSonar) continue;
+    any = true;
+    // (A unit mounted square to the side, at exactly 90 degrees, looks ahead
+    // as much as back.)
+    if (std::abs(NormalizeAngle(s.robot_from_sensor.theta)) > 0.5 * kPi + 1e-6) return false;
+  }
+  return any;
 }
 
 double WidestBeamRad(const RobotDescription& robot) {

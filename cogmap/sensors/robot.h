@@ -48,6 +48,16 @@ RobotDescription MakeLaser(const LaserOptions& options, const std::string& name 
 // sensors): how far across its beam an echo may lie.
 double WidestBeamRad(const RobotDescription& robot);
 
+// Whether the robot's sonars all look ahead or to the side (mounting heading
+// within 90 degrees of straight ahead, and at least one sonar): a front ring
+// (Pioneer 8, the course's ring) or a turret panned over the front half (EV3).
+// Such a ring meets a wall beside its way only with the units angled forward,
+// each echo from the edge of the cone nearest the wall's normal: placed on
+// the unit's axis, the wall leans with the direction of travel, and no unit
+// looking back leans it the other way (docs/walls.md, "A ring that looks
+// only forward").
+bool SeesOnlyForward(const RobotDescription& robot);
+
 // World pose of a sensor when the robot is at 'world_from_robot' (eq. 3.5).
 inline Pose2 SensorPose(const Pose2& world_from_robot, const RangeSensor& s) {
   return world_from_robot * s.robot_from_sensor;

@@ -52,5 +52,19 @@ TEST(Robot, SensorPoseUsesCorrectedSign) {
   EXPECT_NEAR(end.y(), 2.0 + 0.069, 1e-12);
 }
 
+// The front rings (units from +90 to -90 degrees) look only forward; a full
+// ring (units looking back) and a laser (no sonar) do not.
+TEST(Robot, FrontRingsLookOnlyForward) {
+  EXPECT_TRUE(SeesOnlyForward(BuiltinRobot("pioneer8")));
+  EXPECT_TRUE(SeesOnlyForward(BuiltinRobot("pioneer8-course")));
+  EXPECT_FALSE(SeesOnlyForward(BuiltinRobot("pioneer16")));
+  EXPECT_FALSE(SeesOnlyForward(BuiltinRobot("p2at16")));
+  EXPECT_FALSE(SeesOnlyForward(BuiltinRobot("laser")));
+  RobotDescription one = BuiltinRobot("pioneer8");
+  one.sensors.back().robot_from_sensor.theta = DegToRad(-91.0);  // a unit a degree past the side
+  EXPECT_FALSE(SeesOnlyForward(one));
+  EXPECT_FALSE(SeesOnlyForward(RobotDescription{}));
+}
+
 }  // namespace
 }  // namespace cogmap::sensors
