@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <map>
 #include <random>
 
@@ -539,6 +541,20 @@ TEST(MapOptimizer, DriftThatItsAliasFitsAsWellIsNotCorrected) {
     counted |= w.rfind(expected, 0) == 0 &&
                w.find(std::to_string(heading) + " heading 1-sigma over 3 deg") != std::string::npos;
   EXPECT_TRUE(counted);
+  // And where: the uncertain ASR least sure of its heading, with its sigma.
+  const AsrEstimate* least = nullptr;
+  for (const AsrEstimate& e : r.asrs)
+    if (e.uncertain && e.has_covariance && (!least || e.covariance(2, 2) > least->covariance(2, 2))) least = &e;
+  ASSERT_NE(least, nullptr);
+  char sigma[32];
+  std::snprintf(sigma, sizeof sigma, "heading 1-sigma %.1f deg)", RadToDeg(std::sqrt(least->covariance(2, 2))));
+  bool named = false;
+  for (const std::string& w : r.warnings) {
+    const size_t at = w.find("least sure: ");
+    named |= at != std::string::npos && w.find("ASR " + std::to_string(least->asr_id) + " (", at) != std::string::npos &&
+             w.find(sigma, at) != std::string::npos;
+  }
+  EXPECT_TRUE(named);
   // The placements stay the odometry's: nothing turned by a wrong alias.
   for (size_t i = 0; i < asrs.size(); ++i)
     EXPECT_NEAR(AngleDiff(r.asrs[i].pose.theta, asrs[i].world_from_local_raw.theta), 0.0, DegToRad(2.0)) << i;
