@@ -147,11 +147,12 @@ std::function<int()> SetupMap(CLI::App& sub) {
                "Default mode, a sonar ring that looks only forward (pioneer8, pioneer8-course, a panned EV3 sonar; "
                "no effect on a full ring or a laser): take each room's orientation, which its heading estimate "
                "and the pose graph's wall-direction factor refine to, from the cone grid rather than the axis "
-               "grid, where the two agree within 5 degrees. On the axis grid such a ring's walls lean 2-5 "
-               "degrees with the way it drove round a room. Not the default: on 160 random buildings with 8 "
-               "sonars the heading median was better in 109 runs and worse in 50, but at 2 deg/m the walls were "
-               "as often worse as better, and on one winged building the run fell into wrong loop closures "
-               "(docs/walls.md, \"A ring that looks only forward\")");
+               "grid, where the two agree within 5 degrees. On the axis grid such a ring's rooms lean 1-5 "
+               "degrees with the way it drove round them. Not the default: on 160 runs of 80 random buildings "
+               "with 8 sonars the heading median was better in 101 and worse in 58, but at 2 deg/m the walls "
+               "were worse more often than better on one of the two sets and on never_worse's own worlds, and "
+               "one winged building's run fell into wrong loop closures (docs/walls.md, \"A ring that looks "
+               "only forward\")");
   sub.add_option("--direction-split", a->job.mapping.direction_split_m,
                  "Default mode, pose graph, laser walls: one wall-direction factor per this many metres of an "
                  "ASR's path where the directions turn with the distance driven, so drift inside a long ASR is "
