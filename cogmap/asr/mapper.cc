@@ -451,8 +451,8 @@ void CognitiveMapper::BuildWalls(Current& c) {
     // the lean of the axis grid's (MapperOptions::orientation_from_cone).
     if (options_.orientation_from_cone && c.cone_grid && o.valid) {
       const vectorize::Orientation cone = orientation(c.cone_grid->values());
-      if (cone.valid && std::abs(std::remainder(cone.angle_rad - o.angle_rad, 0.5 * kPi)) <= options_.orientation_cone_window_rad)
-        o = cone;
+      const double apart = std::abs(std::remainder(cone.angle_rad - o.angle_rad, 0.5 * kPi));
+      if (cone.valid && apart <= options_.orientation_cone_window_rad) o = cone;
     }
     a.grid_orientation = {o.valid, o.angle_rad, o.contrast, o.points};
   }

@@ -2669,7 +2669,8 @@ OptimizerResult MapOptimizer::Finish() {
       worst_heading = nullptr;
     std::string where;
     if (worst_position) {
-      AppendF(&where, "ASR %d (position 1-sigma %.2f m", worst_position->asr_id, worst_position->position_sigma_aligned_m);
+      AppendF(&where, "ASR %d (position 1-sigma %.2f m", worst_position->asr_id,
+              worst_position->position_sigma_aligned_m);
       if (worst_heading == worst_position) {
         AppendF(&where, ", heading 1-sigma %.1f deg", RadToDeg(std::sqrt(worst_heading->covariance(2, 2))));
         worst_heading = nullptr;

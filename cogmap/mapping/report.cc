@@ -36,10 +36,6 @@ nlohmann::json PlacementJson(const graph::AsrEstimate& e) {
   return j;
 }
 
-// The pose_graph section, its two per-ASR arrays (closure_candidates,
-// placements) left as streams of 'streams'.
-// Laser odometry: null when it was never considered (off, paper mode, no
-// laser); else the mode, whether it ran and why, and its figures.
 // Which of a room's grids gave the walls kept and the room's orientation: the
 // axis grid (the thesis's MHIMM, each echo on its unit's axis) or the cone
 // grid (each echo on its arc; docs/walls.md, "Sonar cone" and "A ring that
@@ -52,6 +48,8 @@ nlohmann::json GridsJson(const sensors::RobotDescription& robot, const MappingOp
                           : nlohmann::json(one_cone || m.orientation_from_cone ? "cone" : "axis")}};
 }
 
+// Laser odometry: null when it was never considered (off, paper mode, no
+// laser); else the mode, whether it ran and why, and its figures.
 nlohmann::json ScanMatchJson(const MappingOptions& mo, const RunResult& run) {
   if (!(run.scan_match_active || run.scan_match_gaps > 0 || mo.scan_match == ScanMatch::kOn)) return nullptr;
   const localize::ScanOdometryStats& sm = run.scan_match;
@@ -90,6 +88,8 @@ nlohmann::json DistanceScaleJson(const MappingOptions& mo, const RunResult& run)
   return j;
 }
 
+// The pose_graph section, its two per-ASR arrays (closure_candidates,
+// placements) left as streams of 'streams'.
 nlohmann::json PoseGraphJson(const graph::OptimizerResult& g, int rooms, JsonStreams* streams) {
   nlohmann::json uncertain = nlohmann::json::array();
   int accepted = 0, same_room = 0;
