@@ -2656,30 +2656,31 @@ OptimizerResult MapOptimizer::Finish() {
     // Where: the ASRs least sure of their position (as laid on the building)
     // and of their heading, with their 1-sigma, so that a long run flagged
     // all along says which part is worst.
+    auto heading_sigma = [](const AsrEstimate& e) { return std::sqrt(std::max(0.0, e.covariance(2, 2))); };
     const AsrEstimate* worst_position = nullptr;
     const AsrEstimate* worst_heading = nullptr;
     for (const AsrEstimate& e : res.asrs) {
       if (!e.uncertain || !e.has_covariance) continue;
-      if (!worst_position || e.position_sigma_aligned_m > worst_position->position_sigma_aligned_m) worst_position = &e;
-      if (!worst_heading || e.covariance(2, 2) > worst_heading->covariance(2, 2)) worst_heading = &e;
+      if (e.position_sigma_aligned_m > options_.uncertain_position_m &&
+          (!worst_position || e.position_sigma_aligned_m > worst_position->position_sigma_aligned_m))
+        worst_position = &e;
+      if (heading_sigma(e) > options_.uncertain_theta_rad &&
+          (!worst_heading || heading_sigma(e) > heading_sigma(*worst_heading)))
+        worst_heading = &e;
     }
-    if (worst_position && worst_position->position_sigma_aligned_m <= options_.uncertain_position_m)
-      worst_position = nullptr;
-    if (worst_heading && std::sqrt(std::max(0.0, worst_heading->covariance(2, 2))) <= options_.uncertain_theta_rad)
-      worst_heading = nullptr;
     std::string where;
     if (worst_position) {
       AppendF(&where, "ASR %d (position 1-sigma %.2f m", worst_position->asr_id,
               worst_position->position_sigma_aligned_m);
       if (worst_heading == worst_position) {
-        AppendF(&where, ", heading 1-sigma %.1f deg", RadToDeg(std::sqrt(worst_heading->covariance(2, 2))));
+        AppendF(&where, ", heading 1-sigma %.1f deg", RadToDeg(heading_sigma(*worst_heading)));
         worst_heading = nullptr;
       }
       where += ")";
     }
     if (worst_heading)
       AppendF(&where, "%sASR %d (heading 1-sigma %.1f deg)", where.empty() ? "" : ", ", worst_heading->asr_id,
-              RadToDeg(std::sqrt(worst_heading->covariance(2, 2))));
+              RadToDeg(heading_sigma(*worst_heading)));
     if (!where.empty()) where = "; least sure: " + where;
     res.warnings.push_back(std::to_string(uncertain) + " of " + std::to_string(res.asrs.size()) +
                            " ASRs are uncertain (" + why + where + "; report.json: pose_graph.uncertain_asrs)");

@@ -740,7 +740,8 @@ void PoseGraph::LaidCovariances(const std::vector<Eigen::Matrix3d>& marginal, co
   const Eigen::Matrix3d M = B.transpose() * X;
   out->assign(N, Eigen::Matrix3d::Zero());
   for (size_t n = 0; n < N; ++n) {
-    const Eigen::Matrix3d Xi = node_col[n] >= 0 ? Eigen::Matrix3d(X.block<3, 3>(node_col[n], 0)) : Eigen::Matrix3d::Zero();
+    const Eigen::Matrix3d Xi =
+        node_col[n] >= 0 ? Eigen::Matrix3d(X.block<3, 3>(node_col[n], 0)) : Eigen::Matrix3d::Zero();
     const Eigen::Matrix3d g = G(n);
     (*out)[n] = marginal[n] - g * A * Xi.transpose() - Xi * A * g.transpose() + g * A * M * A * g.transpose();
   }
