@@ -673,6 +673,99 @@ std::optional<Vec2> MapOptimizer::AlongTheWalls(const std::vector<Eigen::Vector3
   return u;
 }
 
+namespace {
+
+// Wall samples against the walls of another ASR (its frame), each face seen
+// from either side: on a wall (within 'tolerance_m' of one), in front of the
+// nearest wall (in the free space it was seen from: the other ASR saw no
+// wall there), or behind it (space the other did not see: counted in
+// neither).
+struct SeenSamples {
+  int on_walls = 0;
+  int in_front = 0;
+};
+SeenSamples SeenBy(const std::vector<FacedSegment>& faces, const std::vector<FacedPoint>& pts, double tolerance_m) {
+  SeenSamples out;
+  for (const FacedPoint& q : pts) {
+    double residual = 0.0;
+    const int f = NearestFaceByScan(faces, q.p, q.normal, std::numeric_limits<double>::infinity(), -2.0, &residual);
+    if (f < 0) continue;
+    if (PointSegmentDistance(q.p, faces[f].a, faces[f].b) <= tolerance_m) ++out.on_walls;
+    else if (residual > tolerance_m) ++out.in_front;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::optional<MapOptimizer::NextDoor> MapOptimizer::NextDoorWithinGate(
+    int n, int k, const Pose2& best, const Pose2& predicted, const Eigen::Matrix3d& S, double gate,
+    const OdometryMeasurement& to_k, const OdometryMeasurement& to_n, double rate_k, double rate_n,
+    const std::vector<FacedPoint>& cur_samples) const {
+  const Node& cur = nodes_[n];
+  // The new ASR's walls' directions (modulo a quarter turn, by length) and
+  // its extent along each: a room beside it lies at least that far over.
+  double c4 = 0.0, s4 = 0.0;
+  for (const FacedSegment& f : cur.faces) {
+    const Vec2 e = f.b - f.a;
+    const double a4 = 4.0 * std::atan2(e.y(), e.x()), len = e.norm();
+    c4 += len * std::cos(a4);
+    s4 += len * std::sin(a4);
+  }
+  if (cur.faces.empty()) return std::nullopt;
+  const double dir = 0.25 * std::atan2(s4, c4);
+  const Vec2 axes[2] = {Vec2(std::cos(dir), std::sin(dir)), Vec2(-std::sin(dir), std::cos(dir))};
+  const Eigen::LDLT<Eigen::Matrix3d> solver(S);
+  std::optional<NextDoor> out;
+  for (const Vec2& u : axes) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const FacedSegment& f : cur.faces) {
+      lo = std::min({lo, f.a.dot(u), f.b.dot(u)});
+      hi = std::max({hi, f.a.dot(u), f.b.dot(u)});
+    }
+    for (const double sign : {-1.0, 1.0}) {
+      const Vec2 shift = sign * (hi - lo) * u;
+      const Pose2 beside = best * Pose2{shift.x(), shift.y(), 0.0};
+      const Eigen::Vector3d d = Difference(predicted, beside);
+      const double m2 = d.dot(solver.solve(d));
+      if (!(m2 <= gate)) continue;
+      // Ruled out where the stored map shows otherwise (each stored ASR as
+      // the graph holds it): the new ASR's path through a stored ASR's walls
+      // there, a stored path through its walls, or walls where the other saw
+      // none: of the wall samples of each that fall in the other's box, fewer
+      // than loop_min_agreement lie on a wall of the other, seen from either
+      // side (the wall between two rooms is seen from both). Space nobody
+      // mapped rules nothing out.
+      const Pose2 world = graph_.pose(k) * BendAt(to_k, rate_k) * beside * BendAt(to_n, rate_n).inverse();
+      const Vec2 centre = world * cur.centre_local;
+      bool ruled_out = false;
+      for (int j = 0; j + 1 < n && !ruled_out; ++j) {
+        const Node& o = nodes_[j];
+        if ((graph_.pose(j) * o.centre_local - centre).norm() > o.radius_m + cur.radius_m) continue;
+        const Pose2 rel = graph_.pose(j).inverse() * world;
+        if (PathWallCrossings(o.faces, TransformPath(rel, cur.path_local)) +
+                PathWallCrossings(cur.faces, TransformPath(rel.inverse(), o.path_local)) >
+            0) {
+          ruled_out = true;
+          break;
+        }
+        const auto cur_in_o = InBox(TransformPoints(rel, cur_samples), o);
+        const auto o_in_cur =
+            InBox(TransformPoints(rel.inverse(), SampleFaces(o.faces, options_.registration.sample_step_m)), cur);
+        const SeenSamples a = SeenBy(o.faces, cur_in_o, options_.loop_tolerance_m);
+        const SeenSamples b = SeenBy(cur.faces, o_in_cur, options_.loop_tolerance_m);
+        const int seen = a.on_walls + a.in_front + b.on_walls + b.in_front;
+        ruled_out = seen >= options_.min_matches && a.on_walls + b.on_walls < options_.loop_min_agreement * seen;
+      }
+      if (ruled_out) continue;
+      if (!out) out = NextDoor{shift, m2, 0.0};
+      else if (m2 < out->mahalanobis2) out->shift = shift, out->mahalanobis2 = m2;
+      out->likelihood += std::exp(-0.5 * m2);
+    }
+  }
+  return out;
+}
+
 int MapOptimizer::TryLoopClosures(int n, SearchAgain* again) {
   Node& cur = nodes_[n];
   if (cur.sample_count < options_.min_matches) return 0;
@@ -795,6 +888,16 @@ int MapOptimizer::TryLoopClosures(int n, SearchAgain* again) {
     else if (ambiguous) lc.reason = "ambiguous: another placement fits as well";
     else if (cross > 0) lc.reason = "a path crosses the other's walls";
     else if (lc.mahalanobis2 > ChiSquareQuantile(options_.gate_probability, 3)) lc.reason = "too far from the prediction";
+    else if (options_.closure_next_door && !lc.across_walls_only) {
+      if (const std::optional<NextDoor> nd =
+              NextDoorWithinGate(n, k, best.reg.target_from_source, predicted_raw, S,
+                                 ChiSquareQuantile(options_.gate_probability, 3), to_k, to_n, rate_k, rate_n,
+                                 cur_samples))
+        if (std::exp(-0.5 * lc.mahalanobis2) < options_.next_door_min_odds * nd->likelihood)
+          lc.reason = "ambiguous: the room next door (" + std::to_string(nd->shift.norm()).substr(0, 4) +
+                      " m over) is about as likely (Mahalanobis^2 " + std::to_string(nd->mahalanobis2).substr(0, 4) +
+                      " against " + std::to_string(lc.mahalanobis2).substr(0, 4) + ")";
+    }
     if (!lc.reason.empty()) {
       record(lc, k);
       continue;
