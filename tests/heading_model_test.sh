@@ -9,17 +9,22 @@
 # its model (graph::MapOptimizerOptions::heading_model_test_probability):
 # the map must say so in report.json and end no worse than its odometry
 # (both its walls and its trajectory worse, as bench/never_worse counts it).
+# Since the room next door weighs each closure (fifty-ninth session),
+# rand40-4 keeps none of the wrong closures that inflated the fit (2.9
+# times its model, not held; ATE 0.09 m, the odometry's 0.20): the case is
+# now rand49-39 (--random-seed 49), eight sonars on a 35-degree wing, whose
+# walls still fit the odometry's heading 4.8 times as noisy.
 #   tests/heading_model_test.sh COGMAP
 set -eu
 cogmap=$1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$cogmap" gen-building --rooms 12 --corridor-m 15 --corridor-width-m 2.0 --room-depth-m 6.0 --door-m 0.9 \
-  --wing-deg -45 --seed 20 -o "$work/building.map" > /dev/null
+"$cogmap" gen-building --rooms 24 --corridor-m 25 --corridor-width-m 3.0 --room-depth-m 8.0 --door-m 0.8 \
+  --wing-deg -35 --seed 41 -o "$work/building.map" > /dev/null
 "$cogmap" simulate "$work/building.map" --robot pioneer8 --drift-deg-per-m 0 --seed 11 --max-time 900 \
   -o "$work/run.log" > /dev/null
 "$cogmap" map "$work/run.log" --outputs geojson -o "$work/graph" > "$work/summary.txt" 2>&1
-grep -q "^odometry heading: held at its motion model (the walls fitted it 10.0 times" "$work/summary.txt" ||
+grep -q "^odometry heading: held at its motion model (the walls fitted it [0-9.]* times" "$work/summary.txt" ||
   { cat "$work/summary.txt"; echo "the summary does not say the odometry's heading was held"; exit 1; }
 "$cogmap" map "$work/run.log" --no-correct --outputs geojson -o "$work/odometry" > /dev/null 2>&1
 "$cogmap" eval "$work/graph" --world "$work/building.map" --json > "$work/graph.json"

@@ -141,7 +141,7 @@ struct MapOptimizerOptions {
   // the likelier wins; at 2 (the drift's alias_min_odds) CARMEN
   // freiburg-101 and intel lost right closures where the prediction's
   // covariance, which counts no closure before, is wide.
-  bool closure_next_door = false;  // off by default: two script tests (heading model, wing near minimum) fail with it; see docs/pose-graph.md
+  bool closure_next_door = true;
   double next_door_min_odds = 1.0;
   double walls_along_share = 0.7;  // a room's walls run half one way, half the other
   double walls_along_rad = DegToRad(15.0);
